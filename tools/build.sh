@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Configures (once) and builds eulervop in Release. Usage: tools/build.sh [TARGET...]
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${EULERVOP_BUILD_DIR:-$root/build}
+"$root/tools/setup.sh"
+if [[ ! -f "$build/CMakeCache.txt" ]]; then
+  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+fi
+targets=()
+for t in "$@"; do targets+=(--target "$t"); done
+# Build chatter goes to standard error so that standard output stays the program's.
+cmake --build "$build" -j "$(nproc)" "${targets[@]}" >&2

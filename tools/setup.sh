@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Installs eulervop's Debian build dependencies when any is missing (needs root for apt-get).
+set -euo pipefail
+packages=(
+  build-essential cmake pkg-config
+  libboost1.81-dev libmpfr-dev libgmp-dev
+  libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev
+  googletest libgtest-dev libbenchmark-dev
+)
+[[ "${EULERVOP_WITH_PLOTS:-0}" == 1 ]] && packages+=(python3-matplotlib)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+((${#missing[@]} == 0)) && exit 0
+echo "setup: installing ${missing[*]}" >&2
+sudo=""
+if [[ $(id -u) -ne 0 ]]; then
+  command -v sudo >/dev/null || { echo "setup: need root to install: ${missing[*]}" >&2; exit 1; }
+  sudo=sudo
+fi
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
