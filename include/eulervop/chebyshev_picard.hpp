@@ -1,11 +1,33 @@
-// Chebyshev-Picard reference integrator with dense output (API; implementation in progress).
+// Chebyshev-Picard reference integrator for Eq. 5 with dense output.
+//
+// Each segment [tau_a, tau_a + L] carries the degree-N interpolant of Omega' at the N+1
+// Chebyshev-Gauss-Lobatto nodes; its exact integral gives Omega at the nodes (the Picard map,
+// Clenshaw & Norton 1963; Bai & Junkins 2011). The fixed point is reached by mixed precision
+// defect correction (DESIGN.md section 5):
+//   1. the residual of the Picard map, r = x0 + (L/2) S f(X) - X, is computed in T;
+//   2. the correction delta solves delta = r + (L/2) S [f(X + delta) - f(X)] in double. Eq. 5 is
+//      quadratic, so f(X + delta) - f(X) = J(X) delta + f_2(delta) exactly, and the double
+//      solve is a plain Picard sweep on that small correction;
+//   3. X += delta in T.
+// Step 2 is accurate to double precision relative to delta, so each pass through step 1 gains
+// about 15 digits: from a warm start, quad needs three residuals in T per segment and MPFR at B
+// bits about B/50 + 2, instead of the ~30 Picard sweeps in T of the cold-start loop.
+//
+// Segment length: from the geometric decay of the Chebyshev coefficients of the solution (the
+// Bernstein-ellipse rate scales with L), fitted above the rounding floor, so the predicted
+// truncation term stays below the tolerance. Segment states are accumulated with TwoSum
+// compensation, so rounding does not grow with the number of segments.
 #pragma once
 
+#include <eulervop/detail/chebyshev_basis.hpp>
 #include <eulervop/model.hpp>
 #include <eulervop/scalar.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -15,61 +37,474 @@ namespace eulervop {
 // Knobs of the reference integrator. Zero means "derive from the precision of T".
 struct picard_settings {
   unsigned degree = 0;       // Chebyshev degree N (N+1 Gauss-Lobatto nodes per segment)
-  double tolerance = 0;      // relative accuracy asked per segment; 0: a few epsilon of T
+  double tolerance = 0;      // relative truncation bound per segment; 0: epsilon of T
   double initial_step = 0;   // first segment length in tau; 0: from the initial rotation rate
   std::size_t max_segments = 50'000'000;
 };
 
 // Counters of one integration, for reports and benchmarks.
 struct picard_stats {
-  std::size_t segments = 0;         // accepted segments
-  std::size_t rejected = 0;         // segments shrunk and retried
-  std::size_t wide_residuals = 0;   // residual evaluations in T
-  std::size_t double_sweeps = 0;    // Picard sweeps of the double-precision correction
+  unsigned degree = 0;
+  double tolerance = 0;
+  std::size_t segments = 0;        // accepted segments
+  std::size_t rejected = 0;        // segments shrunk and retried
+  std::size_t wide_residuals = 0;  // residual evaluations in T (each one matrix product in T)
+  std::size_t double_sweeps = 0;   // Picard sweeps of the double-precision correction
 };
 
 // A numerical failure of the integrator: where (tau) and why. The CLI maps it to exit code 3.
 class numerical_failure : public std::runtime_error {
  public:
   numerical_failure(double tau, const std::string& why)
-      : std::runtime_error("numerical failure at tau=" + std::to_string(tau) + ": " + why), tau_(tau) {}
+      : std::runtime_error("numerical failure at tau=" + format_tau(tau) + ": " + why), tau_(tau),
+        why_(why) {}
   double tau() const { return tau_; }
+  const std::string& why() const { return why_; }
 
  private:
+  static std::string format_tau(double tau) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.9g", tau);
+    return buf;
+  }
   double tau_;
+  std::string why_;
 };
 
-// One segment of the dense output: Omega(tau) = base + sum_k coeff[k] T_k(s), with
-// s = (tau - tau_mid) / half_length in [-1, 1].
+// One segment of the dense output: Omega(tau) = base + (base_lo + sum_k coeffs[k] T_k(s)), with
+// s = (tau - tau_begin) / half_length - 1 in [-1, 1]. base_lo is the TwoSum compensation.
 template <class T>
 struct chebyshev_segment {
-  T tau_begin, tau_end, tau_mid, half_length;
-  vec3<T> base;                  // Omega at tau_begin (compensated sum of increments)
-  std::vector<vec3<T>> coeffs;   // Chebyshev coefficients of Omega(tau) - base
+  T tau_begin, tau_end, half_length;
+  vec3<T> base, base_lo;
+  std::vector<vec3<T>> coeffs;  // N+2 coefficients of Omega(tau) - Omega(tau_begin)
 };
 
 // The reference solution on [tau_begin, tau_end], evaluable anywhere in it to full precision.
 template <class T>
 class dense_trajectory {
  public:
-  const T& tau_begin() const;
-  const T& tau_end() const;
+  dense_trajectory() = default;
+  explicit dense_trajectory(std::vector<chebyshev_segment<T>> segs) : segs_(std::move(segs)) {}
+
+  const T& tau_begin() const { return segs_.front().tau_begin; }
+  const T& tau_end() const { return segs_.back().tau_end; }
   std::size_t segments() const { return segs_.size(); }
   const std::vector<chebyshev_segment<T>>& segment_list() const { return segs_; }
-  // Omega(tau). Throws std::out_of_range outside [tau_begin, tau_end].
-  vec3<T> operator()(const T& tau) const;
 
+  // Omega(tau). Throws std::out_of_range outside [tau_begin, tau_end].
+  vec3<T> operator()(const T& tau) const {
+    if (segs_.empty() || !(tau >= tau_begin() && tau <= tau_end()))
+      throw std::out_of_range("dense_trajectory: tau outside the integrated span");
+    // The last segment whose start is <= tau.
+    auto it = std::upper_bound(segs_.begin(), segs_.end(), tau,
+                               [](const T& t, const chebyshev_segment<T>& s) { return t < s.tau_begin; });
+    const chebyshev_segment<T>& seg = *(it - 1);
+    T s = (tau - seg.tau_begin) / seg.half_length - 1;
+    if (s > 1) s = 1;
+    vec3<T> out;
+    for (int i = 0; i < 3; ++i)
+      out[i] = seg.base[i] + (seg.base_lo[i] +
+                              detail::clenshaw<T>(&seg.coeffs[0][i], seg.coeffs.size(), 3, s));
+    return out;
+  }
+
+ private:
   std::vector<chebyshev_segment<T>> segs_;
 };
 
 // Progress callback: the tau reached so far.
 using progress_callback = std::function<void(double tau_reached)>;
 
+namespace detail {
+
+// log|x| in double for any T, also where |x| underflows double (MPFR at thousands of bits).
+template <class T>
+double log_abs(const T& x) {
+  using std::frexp;
+  using std::abs;
+  using std::log;
+  if (x == 0) return -std::numeric_limits<double>::infinity();
+  int e = 0;
+  T m = frexp(T(abs(x)), &e);
+  return std::log(static_cast<double>(m)) + e * 0.69314718055994531;
+}
+
+// Default Chebyshev degree: the truncation term of a segment is ~ rho^-N for a Bernstein ellipse
+// rho; the cost per unit tau is ~ N^2 / L(rho), minimal near N ln(rho) = 1.9 N, hence
+// N ~ digits * ln(10) / 1.9 ~ 1.2 digits (the constant was then tuned on the paper scene).
+inline unsigned default_degree(unsigned bits) {
+  const double digits = bits * 0.30102999566398120;
+  return static_cast<unsigned>(std::clamp(std::lround(1.2 * digits), 12L, 600L));
+}
+
+}  // namespace detail
+
+// The integrator and its workspace. One instance per thread; run() may be called many times.
+template <class T>
+class chebyshev_picard {
+ public:
+  explicit chebyshev_picard(const picard_settings& settings = {})
+      : settings_(settings),
+        N_(settings.degree ? settings.degree : detail::default_degree(significand_bits<T>())),
+        n1_(N_ + 1),
+        basis_(N_) {
+    eps_ = static_cast<double>(epsilon<T>());  // 0 for MPFR beyond double's range is harmless
+    eps_log_ = detail::log_abs(epsilon<T>());
+    tol_log_ = settings.tolerance > 0 ? std::log(settings.tolerance) : eps_log_;
+    S_d_.resize(n1_ * n1_);
+    for (std::size_t k = 0; k < n1_ * n1_; ++k) S_d_[k] = static_cast<double>(basis_.integral[k]);
+    for (int i = 0; i < 3; ++i) {
+      X_[i].resize(n1_); F_[i].resize(n1_); Yc_[i].resize(n1_); Yn_[i].resize(n1_);
+      r_[i].resize(n1_); delta_[i].resize(n1_); delta_new_[i].resize(n1_); g_[i].resize(n1_);
+      Xd_[i].resize(n1_); warm_[i].resize(n1_);
+    }
+    acc_ = T(0);
+    bd_.resize(N_ + 2);
+  }
+
+  unsigned degree() const { return static_cast<unsigned>(N_); }
+
+  dense_trajectory<T> run(const normalized_problem<T>& problem, const T& tau_end,
+                          const progress_callback& progress = {}, picard_stats* stats = nullptr) {
+    using std::abs;
+    using std::sqrt;
+    picard_stats st;
+    st.degree = static_cast<unsigned>(N_);
+    st.tolerance = std::exp(tol_log_);
+    G_ = problem.G;
+    if (!(tau_end > problem.tau0))
+      throw std::invalid_argument("integrate_reference: tau_end must exceed tau0");
+
+    std::vector<chebyshev_segment<T>> segs;
+    vec3<T> x0 = problem.Omega0, c0{T(0), T(0), T(0)};
+    T tau = problem.tau0;
+    for (int i = 0; i < 3; ++i)
+      if (!isfinite_(x0[i])) throw numerical_failure(to_d(tau), "initial state is not finite");
+
+    double L = settings_.initial_step;
+    if (!(L > 0)) {
+      double rate = 0;
+      for (int i = 0; i < 3; ++i)
+        rate = std::max({rate, std::abs(to_d(x0[i])), std::sqrt(std::abs(to_d(G_[i])))});
+      L = rate > 0 ? 0.5 / rate : 1.0;
+    }
+    bool have_prev = false;
+    int consecutive_rejects = 0;
+    std::size_t since_progress = 0;
+
+    while (tau < tau_end) {
+      // Segment end in T; the final segment ends exactly at tau_end.
+      T tau_b = tau + T(L);
+      bool last = false;
+      if (!(tau_b < tau_end) || to_d(tau_end - tau_b) < 1e-3 * L) {
+        tau_b = tau_end;
+        last = true;
+      }
+      const T hl = (tau_b - tau) / 2;
+      const double L_used = to_d(tau_b - tau);
+      make_warm_start(have_prev ? &segs.back() : nullptr, hl);
+
+      const solve_result res = solve_segment(x0, c0, hl, st);
+      double next_L = L_used;
+      bool accept = res.converged;
+      if (accept) {
+        const tail_estimate te = estimate_tail(res.scale_log);
+        if (te.excess_log > std::log(8.0)) {
+          accept = false;
+          next_L = L_used * std::max(0.2, 0.8 * std::exp(-te.excess_log / double(N_ + 1)));
+        } else {
+          next_L = L_used * std::clamp(0.9 * std::exp(-te.excess_log / double(N_ + 1)), 0.5, 2.0);
+        }
+      } else {
+        next_L = L_used * 0.5;
+      }
+      if (!accept) {
+        ++st.rejected;
+        if (++consecutive_rejects > 40 || next_L < 1e-14 * std::max(1.0, std::abs(to_d(tau))))
+          throw numerical_failure(
+              to_d(tau), res.converged ? "segment length collapsed while the Chebyshev series would not converge"
+                                       : "Picard iteration does not converge: " + res.why);
+        L = next_L;
+        continue;
+      }
+      consecutive_rejects = 0;
+
+      // Accept: store the segment and advance with compensated summation (TwoSum).
+      chebyshev_segment<T> seg;
+      seg.tau_begin = tau;
+      seg.tau_end = tau_b;
+      seg.half_length = hl;
+      seg.base = x0;
+      seg.base_lo = c0;
+      seg.coeffs = coeffs_;
+      vec3<T> x1, c1;
+      for (int i = 0; i < 3; ++i) {
+        const T y = Yn_[i][N_] + c0[i];
+        const T s = x0[i] + y;
+        const T bb = s - x0[i];
+        c1[i] = (x0[i] - (s - bb)) + (y - bb);
+        x1[i] = s;
+        if (!isfinite_(s)) throw numerical_failure(to_d(tau_b), "state is not finite");
+      }
+      segs.push_back(std::move(seg));
+      have_prev = true;
+      x0 = x1;
+      c0 = c1;
+      tau = tau_b;
+      ++st.segments;
+      if (st.segments > settings_.max_segments)
+        throw numerical_failure(to_d(tau), "more than " + std::to_string(settings_.max_segments) + " segments");
+      if (progress && (++since_progress >= 64 || last)) {
+        progress(to_d(tau));
+        since_progress = 0;
+      }
+      L = next_L;
+      if (last) break;
+    }
+    if (stats) *stats = st;
+    return dense_trajectory<T>(std::move(segs));
+  }
+
+ private:
+  struct solve_result {
+    bool converged = false;
+    double scale_log = 0;  // log of the state scale max |Omega| on the segment
+    std::string why;
+  };
+  struct tail_estimate {
+    double excess_log = 0;  // log(estimated truncation / (tol * scale)); <= 0 is within tolerance
+  };
+
+  static double to_d(const T& x) { return static_cast<double>(x); }
+  static bool isfinite_(const T& x) {
+    using std::isfinite;
+    using boost::multiprecision::isfinite;
+    return isfinite(x);
+  }
+
+  // Increments at the new nodes extrapolated from the previous segment's series, in double.
+  void make_warm_start(const chebyshev_segment<T>* prev, const T& hl_new) {
+    for (int i = 0; i < 3; ++i) std::fill(warm_[i].begin(), warm_[i].end(), 0.0);
+    if (!prev) return;
+    const double ratio = to_d(hl_new / prev->half_length);
+    const std::size_t nc = prev->coeffs.size();
+    double ymax = 0;
+    for (int i = 0; i < 3; ++i) {
+      // Coefficients below the double noise floor only amplify under extrapolation: drop them.
+      double cmax = 0;
+      for (std::size_t k = 0; k < nc; ++k) {
+        bd_[k] = to_d(prev->coeffs[k][i]);
+        cmax = std::max(cmax, std::abs(bd_[k]));
+      }
+      ymax = std::max(ymax, cmax);
+      for (std::size_t k = 1; k < nc; ++k)
+        if (std::abs(bd_[k]) < 1e-17 * cmax) bd_[k] = 0;
+      const double p1 = detail::clenshaw<double>(bd_.data(), nc, 1, 1.0);
+      for (std::size_t j = 0; j < n1_; ++j) {
+        const double s = 1.0 + ratio * (static_cast<double>(basis_.nodes[j]) + 1.0);
+        warm_[i][j] = detail::clenshaw<double>(bd_.data(), nc, 1, s) - p1;
+      }
+    }
+    // A wild extrapolation is worse than a cold start.
+    for (int i = 0; i < 3; ++i)
+      for (std::size_t j = 0; j < n1_; ++j)
+        if (!std::isfinite(warm_[i][j]) || std::abs(warm_[i][j]) > 8 * (1 + ratio) * ymax + 1) {
+          for (int m = 0; m < 3; ++m) std::fill(warm_[m].begin(), warm_[m].end(), 0.0);
+          return;
+        }
+  }
+
+  // Solves the collocation problem on one segment from the warm start. On success Yn_ holds the
+  // increments at the nodes, F_ the derivative there, and coeffs_ the dense series.
+  solve_result solve_segment(const vec3<T>& x0, const vec3<T>& c0, const T& hl, picard_stats& st) {
+    using std::abs;
+    solve_result out;
+    const double hl_d = to_d(hl);
+    const std::size_t max_outer = 4 + significand_bits<T>() / 40;
+    for (int i = 0; i < 3; ++i)
+      for (std::size_t j = 0; j < n1_; ++j) Yc_[i][j] = T(warm_[i][j]);
+
+    double r_prev_log = std::numeric_limits<double>::infinity();
+    for (std::size_t outer = 0;; ++outer) {
+      // X = x0 + (c0 + Yc);  F = f(X)  (Eq. 5).
+      double scale = 0;
+      for (std::size_t j = 0; j < n1_; ++j) {
+        vec3<T> x, dx;
+        for (int i = 0; i < 3; ++i) {
+          x[i] = x0[i] + (c0[i] + Yc_[i][j]);
+          Xd_[i][j] = to_d(x[i]);
+          scale = std::max(scale, std::abs(Xd_[i][j]));
+        }
+        euler_rhs(x, G_, dx);
+        for (int i = 0; i < 3; ++i) F_[i][j] = dx[i];
+      }
+      if (!std::isfinite(scale)) {
+        out.why = "non-finite state in the iteration";
+        return out;
+      }
+      scale = std::max(scale, 1e-300);
+      out.scale_log = std::log(scale);
+      // Yn = hl S F in T; r = Yn - Yc.
+      ++st.wide_residuals;
+      double r_max = 0;
+      for (int i = 0; i < 3; ++i) {
+        Yn_[i][0] = 0;
+        for (std::size_t j = 1; j < n1_; ++j) {
+          const T* row = &basis_.integral[j * n1_];
+          acc_ = 0;
+          for (std::size_t k = 0; k < n1_; ++k) acc_ += row[k] * F_[i][k];
+          acc_ *= hl;
+          Yn_[i][j] = acc_;
+          acc_ -= Yc_[i][j];
+          r_[i][j] = to_d(acc_);
+          r_max = std::max(r_max, std::abs(r_[i][j]));
+        }
+        r_[i][0] = 0;
+      }
+      if (!std::isfinite(r_max)) {
+        out.why = "non-finite residual";
+        return out;
+      }
+      const double r_log = r_max > 0 ? std::log(r_max) : -std::numeric_limits<double>::infinity();
+      // Converged: residual within the tolerance, or stagnant at the rounding floor of T.
+      const double floor_log = eps_log_ + std::log(64.0 * n1_) + out.scale_log;
+      if (r_log <= tol_log_ + out.scale_log ||
+          (r_log <= floor_log && r_log > r_prev_log - std::log(16.0))) {
+        out.converged = true;
+        break;
+      }
+      if (outer + 1 >= max_outer || (outer > 0 && r_log > r_prev_log - std::log(2.0))) {
+        out.why = "residual " + std::to_string(r_max) + " after " + std::to_string(outer + 1) + " passes";
+        return out;
+      }
+      r_prev_log = r_log;
+      if (!solve_correction(hl_d, st, out.why)) return out;
+      for (int i = 0; i < 3; ++i)
+        for (std::size_t j = 1; j < n1_; ++j) Yc_[i][j] += T(delta_[i][j]);
+    }
+    // Dense series of the increment: b = hl Q F (N+2 coefficients).
+    coeffs_.resize(N_ + 2);
+    for (std::size_t k = 0; k < N_ + 2; ++k) {
+      const T* row = &basis_.to_coeffs[k * n1_];
+      for (int i = 0; i < 3; ++i) {
+        acc_ = 0;
+        for (std::size_t j = 0; j < n1_; ++j) acc_ += row[j] * F_[i][j];
+        acc_ *= hl;
+        coeffs_[k][i] = acc_;
+      }
+    }
+    return out;
+  }
+
+  // delta = r + hl S [J(Xd) delta + f_2(delta)] by Picard sweeps in double, where for Eq. 5
+  // f(x + d) - f(x) = (-(x2 d3 + x3 d2 + d2 d3), x1 d3 + x3 d1 + d1 d3, -(x1 d2 + x2 d1 + d1 d2)).
+  bool solve_correction(double hl_d, picard_stats& st, std::string& why) {
+    for (int i = 0; i < 3; ++i) delta_[i] = r_[i];
+    double prev_diff = std::numeric_limits<double>::infinity();
+    double first_diff = -1;
+    for (int sweep = 0; sweep < 200; ++sweep) {
+      ++st.double_sweeps;
+      for (std::size_t k = 0; k < n1_; ++k) {
+        const double d1 = delta_[0][k], d2 = delta_[1][k], d3 = delta_[2][k];
+        const double x1 = Xd_[0][k], x2 = Xd_[1][k], x3 = Xd_[2][k];
+        g_[0][k] = -(x2 * d3 + x3 * d2 + d2 * d3);
+        g_[1][k] = x1 * d3 + x3 * d1 + d1 * d3;
+        g_[2][k] = -(x1 * d2 + x2 * d1 + d1 * d2);
+      }
+      double diff = 0, dmax = 0;
+      for (int i = 0; i < 3; ++i) {
+        const double* g = g_[i].data();
+        delta_new_[i][0] = 0;
+        for (std::size_t j = 1; j < n1_; ++j) {
+          const double* row = &S_d_[j * n1_];
+          double a = 0;
+          for (std::size_t k = 0; k < n1_; ++k) a += row[k] * g[k];
+          const double v = r_[i][j] + hl_d * a;
+          diff = std::max(diff, std::abs(v - delta_[i][j]));
+          dmax = std::max(dmax, std::abs(v));
+          delta_new_[i][j] = v;
+        }
+      }
+      std::swap(delta_, delta_new_);
+      if (!std::isfinite(diff)) {
+        why = "double-precision correction diverged";
+        return false;
+      }
+      if (first_diff < 0) first_diff = diff;
+      if (diff <= 4e-16 * dmax) return true;
+      // Stagnant at double rounding: done. Growing: the segment is too long.
+      if (sweep > 4 && diff >= 0.7 * prev_diff) {
+        if (diff <= 1e-12 * dmax) return true;
+        if (diff > first_diff) {
+          why = "double-precision correction diverged";
+          return false;
+        }
+      }
+      prev_diff = diff;
+    }
+    why = "double-precision correction did not converge in 200 sweeps";
+    return false;
+  }
+
+  // Truncation estimate from the decay of the series coefficients b_1..b_{N+1} (already scaled by
+  // hl): a least-squares line through log max_i |b_k| over the coefficients above the rounding
+  // floor, evaluated at k = N+1, compared with tol * scale.
+  tail_estimate estimate_tail(double scale_log) {
+    const std::size_t nb = N_ + 2;
+    env_.assign(nb, -std::numeric_limits<double>::infinity());
+    for (std::size_t k = 1; k < nb; ++k)
+      for (int i = 0; i < 3; ++i) env_[k] = std::max(env_[k], detail::log_abs(coeffs_[k][i]));
+    // Envelope over neighbours: odd/even parts of the series vanish alternately.
+    for (std::size_t k = 1; k + 1 < nb; ++k) env_[k] = std::max(env_[k], env_[k + 1]);
+    const double noise = eps_log_ + scale_log + std::log(4.0 * n1_);
+    const double target = tol_log_ + scale_log;
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    int n = 0;
+    for (std::size_t k = 1; k < nb; ++k) {
+      if (env_[k] > noise + std::log(100.0)) {
+        const double x = static_cast<double>(k);
+        sx += x; sy += env_[k]; sxx += x * x; sxy += x * env_[k];
+        ++n;
+      }
+    }
+    tail_estimate te;
+    const double last = env_[nb - 1];
+    if (n >= 3) {
+      const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+      const double icpt = (sy - slope * sx) / n;
+      double pred = icpt + slope * static_cast<double>(nb - 1);
+      if (slope >= 0) pred = last;  // no decay seen: trust only the actual tail
+      te.excess_log = std::max(pred, last > noise + std::log(100.0) ? last : pred) - target;
+    } else {
+      // Everything but the first coefficients is at the rounding floor: the series converges
+      // much faster than needed, so let the segment grow (the caller caps growth at 2x).
+      te.excess_log = last > noise + std::log(100.0) ? last - target : -std::log(4.0) * double(N_ + 1);
+    }
+    return te;
+  }
+
+  picard_settings settings_;
+  std::size_t N_, n1_;
+  detail::chebyshev_basis<T> basis_;
+  double eps_ = 0, eps_log_ = 0, tol_log_ = 0;
+  std::vector<double> S_d_;
+  vec3<T> G_{};
+  std::array<std::vector<T>, 3> X_, F_, Yc_, Yn_;
+  std::array<std::vector<double>, 3> r_, delta_, delta_new_, g_, Xd_, warm_;
+  std::vector<vec3<T>> coeffs_;
+  std::vector<double> bd_, env_;
+  T acc_;
+};
+
 // Integrates Eq. 5 from problem.tau0 to tau_end (> tau0). Throws numerical_failure.
 template <class T>
 dense_trajectory<T> integrate_reference(const normalized_problem<T>& problem, const T& tau_end,
                                         const picard_settings& settings = {},
                                         const progress_callback& progress = {},
-                                        picard_stats* stats = nullptr);
+                                        picard_stats* stats = nullptr) {
+  chebyshev_picard<T> integrator(settings);
+  return integrator.run(problem, tau_end, progress, stats);
+}
 
 }  // namespace eulervop
