@@ -1,0 +1,63 @@
+#!/usr/bin/env python3
+"""Draws the paper's Fig. 1 from an eulervop report: log10 of the Eq. 20 two-norm error
+against tau, one line per run (columns of errors.csv). Writes fig1.png and fig1.svg.
+
+Usage: tools/plot_fig1.py REPORT_DIR
+Needs matplotlib (Debian: apt-get install python3-matplotlib)."""
+import csv
+import json
+import math
+import os
+import sys
+
+
+def main() -> int:
+    if len(sys.argv) != 2:
+        print("usage: plot_fig1.py REPORT_DIR", file=sys.stderr)
+        return 2
+    out_dir = sys.argv[1]
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("plot_fig1: matplotlib is not installed (apt-get install python3-matplotlib)",
+              file=sys.stderr)
+        return 4
+    with open(os.path.join(out_dir, "errors.csv"), newline="") as f:
+        rows = [r for r in csv.reader(f) if r and not r[0].startswith("#")]
+    header, data = rows[0], rows[1:]
+    scene = ""
+    summary = os.path.join(out_dir, "summary.json")
+    if os.path.exists(summary):
+        with open(summary) as f:
+            scene = json.load(f).get("scene", "")
+    fig, ax = plt.subplots(figsize=(8, 5))
+    for col in range(1, len(header)):
+        xs, ys = [], []
+        for r in data:
+            if r[col] in ("", "nan"):
+                continue  # after divergence: no value, never plotted as a result
+            e = float(r[col])
+            if e > 0:
+                xs.append(float(r[0]))
+                ys.append(math.log10(e))
+        label = header[col].replace("_", " / ")
+        ax.plot(xs, ys, label=label, linewidth=0.8)
+    ax.set_xlabel(r"$\tau$")
+    ax.set_ylabel(r"$\log_{10} e$,  $e = \|\Omega - \Omega^*\|_2$ (Eq. 20)")
+    ax.set_title("Two-norm errors: normalized Euler equations (non-VOP) and VOP"
+                 + (f"\nscene: {scene}" if scene else ""))
+    ax.grid(True, alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    for ext in ("png", "svg"):
+        path = os.path.join(out_dir, f"fig1.{ext}")
+        tmp = path + ".tmp"
+        fig.savefig(tmp, format=ext, dpi=120)
+        os.replace(tmp, path)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
