@@ -100,6 +100,11 @@ class dense_trajectory {
     auto it = std::upper_bound(segs_.begin(), segs_.end(), tau,
                                [](const T& t, const chebyshev_segment<T>& s) { return t < s.tau_begin; });
     const chebyshev_segment<T>& seg = *(it - 1);
+    if (tau == seg.tau_begin) {  // the segment's start is known exactly: no series rounding
+      vec3<T> out;
+      for (int i = 0; i < 3; ++i) out[i] = seg.base[i] + seg.base_lo[i];
+      return out;
+    }
     T s = (tau - seg.tau_begin) / seg.half_length - 1;
     if (s > 1) s = 1;
     vec3<T> out;

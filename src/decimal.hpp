@@ -1,0 +1,53 @@
+// A number as the user wrote it: its exact decimal text plus the nearest double.
+//
+// Quad and MPFR runs must see the decimal the user typed, not the double nearest to it:
+// "0.1" has to become 0.1 to 36 digits in quad (issue 2, section 2). So every number from a
+// scene or a flag is kept as text and converted once, in the target type, by to_scalar<T>.
+#pragma once
+
+#include <eulervop/scalar.hpp>
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace eulervop::app {
+
+struct decimal {
+  std::string text;    // canonical decimal text: [-]digits[.digits][e[+-]digits], no '+' or '_'
+  double value = 0;    // the nearest double, for validation and messages
+
+  // The number in T, correctly rounded from the decimal text (at T's current precision).
+  template <scalar T>
+  T to_scalar() const {
+    auto v = eulervop::from_text<T>(text);
+    if (!v) throw std::logic_error("decimal text does not convert: " + text);
+    return *v;
+  }
+};
+
+// Why a text is not an acceptable decimal.
+enum class decimal_problem { none, not_a_number, not_finite, out_of_range };
+
+struct decimal_parse_result {
+  std::optional<decimal> number;
+  decimal_problem problem = decimal_problem::none;
+};
+
+// Parses a plain decimal ("-1.5e3", "0.1", "+2", "136"). Rejects nan/inf (not_finite),
+// hexadecimal and anything else (not_a_number), and magnitudes a double cannot hold
+// (out_of_range), since every later check is done on the double value too.
+// With allow_underscores, TOML's digit separators ("1_000.5") are accepted and dropped.
+decimal_parse_result parse_decimal(std::string_view text, bool allow_underscores = false);
+
+// The shortest decimal that round-trips to x (used when the source text is not available).
+decimal decimal_from_double(double x);
+
+// The exact decimal of an integer.
+decimal decimal_from_integer(long long x);
+
+// Human-readable reason for a decimal_problem, for error messages.
+std::string_view describe(decimal_problem problem);
+
+}  // namespace eulervop::app

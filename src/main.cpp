@@ -1,0 +1,70 @@
+// eulervop: the command-line program.
+//
+// Exit codes (issue 2, section 6): 0 success; 2 bad input (scene or flags), with exactly one
+// line "eulervop: error: <message>" on stderr and no output file; 3 numerical failure, with
+// the tau where it happened and why. 1 is left for what should never happen (a bug).
+#include "input_error.hpp"
+#include "reference_command.hpp"
+
+#include <eulervop/chebyshev_picard.hpp>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <string_view>
+
+namespace {
+
+constexpr int exit_bad_input = 2;
+constexpr int exit_numerical_failure = 3;
+constexpr int exit_internal_error = 1;
+
+int report(int code, const std::string& prefix, const std::string& message) {
+  fmt::print(stderr, "eulervop: {}{}\n", prefix, eulervop::app::input_error::one_line(message));
+  return code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"eulervop: Euler's equations by variation of parameters, and their high-precision reference"};
+  app.set_version_flag("--version", EULERVOP_VERSION);
+  app.require_subcommand(1);
+
+  eulervop::app::reference_options reference;
+  CLI::App* reference_command = eulervop::app::add_reference_command(app, reference);
+
+  // CLI11 would report a mistyped command as "A subcommand is required"; name it instead.
+  if (argc >= 2 && argv[1][0] != '-' && std::string_view(argv[1]) != reference_command->get_name())
+    return report(exit_bad_input, "error: ",
+                  fmt::format("unknown command `{}` (expected: {})", argv[1], reference_command->get_name()));
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion&) {
+    fmt::print("eulervop {}\n", EULERVOP_VERSION);  // CLI11 2.1 prints it without a newline
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    std::string message = e.what();
+    if (message == "A subcommand is required") message += " (expected: reference; see eulervop --help)";
+    return report(exit_bad_input, "error: ", message);
+  }
+
+  try {
+    if (reference_command->parsed()) eulervop::app::run_reference(reference, std::cout);
+    return 0;
+  } catch (const eulervop::app::input_error& e) {
+    return report(exit_bad_input, "error: ", e.what());
+  } catch (const eulervop::numerical_failure& e) {
+    return report(exit_numerical_failure, "", e.what());  // "numerical failure at tau=X: why"
+  } catch (const std::exception& e) {
+    return report(exit_internal_error, "internal error: ", e.what());
+  }
+}

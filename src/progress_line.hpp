@@ -1,0 +1,35 @@
+// A single updating progress line on standard error.
+//
+// Issue 2 section 6: progress goes to stderr, only when it is a terminal, and only once a run
+// has taken more than a second (short runs and pipelines stay silent). The line is cleared
+// when the run ends, so the terminal is left as it was.
+#pragma once
+
+#include <chrono>
+#include <string>
+
+namespace eulervop::app {
+
+class progress_line {
+ public:
+  // `label` names the stage ("reference", "verify"); `total` is the tau the run goes to.
+  progress_line(std::string label, double total);
+  ~progress_line();
+  progress_line(const progress_line&) = delete;
+  progress_line& operator=(const progress_line&) = delete;
+
+  // "\r reference: tau 12.3 / 136 (9%)", at most ten times a second.
+  void update(double reached);
+  // Erases the line if one was drawn.
+  void clear();
+
+ private:
+  using clock = std::chrono::steady_clock;
+  std::string label_;
+  double total_;
+  bool enabled_;
+  bool drawn_ = false;
+  clock::time_point start_, last_draw_;
+};
+
+}  // namespace eulervop::app

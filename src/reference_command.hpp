@@ -1,0 +1,36 @@
+// `eulervop reference [SCENE] [options]`: the high-precision reference solution as CSV
+// (issue 2, section 6).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <ostream>
+#include <string>
+
+namespace eulervop::app {
+
+// The subcommand's flags exactly as given (validated by run_reference, so every message can
+// quote the user's text).
+struct reference_options {
+  std::optional<std::string> scene_path;  // none: the embedded default scene
+  std::optional<std::string> precision;   // double | quad | mpfr:BITS, overrides [reference]
+  std::optional<std::string> tau_end;     // normalized scenes
+  std::optional<std::string> t_end;       // physical scenes
+  std::optional<std::string> samples;
+  std::optional<std::string> times;       // comma-separated, tau (normalized) or t (physical)
+  std::optional<std::string> out;         // none: standard output
+  std::optional<std::string> degree;
+  std::optional<std::string> tolerance;
+  bool verify = false;
+};
+
+// Adds the `reference` subcommand to `app`, binding its flags to `options`.
+CLI::App* add_reference_command(CLI::App& app, reference_options& options);
+
+// Runs the command. Throws input_error (bad scene or flags, before any computation) and
+// eulervop::numerical_failure (the integrator gave up). Writes the CSV to `--out` atomically,
+// or to `standard_output`.
+void run_reference(const reference_options& options, std::ostream& standard_output);
+
+}  // namespace eulervop::app

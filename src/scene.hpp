@@ -1,0 +1,109 @@
+// A scene: one problem of Eq. 5 as the user describes it in TOML (issue 2, section 5).
+//
+// A scene is either normalized (G, Omega or c1/c2/u, tau) or physical ([body] inertia, M,
+// omega, t; converted by Eqs. 2-4). Numbers are kept as exact decimal text (decimal.hpp) and
+// become values of the scalar type only in scene_problem.hpp. Loading validates everything a
+// later stage would otherwise trip over, and reports the first problem as an input_error whose
+// one-line message names the field and the value.
+#pragma once
+
+#include "decimal.hpp"
+#include "input_error.hpp"
+
+#include <eulervop/scalar.hpp>
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+namespace eulervop::app {
+
+using decimal3 = std::array<decimal, 3>;
+
+// Which variables the scene is written in.
+enum class scene_units {
+  normalized,  // G, Omega, tau (Eq. 5)
+  physical,    // inertia kg m^2, M N m, omega rad/s, t s (Eqs. 1-4)
+};
+
+// [initial] Omega = [...] (normalized) or omega = [...] (physical, rad/s).
+struct initial_rates {
+  decimal3 rates;
+};
+
+// [initial] c1, c2, u (normalized only): Omega = (c1 cn u, c1 sn u, c2 dn u), modulus
+// k = c1/c2 < 1 (Eqs. 10-12).
+struct initial_elements {
+  decimal c1, c2, u;
+};
+
+// [run] step: "K/N" (K(k at tau = 0) / N, in tau) or a plain positive number (in the scene's
+// time variable: tau, or t for physical scenes).
+struct step_spec {
+  std::optional<std::int64_t> K_divisor;  // set for "K/N"
+  std::optional<decimal> value;           // set for a plain number
+};
+
+struct scene {
+  std::string name;
+  std::string description;
+  std::string origin;       // the path it was loaded from, or the embedded default's origin
+  std::string source_text;  // the TOML text, verbatim (copied into every output's metadata)
+
+  scene_units units = scene_units::normalized;
+  std::optional<decimal3> inertia;  // [body] inertia = [I1, I2, I3], physical only
+
+  // [torque]: G (normalized) or M (physical). Absent: torque-free.
+  std::optional<decimal3> torque;
+
+  std::variant<initial_rates, initial_elements> initial;
+
+  // [span]: tau_end (normalized) or t_end (physical) > 0; sample count (>= 2, equally spaced,
+  // endpoints included) or explicit sample times (strictly increasing, in [0, span_end]).
+  decimal span_end;
+  std::optional<std::int64_t> samples;
+  std::vector<decimal> times;
+
+  // [run]: settings for the fixed-step comparison runs of later commands (stored only).
+  std::optional<step_spec> step;
+  std::vector<std::string> methods;        // subset of {rk4, rkf45, dp45, rk8}
+  std::vector<std::string> formulations;   // subset of {euler, vop, vop-theta}
+
+  // [reference]
+  eulervop::precision reference_precision = eulervop::precision::binary128();
+  std::optional<unsigned> degree;     // Chebyshev degree
+  std::optional<decimal> tolerance;   // relative tolerance per segment
+
+  bool is_physical() const { return units == scene_units::physical; }
+  // "tau_end" or "t_end": the span key, for messages.
+  std::string_view span_key() const { return is_physical() ? "t_end" : "tau_end"; }
+};
+
+// Accepted names in [run] methods and formulations.
+inline constexpr std::array<std::string_view, 4> known_methods = {"rk4", "rkf45", "dp45", "rk8"};
+inline constexpr std::array<std::string_view, 3> known_formulations = {"euler", "vop", "vop-theta"};
+
+// Limits shared by the scene file and the command-line flags that override it.
+struct scene_limits {
+  // [span] samples: far above any use, small enough that an MPFR run's samples fit in memory.
+  static constexpr std::int64_t min_samples = 2, max_samples = 10'000'000;
+  // [reference] degree: below 4 a segment cannot resolve a rotation; above 1024 the O(N^2)
+  // Chebyshev matrices dominate at any precision we support.
+  static constexpr std::int64_t min_degree = 4, max_degree = 1024;
+};
+
+// Parses and validates a scene. `origin` names it in messages ("scene <origin>: ...").
+scene parse_scene(std::string_view toml_text, std::string origin);
+
+// Reads and parses a scene file; an unreadable path is an input_error naming it.
+scene load_scene_file(const std::filesystem::path& path);
+
+// The paper's scene embedded in the binary (data/scenes/paper-fig1.toml).
+scene load_default_scene();
+
+}  // namespace eulervop::app

@@ -1,0 +1,114 @@
+// A scene turned into numbers of the scalar type T: the normalized problem of Eq. 5, its span
+// and its sample times.
+//
+// Every value is converted from the scene's exact decimal text directly into T (so a quad run
+// sees 0.1 to 36 digits), and physical scenes are mapped by Eqs. 2-4 in T as well. For MPFR,
+// call these inside the eulervop::mpfr_precision_scope of the run: values take the precision
+// current at their creation.
+#pragma once
+
+#include "scene.hpp"
+
+#include <eulervop/model.hpp>
+#include <eulervop/scalar.hpp>
+
+#include <boost/math/special_functions/jacobi_elliptic.hpp>
+
+#include <cstddef>
+#include <variant>
+#include <vector>
+
+namespace eulervop::app {
+
+template <scalar T>
+vec3<T> to_vec3(const decimal3& d) {
+  return {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
+}
+
+// The change of variables of Eqs. 2-4 for a physical scene (precondition: s.is_physical()).
+template <scalar T>
+physical_scaling<T> scaling_of(const scene& s) {
+  const vec3<T> I = to_vec3<T>(*s.inertia);
+  return physical_scaling<T>(inertia<T>{I[0], I[1], I[2]});
+}
+
+// Omega from the torque-free solution (Eq. 12) at u: (c1 cn u, c1 sn u, c2 dn u), k = c1/c2 < 1.
+template <scalar T>
+vec3<T> Omega_of_elements(const initial_elements& e) {
+  const T c1 = e.c1.template to_scalar<T>(), c2 = e.c2.template to_scalar<T>();
+  if (e.u.value == 0) return {c1, T(0), c2};  // exact: cn 0 = dn 0 = 1, sn 0 = 0
+  using std::sqrt;
+  const T u = e.u.template to_scalar<T>();
+  const T k = c1 / c2;
+  T cn, dn_ratio;
+  const T sn = boost::math::jacobi_elliptic(k, u, &cn, &dn_ratio);
+  // Boost's dn is a ratio that is 0/0 at odd multiples of K (DESIGN.md section 2);
+  // dn^2 = kc^2 + k^2 cn^2 has no cancellation, and kc^2 = (c2-c1)(c2+c1)/c2^2 keeps digits near k = 1.
+  const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
+  const T dn = sqrt(kc2 + k * k * cn * cn);
+  return {c1 * cn, c1 * sn, c2 * dn};
+}
+
+// The normalized problem of Eq. 5: G, Omega(tau0), tau0 = 0.
+template <scalar T>
+normalized_problem<T> to_problem(const scene& s) {
+  normalized_problem<T> p;
+  p.tau0 = T(0);
+  p.G = {T(0), T(0), T(0)};
+  if (s.is_physical()) {
+    const physical_scaling<T> scale = scaling_of<T>(s);
+    if (s.torque) p.G = scale.G_of_M(to_vec3<T>(*s.torque));
+    p.Omega0 = scale.Omega_of_omega(to_vec3<T>(std::get<initial_rates>(s.initial).rates));
+    return p;
+  }
+  if (s.torque) p.G = to_vec3<T>(*s.torque);
+  if (const auto* rates = std::get_if<initial_rates>(&s.initial))
+    p.Omega0 = to_vec3<T>(rates->rates);
+  else
+    p.Omega0 = Omega_of_elements<T>(std::get<initial_elements>(s.initial));
+  return p;
+}
+
+// The end of the span in tau (physical scenes: tau_end = t_end dtau/dt, Eq. 4).
+template <scalar T>
+T tau_end_of(const scene& s) {
+  const T end = s.span_end.template to_scalar<T>();
+  return s.is_physical() ? scaling_of<T>(s).tau_of_t(end) : end;
+}
+
+// The sample times in tau, and for physical scenes also in t (the t column of the output).
+template <scalar T>
+struct sample_times {
+  std::vector<T> tau;
+  std::vector<T> t;  // physical scenes only
+};
+
+// Equally spaced samples (endpoints included, x_i = end i / (n-1) in T, the last one exactly
+// `end`) or the scene's explicit times, in the scene's own time variable, then mapped to tau.
+// Since tau = t * rate is monotone under rounding, every tau stays within [0, tau_end_of(s)].
+template <scalar T>
+sample_times<T> sample_times_of(const scene& s) {
+  std::vector<T> x;
+  if (s.samples) {
+    const T end = s.span_end.template to_scalar<T>();
+    const auto n = static_cast<std::size_t>(*s.samples);
+    x.reserve(n);
+    for (std::size_t i = 0; i + 1 < n; ++i) x.push_back(end * T(i) / T(n - 1));
+    x.push_back(end);
+  } else {
+    x.reserve(s.times.size());
+    for (const auto& t : s.times) x.push_back(t.template to_scalar<T>());
+  }
+  sample_times<T> out;
+  if (!s.is_physical()) {
+    out.tau = std::move(x);
+    return out;
+  }
+  const physical_scaling<T> scale = scaling_of<T>(s);
+  out.tau.reserve(x.size());
+  for (const auto& t : x) out.tau.push_back(scale.tau_of_t(t));
+  out.t = std::move(x);
+  return out;
+}
+
+}  // namespace eulervop::app

@@ -1,0 +1,362 @@
+// The `eulervop` program end to end: bad input (exit 2, one line naming the field or flag, no
+// output file), and short successful runs (CSV layout, determinism). Issue 2 section 6 and
+// acceptance; issue 5 section 4.
+#include <eulervop/scalar.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string binary = EULERVOP_BINARY;
+const std::string source_dir = EULERVOP_SOURCE_DIR;
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_file(const fs::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary);
+  out << text;
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  return lines;
+}
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// A fresh directory per test, removed afterwards.
+class temp_dir {
+ public:
+  temp_dir() {
+    std::string pattern = (fs::temp_directory_path() / "eulervop-cli-XXXXXX").string();
+    path_ = ::mkdtemp(pattern.data());
+  }
+  ~temp_dir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+struct run_result {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+// Runs the binary in `dir` with `args`, capturing stdout and stderr.
+run_result run(const fs::path& dir, const std::vector<std::string>& args) {
+  std::string cmd = "cd " + shell_quote(dir.string()) + " && " + shell_quote(binary);
+  for (const auto& a : args) cmd += " " + shell_quote(a);
+  cmd += " > .stdout 2> .stderr < /dev/null";
+  const int status = std::system(cmd.c_str());
+  run_result r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_file(dir / ".stdout");
+  r.err = read_file(dir / ".stderr");
+  fs::remove(dir / ".stdout");
+  fs::remove(dir / ".stderr");
+  return r;
+}
+
+// Files in `dir` other than the scene we wrote: there must be none after a failure (no output,
+// no temporary left behind).
+std::vector<std::string> leftovers(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name != "scene.toml" && name != "existing.csv") names.push_back(name);
+  }
+  return names;
+}
+
+// ---- bad input -------------------------------------------------------------------------------
+
+const std::string good_scene =
+    "name = \"good\"\n[torque]\nG = [1.0, 1.0, 1.0]\n[initial]\nOmega = [0.5, 0.0, 1.0]\n"
+    "[span]\ntau_end = 1.0\nsamples = 3\n";
+const std::string physical_scene =
+    "name = \"phys\"\n[body]\ninertia = [100, 150, 200]\n[torque]\nM = [0.01, -0.02, 0.005]\n"
+    "[initial]\nomega = [0.02, 0.1, 0.05]\n[span]\nt_end = 10\nsamples = 3\n";
+
+struct bad_input {
+  const char* label;
+  std::string scene;               // written to scene.toml and passed when not empty
+  std::vector<std::string> args;   // after "reference"; "--out out.csv" is added unless has_out
+  std::string expected;            // the field or flag the message must name
+  bool has_out = false;
+  bool pass_scene = true;
+};
+
+void PrintTo(const bad_input& c, std::ostream* os) { *os << c.label; }
+
+std::string with(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  if (at == std::string::npos) throw std::logic_error("test setup: '" + from + "' not in scene");
+  return text.replace(at, from.size(), to);
+}
+
+std::vector<bad_input> bad_inputs() {
+  const std::string& g = good_scene;
+  const std::string& p = physical_scene;
+  return {
+      // scene files
+      {"malformed toml", "name = \"x\"\n[span\n", {}, "parse error"},
+      {"invalid utf8", "name = \"\xff\xfe\"\n", {}, "parse error"},
+      {"empty file", "", {}, "name"},
+      {"missing name", with(g, "name = \"good\"\n", ""), {}, "`name`"},
+      {"name wrong type", with(g, "\"good\"", "true"), {}, "name = true"},
+      {"unknown top-level key", g + "colour = 1\n", {}, "`colour`"},
+      {"unknown key in table", with(g, "samples = 3", "samples = 3\nsample = 3"), {}, "`sample`"},
+      {"unknown table", g + "[extras]\n", {}, "`extras`"},
+      {"missing initial", with(g, "[initial]\nOmega = [0.5, 0.0, 1.0]\n", ""), {}, "[initial]"},
+      {"Omega and c1", with(g, "Omega = [0.5, 0.0, 1.0]", "Omega = [0.5, 0.0, 1.0]\nc1 = 0.5"), {}, "[initial]"},
+      {"Omega wrong type", with(g, "[0.5, 0.0, 1.0]", "\"0.5, 0, 1\""), {}, "[initial] Omega"},
+      {"Omega nan", with(g, "[0.5, 0.0, 1.0]", "[nan, 0.0, 1.0]"), {}, "[initial] Omega = nan"},
+      {"G inf", with(g, "[1.0, 1.0, 1.0]", "[1.0, inf, 1.0]"), {}, "[torque] G = inf"},
+      {"G negative inf", with(g, "[1.0, 1.0, 1.0]", "[1.0, 1.0, -inf]"), {}, "[torque] G = -inf"},
+      {"k not below 1", with(g, "Omega = [0.5, 0.0, 1.0]", "c1 = 2\nc2 = 1\nu = 0"), {}, "[initial] c1 = 2"},
+      {"tau_end zero", with(g, "tau_end = 1.0", "tau_end = 0"), {}, "[span] tau_end = 0"},
+      {"tau_end negative", with(g, "tau_end = 1.0", "tau_end = -1"), {}, "[span] tau_end = -1"},
+      {"tau_end nan", with(g, "tau_end = 1.0", "tau_end = nan"), {}, "[span] tau_end = nan"},
+      {"samples 1", with(g, "samples = 3", "samples = 1"), {}, "[span] samples = 1"},
+      {"samples wrong type", with(g, "samples = 3", "samples = \"3\""), {}, "[span] samples"},
+      {"times unordered", with(g, "samples = 3", "times = [0.5, 0.25]"), {}, "[span] times = 0.25"},
+      {"unordered inertias", with(p, "[100, 150, 200]", "[150, 100, 200]"), {}, "[body] inertia"},
+      {"equal inertias", with(p, "[100, 150, 200]", "[100, 200, 200]"), {}, "[body] inertia"},
+      {"omega without body", with(p, "[body]\ninertia = [100, 150, 200]\n[torque]\nM = [0.01, -0.02, 0.005]\n", ""),
+       {}, "[initial] omega"},
+      {"G with body", with(p, "M = [0.01, -0.02, 0.005]", "G = [1, 1, 1]"), {}, "[torque] G"},
+      {"t_end negative", with(p, "t_end = 10", "t_end = -10"), {}, "[span] t_end = -10"},
+      {"precision float", g + "[reference]\nprecision = \"float\"\n", {}, "[reference] precision = \"float\""},
+      {"precision mpfr:1 in scene", g + "[reference]\nprecision = \"mpfr:1\"\n", {}, "[reference] precision"},
+      {"method unknown", g + "[run]\nmethods = [\"euler-forward\"]\n", {}, "[run] methods"},
+      {"step zero", g + "[run]\nstep = 0\n", {}, "[run] step = 0"},
+      // paths
+      {"unreadable scene path", "", {"does-not-exist.toml"}, "does-not-exist.toml", false, false},
+      {"scene is a directory", "", {"."}, "scene .", false, false},
+      {"unwritable out", g, {"--out", "/nonexistent/dir/x.csv"}, "--out /nonexistent/dir/x.csv", true},
+      {"out is a directory", g, {"--out", "."}, "--out .", true},
+      // flags
+      {"flag precision mpfr:1", g, {"--precision", "mpfr:1"}, "--precision mpfr:1"},
+      {"flag precision mpfr:10000000", g, {"--precision", "mpfr:10000000"}, "--precision mpfr:10000000"},
+      {"flag precision float", g, {"--precision", "float"}, "--precision float"},
+      {"flag t-end on normalized", g, {"--t-end", "5"}, "--t-end 5"},
+      {"flag tau-end on physical", p, {"--tau-end", "5"}, "--tau-end 5"},
+      {"flag tau-end nan", g, {"--tau-end", "nan"}, "--tau-end nan"},
+      {"flag tau-end inf", g, {"--tau-end", "inf"}, "--tau-end inf"},
+      {"flag tau-end zero", g, {"--tau-end", "0"}, "--tau-end 0"},
+      {"flag tau-end negative", g, {"--tau-end=-2"}, "--tau-end -2"},
+      {"flag tau-end text", g, {"--tau-end", "long"}, "--tau-end long"},
+      {"flag tau-end missing value", g, {"--tau-end"}, "--tau-end", true},
+      {"flag samples 0", g, {"--samples", "0"}, "--samples 0"},
+      {"flag samples negative", g, {"--samples", "-3"}, "--samples -3"},
+      {"flag samples not integer", g, {"--samples", "2.5"}, "--samples 2.5"},
+      {"flag samples and times", g, {"--samples", "3", "--times", "0.5"}, "--samples"},
+      {"flag times unordered", g, {"--times", "0.5,0.25"}, "--times 0.5,0.25"},
+      {"flag times beyond span", g, {"--times", "0.5,2"}, "--times 0.5,2"},
+      {"flag times nan", g, {"--times", "0.5,nan"}, "--times 0.5,nan"},
+      {"flag times empty item", g, {"--times", "0.5,,0.7"}, "--times 0.5,,0.7"},
+      {"flag degree zero", g, {"--degree", "0"}, "--degree 0"},
+      {"flag tolerance negative", g, {"--tolerance=-1e-20"}, "--tolerance -1e-20"},
+      {"flag unknown flag", g, {"--bogus"}, "--bogus"},
+      {"flag two scenes", g, {"other.toml"}, "other.toml"},
+  };
+}
+
+class BadInput : public ::testing::TestWithParam<bad_input> {};
+
+TEST_P(BadInput, ExitsTwoWithOneLineAndNoFile) {
+  const bad_input& c = GetParam();
+  // Twice: once to a new output path (which must not appear), once over an existing file
+  // (which must survive untouched).
+  for (const char* target : {"out.csv", "existing.csv"}) {
+    SCOPED_TRACE(target);
+    temp_dir dir;
+    std::vector<std::string> args = {"reference"};
+    if (c.pass_scene) {
+      write_file(dir.path() / "scene.toml", c.scene);
+      args.push_back("scene.toml");
+    }
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    if (!c.has_out) args.insert(args.end(), {"--out", target});
+    write_file(dir.path() / "existing.csv", "keep me\n");
+
+    const run_result r = run(dir.path(), args);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    const auto lines = lines_of(r.err);
+    ASSERT_EQ(lines.size(), 1u) << r.err;
+    EXPECT_TRUE(lines[0].starts_with("eulervop: error: ")) << lines[0];
+    EXPECT_NE(lines[0].find(c.expected), std::string::npos) << "'" << c.expected << "' not in: " << lines[0];
+    EXPECT_TRUE(r.out.empty()) << r.out;
+    EXPECT_EQ(read_file(dir.path() / "existing.csv"), "keep me\n");
+    const auto extra = leftovers(dir.path());
+    EXPECT_TRUE(extra.empty()) << extra.front();
+    if (c.has_out) break;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Table, BadInput, ::testing::ValuesIn(bad_inputs()),
+                         [](const ::testing::TestParamInfo<bad_input>& info) {
+                           std::string name;
+                           for (char ch : std::string(info.param.label))
+                             name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+                           return name;
+                         });
+
+TEST(BadCommandLine, UnknownCommandAndNoCommand) {
+  temp_dir dir;
+  for (const std::vector<std::string>& args : {std::vector<std::string>{"frobnicate"}, std::vector<std::string>{}}) {
+    const run_result r = run(dir.path(), args);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_EQ(lines_of(r.err).size(), 1u) << r.err;
+    EXPECT_TRUE(r.err.starts_with("eulervop: error: ")) << r.err;
+  }
+}
+
+TEST(CommandLine, VersionAndHelp) {
+  temp_dir dir;
+  const run_result v = run(dir.path(), {"--version"});
+  EXPECT_EQ(v.exit_code, 0);
+  EXPECT_TRUE(v.out.starts_with("eulervop ")) << v.out;
+  const run_result h = run(dir.path(), {"reference", "--help"});
+  EXPECT_EQ(h.exit_code, 0);
+  EXPECT_NE(h.out.find("--verify"), std::string::npos);
+}
+
+// ---- successful runs -------------------------------------------------------------------------
+
+// The CSV without the wall-time lines, which are the only ones allowed to differ between runs.
+std::string without_wall_time(const std::string& csv) {
+  std::string kept;
+  for (const auto& l : lines_of(csv))
+    if (!l.starts_with("# wall_seconds")) kept += l + "\n";
+  return kept;
+}
+
+std::vector<std::string> data_rows(const std::string& csv) {
+  std::vector<std::string> rows;
+  for (const auto& l : lines_of(csv))
+    if (!l.starts_with("#")) rows.push_back(l);
+  return rows;
+}
+
+TEST(Reference, ShortRunWritesCsvDeterministically) {
+  temp_dir dir;
+  const std::vector<std::string> args = {"reference", "--tau-end", "1", "--samples", "5", "--out", "x.csv"};
+  const run_result first = run(dir.path(), args);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  EXPECT_TRUE(first.out.empty());
+  const std::string a = read_file(dir.path() / "x.csv");
+  const run_result second = run(dir.path(), args);
+  ASSERT_EQ(second.exit_code, 0) << second.err;
+  const std::string b = read_file(dir.path() / "x.csv");
+
+  const auto rows = data_rows(a);
+  ASSERT_EQ(rows.size(), 6u) << a;
+  EXPECT_EQ(rows[0], "tau,Omega1,Omega2,Omega3");
+  EXPECT_TRUE(rows[1].starts_with("0.000000000000000000000000000000000000e+00,")) << rows[1];
+  EXPECT_TRUE(rows[5].starts_with("1.000000000000000000000000000000000000e+00,")) << rows[5];
+  for (const char* meta : {"# eulervop ", "# scene: paper-fig1", "# scene_source: ", "# precision: quad",
+                           "# method: chebyshev-picard degree=", "# wall_seconds: ", "# scene_text: name = \"paper-fig1\""})
+    EXPECT_NE(a.find(meta), std::string::npos) << meta;
+  EXPECT_TRUE(a.starts_with("# eulervop ")) << a;
+  EXPECT_EQ(without_wall_time(a), without_wall_time(b));
+  EXPECT_EQ(leftovers(dir.path()), std::vector<std::string>{"x.csv"});
+}
+
+TEST(Reference, StdoutMatchesFile) {
+  temp_dir dir;
+  const run_result to_file = run(dir.path(), {"reference", "--tau-end", "0.5", "--samples", "3", "--out", "y.csv"});
+  const run_result to_stdout = run(dir.path(), {"reference", "--tau-end", "0.5", "--samples", "3"});
+  ASSERT_EQ(to_file.exit_code, 0) << to_file.err;
+  ASSERT_EQ(to_stdout.exit_code, 0) << to_stdout.err;
+  EXPECT_EQ(without_wall_time(read_file(dir.path() / "y.csv")), without_wall_time(to_stdout.out));
+  EXPECT_TRUE(to_stdout.err.empty()) << to_stdout.err;  // no progress when stderr is not a terminal
+}
+
+// Explicit --times reach the run as the decimals given: 0.1 is quad("0.1"), not the double 0.1.
+TEST(Reference, ExplicitTimesAreExact) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"reference", "--tau-end", "0.3", "--times", "0.1,0.25,0.3"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = data_rows(r.out);
+  ASSERT_EQ(rows.size(), 4u);
+  const char* expected[] = {"0.1", "0.25", "0.3"};
+  for (int i = 0; i < 3; ++i) {
+    const std::string tau = rows[i + 1].substr(0, rows[i + 1].find(','));
+    EXPECT_EQ(*eulervop::from_text<eulervop::quad>(tau), eulervop::quad(expected[i])) << tau;
+  }
+}
+
+TEST(Reference, PhysicalSceneHasPhysicalColumns) {
+  temp_dir dir;
+  write_file(dir.path() / "scene.toml", physical_scene);
+  const run_result r = run(dir.path(), {"reference", "scene.toml", "--precision", "double", "--t-end", "20"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = data_rows(r.out);
+  ASSERT_EQ(rows.size(), 4u) << r.out;
+  EXPECT_EQ(rows[0], "tau,Omega1,Omega2,Omega3,t,omega1,omega2,omega3");
+  // Column 5 is t: 0, 10, 20 s.
+  auto column = [](const std::string& row, int i) {
+    std::istringstream in(row);
+    std::string cell;
+    for (int k = 0; k <= i; ++k) std::getline(in, cell, ',');
+    return std::stod(cell);
+  };
+  EXPECT_EQ(column(rows[3], 4), 20.0);
+  EXPECT_NEAR(column(rows[1], 5), 0.02, 1e-15);  // omega1(0)
+  EXPECT_NE(r.out.find("# precision: double"), std::string::npos);
+}
+
+TEST(Reference, VerifyReportsAnHonestSmallError) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"reference", "--precision", "double", "--tau-end", "1", "--samples", "3", "--verify"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto at = r.out.find("# estimated_max_error: ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const double err = std::stod(r.out.substr(at + 23));
+  // Double's reference on a short span: at the level of a few eps, and not zero (the quad
+  // recomputation sees double's rounding of the state).
+  EXPECT_GT(err, 0.0);
+  EXPECT_LT(err, 1e-13);
+  EXPECT_NE(r.out.find("# verify_precision: quad"), std::string::npos);
+}
+
+TEST(Reference, MpfrRunReportsEffectiveBits) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"reference", "--precision", "mpfr:128", "--tau-end", "0.25", "--samples", "2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("# precision: mpfr:128 (effective_bits="), std::string::npos) << r.out;
+  const auto rows = data_rows(r.out);
+  ASSERT_EQ(rows.size(), 3u);
+  // Enough digits to round-trip 128+ bits: at least 40 significant digits per value.
+  EXPECT_GE(rows[2].find(','), 40u) << rows[2];
+}
+
+}  // namespace
