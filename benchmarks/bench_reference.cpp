@@ -1,0 +1,455 @@
+// Work-precision of reference generation on the paper scene (issue 4, section 2; issue 2,
+// "Benchmark, not a timed test").
+//
+// Scene (paper Section 3): G = (1, 1, 1), Omega(0) = (0.5, 0, 1), tau in [0, 136], Eq. 5.
+// Samples: tau = i/16, i = 0..2176 (exact in every scalar type).
+// Truth: our Chebyshev-Picard integrator in mpfr:320, computed once and cached next to this
+// executable (bench_reference_truth_320_<tau_end>.txt, keyed by a header line).
+// Error: Eq. 20, e = sqrt(sum_i (Omega_i - Omega_i^truth)^2), the maximum over the samples,
+// computed in MPFR at 400 bits from the round-trip decimal texts of both sides.
+//
+// Rows, each the best wall time of --repeat N runs (std::chrono::steady_clock). A timed run
+// produces the samples in the row's own scalar type: our integrator integrates and evaluates its
+// dense output at the sample times; Boost.Odeint integrates with integrate_times, which steps
+// onto every sample time. Text conversion and error measurement are outside the timing.
+//   - ours, quad: tolerance 1e-20, 1e-24, 1e-28 and the default (epsilon of quad);
+//   - ours, mpfr:256: tolerance 1e-40, 1e-50, 1e-60 and the default (epsilon at 257 bits);
+//   - Boost.Odeint bulirsch_stoer<float128>, abs = rel tol 1e-20, 1e-24, 1e-28, 1e-32;
+//   - Boost.Odeint controlled runge_kutta_fehlberg78<float128>, the same tolerances
+//     (a row is abandoned after 60 s and printed as "skipped");
+//   - Boost.Odeint bulirsch_stoer on MPFR at 256 bits, tol 1e-40, 1e-50, 1e-60; the sweep stops
+//     after the first row that takes more than 120 s, and a row is abandoned after --mpfr-cap s.
+//
+// Options: --quick (quad rows with tol >= 1e-24 only, tau_end = 20), --repeat N, --no-mpfr,
+//          --mpfr-cap SECONDS (default 600), --recompute-truth.
+// Progress goes to standard error; the table to standard output.
+#include <eulervop/chebyshev_picard.hpp>
+#include <eulervop/model.hpp>
+#include <eulervop/scalar.hpp>
+
+#include <boost/multiprecision/float128.hpp>
+#include <boost/multiprecision/mpfr.hpp>
+#include <boost/numeric/odeint.hpp>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace mp = boost::multiprecision;
+namespace odeint = boost::numeric::odeint;
+
+// Boost.Odeint's value type for the peers. float128 is Boost's number<float128_backend, et_off>.
+// For MPFR the peer uses expression templates off: odeint mixes plain values with abs(...) in
+// std::max and friends, which does not deduce with Boost.Multiprecision expression templates.
+using odeint_mpfr = mp::number<mp::mpfr_float_backend<0>, mp::et_off>;
+
+// odeint's extract_value_type recurses into number::value_type, which for a real number is the
+// number itself: it never ends (DESIGN.md section 2). Stop the recursion at the scalar.
+namespace boost::numeric::odeint::detail {
+template <>
+struct extract_value_type<eulervop::quad, void> {
+  typedef eulervop::quad type;
+};
+template <>
+struct extract_value_type<odeint_mpfr, void> {
+  typedef odeint_mpfr type;
+};
+}  // namespace boost::numeric::odeint::detail
+
+namespace {
+
+using clock_type = std::chrono::steady_clock;
+using text3 = std::array<std::string, 3>;
+
+double seconds_since(clock_type::time_point t0) {
+  return std::chrono::duration<double>(clock_type::now() - t0).count();
+}
+
+struct options {
+  bool quick = false;
+  bool no_mpfr = false;
+  bool recompute_truth = false;
+  int repeat = 1;
+  double mpfr_cap = 600;
+};
+
+// The scene and the sample grid.
+constexpr int samples_per_unit = 16;
+int sample_count(int tau_end) { return tau_end * samples_per_unit + 1; }
+
+template <class T>
+std::vector<T> sample_times(int tau_end) {
+  std::vector<T> t(sample_count(tau_end));
+  for (std::size_t i = 0; i < t.size(); ++i) t[i] = T(static_cast<int>(i)) / T(samples_per_unit);
+  return t;
+}
+
+template <class T>
+eulervop::normalized_problem<T> paper_problem() {
+  eulervop::normalized_problem<T> p;
+  p.G = {T(1), T(1), T(1)};
+  p.Omega0 = {T(1) / T(2), T(0), T(1)};
+  p.tau0 = T(0);
+  return p;
+}
+
+// Full-precision text of an odeint MPFR value (round-trip, like eulervop::to_text).
+std::string text_of(const odeint_mpfr& x) {
+  const unsigned digits = static_cast<unsigned>(std::ceil(x.precision() * 3.3219280948873623 * 0.30102999566398120)) + 3;
+  return x.str(static_cast<std::streamsize>(digits), std::ios_base::scientific);
+}
+std::string text_of(const eulervop::quad& x) { return eulervop::to_text(x); }
+std::string text_of(const eulervop::mpfr_real& x) { return eulervop::to_text(x); }
+
+// ---- progress ------------------------------------------------------------------------------
+class progress_printer {
+ public:
+  explicit progress_printer(std::string label) : label_(std::move(label)), t0_(clock_type::now()) {}
+  void operator()(double tau) {
+    const double s = seconds_since(t0_);
+    if (s - last_ >= 2.0) {
+      std::fprintf(stderr, "  %s: tau = %.2f after %.0f s\n", label_.c_str(), tau, s);
+      last_ = s;
+    }
+  }
+
+ private:
+  std::string label_;
+  clock_type::time_point t0_;
+  double last_ = 0;
+};
+
+// ---- truth ---------------------------------------------------------------------------------
+std::filesystem::path executable_dir() {
+  std::error_code ec;
+  auto p = std::filesystem::canonical("/proc/self/exe", ec);
+  return ec ? std::filesystem::current_path() : p.parent_path();
+}
+
+std::string truth_header(int tau_end) {
+  return "# eulervop bench_reference truth v1: integrate_reference<mpfr_real> mpfr:320 default settings;"
+         " G=(1,1,1) Omega0=(0.5,0,1) tau=i/16 i=0.." +
+         std::to_string(sample_count(tau_end) - 1);
+}
+
+std::vector<text3> load_or_make_truth(int tau_end, bool recompute) {
+  const auto path = executable_dir() / ("bench_reference_truth_320_" + std::to_string(tau_end) + ".txt");
+  const std::string header = truth_header(tau_end);
+  if (!recompute) {
+    std::ifstream in(path);
+    std::string line;
+    if (in && std::getline(in, line) && line == header) {
+      std::vector<text3> rows;
+      text3 r;
+      while (in >> r[0] >> r[1] >> r[2]) rows.push_back(r);
+      if (static_cast<int>(rows.size()) == sample_count(tau_end)) {
+        std::fprintf(stderr, "truth: loaded %s\n", path.c_str());
+        return rows;
+      }
+    }
+  }
+  std::fprintf(stderr, "truth: computing mpfr:320 to tau = %d (cached in %s)\n", tau_end, path.c_str());
+  eulervop::mpfr_precision_scope scope(320);
+  using T = eulervop::mpfr_real;
+  const auto t0 = clock_type::now();
+  eulervop::picard_stats st;
+  const auto traj = eulervop::integrate_reference<T>(paper_problem<T>(), T(tau_end), {},
+                                                     progress_printer("truth mpfr:320"), &st);
+  std::vector<text3> rows;
+  for (const T& tau : sample_times<T>(tau_end)) {
+    const auto v = traj(tau);
+    rows.push_back({eulervop::to_text(v[0]), eulervop::to_text(v[1]), eulervop::to_text(v[2])});
+  }
+  std::fprintf(stderr, "truth: %.1f s, %zu segments, degree %u\n", seconds_since(t0), st.segments, st.degree);
+  const auto tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << header << '\n';
+    for (const auto& r : rows) out << r[0] << ' ' << r[1] << ' ' << r[2] << '\n';
+  }
+  std::filesystem::rename(tmp, path);
+  return rows;
+}
+
+// Max and final Eq. 20 error of `rows` against `truth`, in MPFR at 400 bits.
+struct error_result {
+  double max_error = 0;
+  double final_error = 0;
+};
+
+error_result eq20_error(const std::vector<text3>& rows, const std::vector<text3>& truth) {
+  eulervop::mpfr_precision_scope scope(400);
+  using M = eulervop::mpfr_real;
+  error_result out;
+  M worst = 0, e2 = 0;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    M s = 0;
+    for (int i = 0; i < 3; ++i) {
+      M d = M(rows[k][i]) - M(truth[k][i]);
+      s += d * d;
+    }
+    if (s > worst) worst = s;
+    e2 = s;
+  }
+  out.max_error = static_cast<double>(sqrt(worst));
+  out.final_error = static_cast<double>(sqrt(e2));
+  return out;
+}
+
+// ---- rows ----------------------------------------------------------------------------------
+struct row {
+  std::string method, precision, tolerance;
+  bool done = false;
+  std::string status;  // why a row did not finish
+  double seconds = 0;
+  error_result err;
+  std::string notes;
+};
+
+void print_row_progress(const row& r) {
+  if (r.done)
+    std::fprintf(stderr, "  -> %-32s %-9s tol %-8s %9.3f s  max err %.2e  %s\n", r.method.c_str(),
+                 r.precision.c_str(), r.tolerance.c_str(), r.seconds, r.err.max_error, r.notes.c_str());
+  else
+    std::fprintf(stderr, "  -> %-32s %-9s tol %-8s %s\n", r.method.c_str(), r.precision.c_str(),
+                 r.tolerance.c_str(), r.status.c_str());
+}
+
+std::string tol_text(double tol) {
+  if (tol <= 0) return "default";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.0e", tol);
+  return buf;
+}
+
+// Our integrator in T: integrate, then evaluate the dense output at the sample times.
+template <class T>
+row run_ours(const std::string& precision_name, double tol, int tau_end, const options& opt,
+             const std::vector<text3>& truth) {
+  row r;
+  r.method = "ours Chebyshev-Picard";
+  r.precision = precision_name;
+  eulervop::picard_settings settings;
+  settings.tolerance = tol;
+  r.tolerance = tol_text(tol);
+  std::fprintf(stderr, "row: %s %s tol %s\n", r.method.c_str(), r.precision.c_str(), r.tolerance.c_str());
+  const auto problem = paper_problem<T>();
+  const auto times = sample_times<T>(tau_end);
+  std::vector<eulervop::vec3<T>> values;
+  eulervop::picard_stats st;
+  double best = std::numeric_limits<double>::infinity();
+  for (int rep = 0; rep < opt.repeat; ++rep) {
+    values.clear();
+    const auto t0 = clock_type::now();
+    const auto traj = eulervop::integrate_reference<T>(problem, T(tau_end), settings,
+                                                       progress_printer("ours " + precision_name), &st);
+    values.reserve(times.size());
+    for (const T& tau : times) values.push_back(traj(tau));
+    best = std::min(best, seconds_since(t0));
+  }
+  std::vector<text3> rows;
+  for (const auto& v : values) rows.push_back({text_of(v[0]), text_of(v[1]), text_of(v[2])});
+  r.done = true;
+  r.seconds = best;
+  r.err = eq20_error(rows, truth);
+  r.notes = "N=" + std::to_string(st.degree) + " segments=" + std::to_string(st.segments) +
+            " rejected=" + std::to_string(st.rejected) + " wide_residuals=" + std::to_string(st.wide_residuals) +
+            " double_sweeps=" + std::to_string(st.double_sweeps);
+  print_row_progress(r);
+  return r;
+}
+
+// Thrown by the observer when a Boost.Odeint row runs past its time budget.
+struct out_of_time {
+  double tau;
+};
+
+template <class V>
+struct euler_system {
+  std::array<V, 3> G;
+  void operator()(const std::array<V, 3>& x, std::array<V, 3>& dxdt, const V& /*t*/) const {
+    eulervop::euler_rhs(x, G, dxdt);
+  }
+};
+
+// A Boost.Odeint controlled stepper run with integrate_times over the sample times.
+// make_stepper(tol) returns a fresh stepper; the sweep abandons a run after `cap` seconds.
+template <class V, class MakeStepper>
+row run_odeint(const std::string& method, const std::string& precision_name, double tol, int tau_end,
+               const options& opt, const std::vector<text3>& truth, MakeStepper make_stepper, double cap) {
+  row r;
+  r.method = method;
+  r.precision = precision_name;
+  r.tolerance = tol_text(tol);
+  std::fprintf(stderr, "row: %s %s tol %s\n", r.method.c_str(), r.precision.c_str(), r.tolerance.c_str());
+  using state = std::array<V, 3>;
+  euler_system<V> sys{{V(1), V(1), V(1)}};
+  const auto times = sample_times<V>(tau_end);
+  std::vector<state> values;
+  double best = std::numeric_limits<double>::infinity();
+  std::size_t steps_observed = 0;
+  for (int rep = 0; rep < opt.repeat; ++rep) {
+    values.clear();
+    values.reserve(times.size());
+    state x{V(1) / V(2), V(0), V(1)};
+    auto stepper = make_stepper(V(tol));
+    const auto t0 = clock_type::now();
+    double last_report = 0;
+    try {
+      steps_observed = odeint::integrate_times(
+          stepper, sys, x, times.begin(), times.end(), V(1) / V(100),
+          [&](const state& s, const V& t) {
+            values.push_back(s);
+            const double el = seconds_since(t0);
+            if (el - last_report >= 2.0) {
+              std::fprintf(stderr, "  %s %s: tau = %.2f after %.0f s\n", method.c_str(),
+                           precision_name.c_str(), static_cast<double>(t), el);
+              last_report = el;
+            }
+            if (el > cap) throw out_of_time{static_cast<double>(t)};
+          });
+    } catch (const out_of_time& e) {
+      char buf[128];
+      std::snprintf(buf, sizeof buf, "skipped (> %.0f s; abandoned at tau = %.2f)", cap, e.tau);
+      r.status = buf;
+      r.seconds = seconds_since(t0);
+      print_row_progress(r);
+      return r;
+    } catch (const std::exception& e) {
+      r.status = std::string("failed: ") + e.what();
+      print_row_progress(r);
+      return r;
+    }
+    best = std::min(best, seconds_since(t0));
+  }
+  std::vector<text3> rows;
+  for (const auto& v : values) rows.push_back({text_of(v[0]), text_of(v[1]), text_of(v[2])});
+  r.done = true;
+  r.seconds = best;
+  r.err = eq20_error(rows, truth);
+  r.notes = "steps=" + std::to_string(steps_observed);
+  print_row_progress(r);
+  return r;
+}
+
+template <class V>
+auto bulirsch_stoer_maker() {
+  return [](const V& tol) { return odeint::bulirsch_stoer<std::array<V, 3>, V>(tol, tol); };
+}
+template <class V>
+auto rkf78_maker() {
+  return [](const V& tol) {
+    return odeint::make_controlled(tol, tol, odeint::runge_kutta_fehlberg78<std::array<V, 3>, V>());
+  };
+}
+
+void print_table(const std::vector<row>& rows, const row* baseline, int tau_end, int samples) {
+  std::printf("\nReference generation, paper scene (G = (1,1,1), Omega(0) = (0.5,0,1)), tau in [0, %d], "
+              "%d samples (tau = i/16)\n",
+              tau_end, samples);
+  std::printf("Error: max over the samples of Eq. 20 against our mpfr:320 reference, computed in MPFR 400 bits.\n");
+  if (baseline)
+    std::printf("Speed ratio: wall time of Boost.Odeint bulirsch_stoer<float128> tol 1e-28 (%.3f s) / row time.\n",
+                baseline->seconds);
+  std::printf("\n| method | precision | tol | wall s | max error | final error | speed vs BS quad 1e-28 | notes |\n");
+  std::printf("|---|---|---|---:|---:|---:|---:|---|\n");
+  for (const auto& r : rows) {
+    if (!r.done) {
+      std::printf("| %s | %s | %s | %s | - | - | - | |\n", r.method.c_str(), r.precision.c_str(),
+                  r.tolerance.c_str(), r.status.c_str());
+      continue;
+    }
+    char ratio[32] = "-";
+    if (baseline) std::snprintf(ratio, sizeof ratio, "%.2fx", baseline->seconds / r.seconds);
+    std::printf("| %s | %s | %s | %.3f | %.2e | %.2e | %s | %s |\n", r.method.c_str(), r.precision.c_str(),
+                r.tolerance.c_str(), r.seconds, r.err.max_error, r.err.final_error, ratio, r.notes.c_str());
+  }
+  std::fflush(stdout);
+}
+
+int usage(const char* argv0) {
+  std::fprintf(stderr,
+               "usage: %s [--quick] [--repeat N] [--no-mpfr] [--mpfr-cap SECONDS] [--recompute-truth]\n", argv0);
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  options opt;
+  for (int a = 1; a < argc; ++a) {
+    const std::string arg = argv[a];
+    if (arg == "--quick") opt.quick = true;
+    else if (arg == "--no-mpfr") opt.no_mpfr = true;
+    else if (arg == "--recompute-truth") opt.recompute_truth = true;
+    else if (arg == "--repeat" && a + 1 < argc) {
+      opt.repeat = std::atoi(argv[++a]);
+      if (opt.repeat < 1) return usage(argv[0]);
+    } else if (arg == "--mpfr-cap" && a + 1 < argc) {
+      opt.mpfr_cap = std::atof(argv[++a]);
+      if (!(opt.mpfr_cap > 0)) return usage(argv[0]);
+    } else {
+      return usage(argv[0]);
+    }
+  }
+  const int tau_end = opt.quick ? 20 : 136;
+  try {
+    const auto truth = load_or_make_truth(tau_end, opt.recompute_truth);
+    std::vector<row> rows;
+    const std::vector<double> quad_tols = opt.quick ? std::vector<double>{1e-20, 1e-24}
+                                                    : std::vector<double>{1e-20, 1e-24, 1e-28, 0};
+    const std::vector<double> odeint_tols =
+        opt.quick ? std::vector<double>{1e-20, 1e-24} : std::vector<double>{1e-20, 1e-24, 1e-28, 1e-32};
+
+    for (double tol : quad_tols)
+      rows.push_back(run_ours<eulervop::quad>("quad", tol, tau_end, opt, truth));
+    std::size_t baseline_index = rows.size();
+    bool have_baseline = false;
+    for (double tol : odeint_tols) {
+      if (tol == 1e-28) {
+        baseline_index = rows.size();
+        have_baseline = true;
+      }
+      rows.push_back(run_odeint<eulervop::quad>("odeint bulirsch_stoer", "float128", tol, tau_end, opt, truth,
+                                                bulirsch_stoer_maker<eulervop::quad>(), 1e9));
+    }
+    for (double tol : odeint_tols)
+      rows.push_back(run_odeint<eulervop::quad>("odeint rk_fehlberg78 controlled", "float128", tol, tau_end, opt,
+                                                truth, rkf78_maker<eulervop::quad>(), 60.0));
+    if (!opt.quick && !opt.no_mpfr) {
+      {
+        eulervop::mpfr_precision_scope scope(256);
+        for (double tol : {1e-40, 1e-50, 1e-60, 0.0})
+          rows.push_back(run_ours<eulervop::mpfr_real>("mpfr:256", tol, tau_end, opt, truth));
+      }
+      {
+        // The peer at 256 bits (257 effective, like ours: the same digits10 setting).
+        odeint_mpfr::thread_default_precision(eulervop::mpfr_digits10_for_bits(256));
+        for (double tol : {1e-40, 1e-50, 1e-60}) {
+          rows.push_back(run_odeint<odeint_mpfr>("odeint bulirsch_stoer", "mpfr:256", tol, tau_end, opt, truth,
+                                                 bulirsch_stoer_maker<odeint_mpfr>(), opt.mpfr_cap));
+          if (!rows.back().done || rows.back().seconds > 120) break;
+        }
+      }
+    }
+    const row* baseline = have_baseline && rows[baseline_index].done ? &rows[baseline_index] : nullptr;
+    print_table(rows, baseline, tau_end, sample_count(tau_end));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_reference: %s\n", e.what());
+    return 3;
+  }
+  return 0;
+}

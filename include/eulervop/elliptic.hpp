@@ -1,0 +1,337 @@
+// Jacobi elliptic functions, the complete integrals and the Jacobi zeta / epsilon functions,
+// all from one arithmetic-geometric mean (descending Landen) sequence, templated on the scalar.
+//
+//   elliptic_modulus<T> m(k);        // the k-dependent part: AGM sequence, K(k), E(k), kc^2
+//   jacobi_values<T> j = jacobi_eval(u, m);   // sn, cn, dn, am(u), Z(u), E(u) in one pass
+//   T u = elliptic_f(j.am, m);       // F(phi|k), continuous in phi: the inverse of am
+//
+// The modulus is k (not the parameter m = k^2). 0 <= k < 1; anything else throws
+// std::domain_error with the value.
+//
+// Formulas (A&S = Abramowitz & Stegun; DLMF = NIST Digital Library of Mathematical Functions):
+//   AGM       a_0 = 1, b_0 = kc, c_0 = k;  a_n = (a_{n-1}+b_{n-1})/2,  b_n = sqrt(a_{n-1} b_{n-1}),
+//             c_n = c_{n-1}^2 / (4 a_n)  (equal to (a_{n-1}-b_{n-1})/2 without its cancellation).
+//             Stops on the relative test c_N <= eps a_N (A&S 16.4, 17.6).  An absolute test
+//             would never stop for k -> 1 in wide types (DESIGN.md section 2).
+//   K         pi / (2 a_N)                                                        (A&S 17.6.3)
+//   E/K       1 - sum_{n>=0} 2^{n-1} c_n^2                                        (A&S 17.6.4)
+//             evaluated without its cancellation (it loses log2 K bits as k -> 1):
+//             kc >= 1/16: E/K = a_N^2 + sum_{n>=2} c_n (a_{n-1} + a_n - 2^{n-1} c_n), the same
+//                         sum telescoped with c_n^2 = (a_{n-1}-a_n)... (derivation below);
+//             kc <  1/16: Legendre's relation E K' + E' K - K K' = pi/2 (A&S 17.3.13) with
+//                         K' = pi/(2 a'_N) from the complementary AGM (a'_0 = 1, b'_0 = k):
+//                         E/K = 2 a_N a'_N / pi + sum_{n>=0} 2^{n-1} c'_n^2  (all terms > 0).
+//   sn,cn,dn  descending Gauss transformation, level n has modulus k_n = c_n/a_n and argument
+//             a_n u (DLMF 22.7.1-22.7.3): with s,c,d at level n and D = 1 + k_n s^2,
+//               sn = (1+k_n) s / D,  cn = c d / D,
+//               dn = (1 - k_n s^2) / D        where k_n s^2 <= 1/2,
+//               dn = ((1-k_n) + k_n c^2) / D  elsewhere,
+//             with 1 - k_n = b_{n-1}/a_n.  The dn forms are DLMF 22.7.3 rewritten without the
+//             0/0 of a ratio at odd multiples of K (DESIGN.md section 2) and without the
+//             cancellation of 1 - k_n s^2 near s = 1.  Bottom level: sin, cos, 1 of a_N u
+//             (error O(k_N^2) <= eps^2).
+//   am        n pi + atan2(sn(r), cn(r)) with r = u - 2nK, n = nearest(u/2K); continuous in u.
+//   Z(u)      sum_{n=1}^N c_n sin(phi_n) (A&S 17.6.? "Z(phi_0|m) = c_1 sin phi_1 + ..."), with
+//             phi_0 = am(r) and tan(phi_n - phi_{n-1}) = (b_{n-1}/a_{n-1}) tan phi_{n-1}
+//             (A&S 17.6.8), evaluated on (sin, cos) pairs algebraically:
+//               h = sqrt(a^2 C^2 + b^2 S^2),  sin phi_n = (a+b) S C / h,  cos phi_n = (a C^2 - b S^2)/h.
+//   E(u)      Jacobi's epsilon function = E(am u | k) = Z(u) + (E/K) u.
+//   F(phi)    A&S 17.6.8-17.6.9: phi_n = phi_{n-1} + atan((b_{n-1}/a_{n-1}) tan phi_{n-1}) on the
+//             branch that keeps phi_n - phi_{n-1} within pi/2 of phi_{n-1}; F = phi_N / (2^N a_N).
+//             Continuous: F(phi + j pi) = F(phi) + 2 j K.
+//
+// Derivation of the telescoped E/K (checked numerically to 1e-50 with mpmath): let
+// T_n = 1 - sum_{j<=n} 2^{j-1} c_j^2 and D_n = T_n - a_n^2.  D_0 = -k^2/2, and
+// a_{n-1}^2 - a_n^2 = c_n (a_{n-1} + a_n), so D_n = D_{n-1} + c_n (a_{n-1} + a_n - 2^{n-1} c_n),
+// with D_1 = 0 exactly.  The terms are positive unless a_{n-1} > 5 b_{n-1}-ish, which only happens
+// for small kc, hence the Legendre branch there.
+//
+// Accuracy (measured in tests/test_elliptic.cpp): double within a few ulp for |u| <= a few K;
+// for large |u| the reduction u - 2nK carries the rounding of K (n ulp(K)): the absolute error in
+// the argument grows like eps |u|, the same as the sensitivity to the last bit of u itself.
+//
+// Cost: no heap allocation for double and quad (fixed arrays of max_levels); for MPFR each
+// temporary allocates (use the in-place overloads and keep the objects alive in hot loops).
+#pragma once
+
+#include "eulervop/scalar.hpp"
+
+#include <boost/math/constants/constants.hpp>
+
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+
+namespace eulervop {
+
+namespace detail {
+
+// Nearest integer (ties either way), as a value of T.
+template <class T>
+inline T elliptic_nearest(const T& x) {
+  if constexpr (std::is_same_v<T, double>) {
+    // 1.5 * 2^52: adding it rounds to an integer in the current rounding mode (nearest), without
+    // a libm call (std::nearbyint is a call unless SSE4.1 is enabled).
+    constexpr double shifter = 6755399441055744.0;
+    if (std::fabs(x) < 2251799813685248.0) return (x + shifter) - shifter;
+    return std::nearbyint(x);
+  } else {
+    using std::round;
+    return round(x);
+  }
+}
+
+// True when the integer-valued x is odd.
+template <class T>
+inline bool elliptic_is_odd(const T& x) {
+  using std::floor;
+  T half = x / 2;
+  return half != floor(half);
+}
+
+}  // namespace detail
+
+// The modulus-dependent part: everything that depends on k only. Build it once per k and reuse
+// it while k is unchanged.
+template <scalar T>
+class elliptic_modulus {
+ public:
+  // Levels of the AGM that fit. The AGM converges quadratically once a_n/b_n is near 1; before
+  // that, a_n/b_n falls like its square root, which takes log2(log2(1/kc)) levels.  With
+  // kc >= sqrt(eps) (k < 1 in T) and eps >= 2^-16384 this is at most about 2 * 14 = 28 levels.
+  static constexpr int max_levels = 40;
+
+  explicit elliptic_modulus(const T& k) { assign(k); }
+
+  // Recomputes for a new modulus, reusing this object's storage (useful for MPFR).
+  void assign(const T& k) {
+    using std::sqrt;
+    if (!(k >= 0 && k < 1))
+      throw std::domain_error("eulervop::elliptic_modulus: modulus k = " + to_text<T>(k) +
+                              " is outside [0, 1)");
+    k_ = k;
+    kc2_ = (1 - k) * (1 + k);  // 1 - k is exact for k >= 1/2 (Sterbenz), so kc^2 keeps its bits
+    kc_ = sqrt(kc2_);
+    pi_ = boost::math::constants::pi<T>();
+    const T eps = epsilon<T>();
+
+    a_[0] = 1;
+    b_[0] = kc_;
+    c_[0] = k;
+    int n = 0;
+    // Relative stopping test. At least one level when k > 0, so that Z (whose first term is
+    // c_1 ~ k^2/4) keeps its relative accuracy for tiny k.
+    while (n == 0 ? c_[0] > 0 : c_[n] > eps * a_[n]) {
+      if (n + 1 >= max_levels)
+        throw std::runtime_error("eulervop::elliptic_modulus: AGM did not converge in " +
+                                 std::to_string(max_levels) + " levels for k = " + to_text<T>(k));
+      a_[n + 1] = (a_[n] + b_[n]) / 2;
+      b_[n + 1] = sqrt(a_[n] * b_[n]);
+      ++n;
+      const T inv_a = 1 / a_[n];
+      omkn_[n] = b_[n - 1] * inv_a;  // 1 - k_n, relative error ~eps at every level
+      if (omkn_[n] * 2 < 1) {
+        // Slow phase (k -> 1): k_n > 1/2, so 1 - (1 - k_n) has no cancellation and keeps
+        // k_n + (1 - k_n) = 1 to an ulp. The squaring c_{n-1}^2/(4 a_n) would double the
+        // relative error of c_n at every level, and this phase can last log2(log2(1/kc)) levels.
+        kn_[n] = 1 - omkn_[n];
+        c_[n] = kn_[n] * a_[n];
+      } else {
+        // Fast phase: c_n = (a_{n-1} - b_{n-1})/2 would cancel; square instead (its relative
+        // error doubles per level, but c_n falls doubly exponentially, so its absolute error
+        // stays far below eps a_n).
+        c_[n] = c_[n - 1] * c_[n - 1] / (4 * a_[n]);
+        kn_[n] = c_[n] * inv_a;
+      }
+    }
+    levels_ = n;
+    const T& aN = a_[n];
+    K_ = pi_ / (2 * aN);
+    two_K_ = pi_ / aN;
+    inv_two_K_ = aN / pi_;
+
+    if (kc_ * 16 >= 1) {
+      T d = aN * aN;
+      T p = 1;  // 2^{j-1}
+      for (int j = 2; j <= n; ++j) {
+        p *= 2;
+        d += c_[j] * (a_[j - 1] + a_[j] - p * c_[j]);
+      }
+      e_over_k_ = d;
+    } else {
+      // Complementary AGM, streamed (only a'_N and the sum are needed).
+      T a = 1, b = k, c = kc_;
+      T s = c * c / 2;  // 2^{-1} c'_0^2
+      T p = T(1) / 2;
+      for (int j = 0; c > eps * a; ++j) {
+        if (j + 1 >= max_levels)
+          throw std::runtime_error("eulervop::elliptic_modulus: complementary AGM did not converge");
+        T an = (a + b) / 2;
+        b = sqrt(a * b);
+        c = c * c / (4 * an);
+        a = an;
+        p *= 2;
+        s += p * c * c;
+      }
+      e_over_k_ = 2 * aN * a / pi_ + s;
+    }
+    E_ = e_over_k_ * K_;
+  }
+
+  const T& k() const { return k_; }
+  const T& kc() const { return kc_; }          // sqrt(1 - k^2)
+  const T& kc2() const { return kc2_; }        // 1 - k^2, computed as (1-k)(1+k)
+  const T& K() const { return K_; }            // complete integral of the first kind K(k)
+  const T& E() const { return E_; }            // complete integral of the second kind E(k)
+  const T& e_over_k() const { return e_over_k_; }  // E(k)/K(k)
+  const T& two_K() const { return two_K_; }    // 2K, the period of dn and Z
+  const T& pi() const { return pi_; }
+  int levels() const { return levels_; }       // N: the AGM index at which c_N <= eps a_N
+  // The AGM sequence (A&S 17.6.1), n = 0..levels().
+  const T& a(int n) const { return a_[n]; }
+  const T& b(int n) const { return b_[n]; }
+  const T& c(int n) const { return c_[n]; }
+  const T& k_level(int n) const { return kn_[n]; }              // k_n = c_n / a_n, n >= 1
+  const T& one_minus_k_level(int n) const { return omkn_[n]; }  // 1 - k_n = b_{n-1} / a_n
+  const T& inv_two_K() const { return inv_two_K_; }              // 1 / (2K) = a_N / pi
+
+ private:
+
+  T k_, kc_, kc2_, pi_, K_, E_, e_over_k_, two_K_, inv_two_K_;
+  int levels_ = 0;
+  std::array<T, max_levels> a_, b_, c_;
+  std::array<T, max_levels> kn_;    // k_n = c_n / a_n (n >= 1), the modulus of level n
+  std::array<T, max_levels> omkn_;  // 1 - k_n = b_{n-1} / a_n (n >= 1), without cancellation
+};
+
+// Everything one evaluation at u returns.
+template <scalar T>
+struct jacobi_values {
+  T sn, cn, dn;
+  T am;  // amplitude, continuous in u: am(u + 2K) = am(u) + pi
+  T Z;   // Jacobi zeta function Z(u), period 2K
+  T E;   // Jacobi's epsilon function E(u) = integral_0^u dn^2 = E(am u | k) = Z(u) + (E/K) u
+};
+
+// Evaluates sn, cn, dn, am, Z and E(u) at u for the cached modulus m, in place.
+template <scalar T>
+void jacobi_eval(const T& u, const elliptic_modulus<T>& m, jacobi_values<T>& out) {
+  using std::atan2;
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const int N = m.levels();
+  if (N == 0) {  // k == 0 exactly: circular functions, no reduction needed
+    out.sn = sin(u);
+    out.cn = cos(u);
+    out.dn = 1;
+    out.am = u;
+    out.Z = 0;
+    out.E = u;
+    return;
+  }
+  // Reduce u modulo 2K first, in T: r in about [-K, K], where cn(r) >= 0.
+  const T q = detail::elliptic_nearest<T>(u * m.inv_two_K());
+  const T r = u - q * m.two_K();
+
+  // Bottom level: modulus k_N <= eps, argument a_N r.
+  const T v = m.a(N) * r;
+  T s = sin(v), c = cos(v), d = 1;
+  // Up the Gauss transformation (DLMF 22.7.1-22.7.3), level N -> 0.
+  for (int n = N; n >= 1; --n) {
+    const T& kn = m.k_level(n);
+    const T ks2 = kn * (s * s);
+    const T inv = 1 / (1 + ks2);
+    const T s_new = (1 + kn) * s * inv;
+    const T c_new = c * d * inv;
+    // dn = (1 - k_n s^2)/D = ((1 - k_n) + k_n c^2)/D. The first form depends on s alone and is
+    // used while it has no cancellation: computing d from c everywhere feeds the error of c
+    // back into d, and (s, c, d) drift off sn^2 + cn^2 = 1, doubling the error at every level
+    // with k_n ~ 1 (k -> 1). Where k_n s^2 > 1/2, c^2 < 1/2 and that feedback gain is below ~1.
+    if (2 * ks2 <= 1)
+      d = (1 - ks2) * inv;
+    else
+      d = (m.one_minus_k_level(n) + kn * (c * c)) * inv;
+    s = s_new;
+    c = c_new;
+  }
+  // Z(r) = sum c_n sin phi_n, phi_0 = am(r): down the Landen angles (A&S 17.6.8), on sin/cos.
+  T S = s, C = c, z = 0;
+  for (int n = 1; n <= N; ++n) {
+    const T& a = m.a(n - 1);
+    const T& b = m.b(n - 1);
+    const T aC = a * C, bS = b * S;
+    const T inv_h = 1 / sqrt(aC * aC + bS * bS);
+    const T S_new = 2 * m.a(n) * S * C * inv_h;  // (a + b) = 2 a_n
+    C = (aC * C - bS * S) * inv_h;
+    S = S_new;
+    z += m.c(n) * S;
+  }
+  const bool odd = detail::elliptic_is_odd(q);
+  out.am = q * m.pi() + atan2(s, c);
+  out.sn = odd ? T(-s) : s;
+  out.cn = odd ? T(-c) : c;
+  out.dn = d;
+  out.E = z + m.e_over_k() * u;
+  out.Z = z;
+}
+
+template <scalar T>
+jacobi_values<T> jacobi_eval(const T& u, const elliptic_modulus<T>& m) {
+  jacobi_values<T> out;
+  jacobi_eval(u, m, out);
+  return out;
+}
+
+template <scalar T>
+jacobi_values<T> jacobi_eval(const T& u, const T& k) {
+  return jacobi_eval(u, elliptic_modulus<T>(k));
+}
+
+// Incomplete elliptic integral of the first kind F(phi | k) = integral_0^phi dt/sqrt(1-k^2 sin^2 t),
+// for any real phi (continuous: F(phi + j pi) = F(phi) + 2 j K). Inverse of am: F(am(u)) = u.
+template <scalar T>
+T elliptic_f(const T& phi, const elliptic_modulus<T>& m) {
+  using std::atan2;
+  using std::cos;
+  using std::fabs;
+  using std::sin;
+  using std::sqrt;
+  const int N = m.levels();
+  if (N == 0) return phi;
+  // phi = j pi + x, |x| <= pi/2 (about): F = 2 j K + sign(x) F(|x|).
+  const T j = detail::elliptic_nearest<T>(phi / m.pi());
+  const T xr = phi - j * m.pi();
+  const bool negative = xr < 0;
+  T x = fabs(xr);
+  T S = sin(x), C = cos(x);
+  const T two_pi = 2 * m.pi();
+  T scale = 1;  // 2^-n
+  for (int n = 1; n <= N; ++n) {
+    const T& a = m.a(n - 1);
+    const T& b = m.b(n - 1);
+    const T aC = a * C, bS = b * S;
+    // phi_n - phi_{n-1} = atan((b/a) tan phi_{n-1}) on the branch within pi/2 of phi_{n-1}.
+    T delta = atan2(bS, aC);
+    const T turns = detail::elliptic_nearest<T>((x - delta) / two_pi);
+    if (turns != 0) delta += turns * two_pi;
+    x += delta;  // all terms >= 0: no cancellation
+    const T inv_h = 1 / sqrt(aC * aC + bS * bS);
+    const T S_new = 2 * m.a(n) * S * C * inv_h;
+    C = (aC * C - bS * S) * inv_h;
+    S = S_new;
+    scale /= 2;
+  }
+  T f = x * scale / m.a(N);
+  if (negative) f = -f;
+  return j * m.two_K() + f;
+}
+
+template <scalar T>
+T elliptic_f(const T& phi, const T& k) {
+  return elliptic_f(phi, elliptic_modulus<T>(k));
+}
+
+}  // namespace eulervop
