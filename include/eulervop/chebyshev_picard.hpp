@@ -151,7 +151,7 @@ class chebyshev_picard {
  public:
   explicit chebyshev_picard(const picard_settings& settings = {})
       : settings_(settings),
-        N_(settings.degree ? settings.degree : detail::default_degree(significand_bits<T>())),
+        N_(settings.degree ? settings.degree : detail::default_degree(effective_bits(settings))),
         n1_(N_ + 1),
         basis_(N_) {
     eps_ = static_cast<double>(epsilon<T>());  // 0 for MPFR beyond double's range is harmless
@@ -169,6 +169,16 @@ class chebyshev_picard {
   }
 
   unsigned degree() const { return static_cast<unsigned>(N_); }
+
+  // The bits the run must resolve: those of T, or fewer when a looser tolerance is asked. The
+  // default degree follows them, so a loose tolerance gets short cheap segments rather than
+  // long ones on which the Picard sweeps stop contracting.
+  static unsigned effective_bits(const picard_settings& s) {
+    const unsigned bits = significand_bits<T>();
+    if (!(s.tolerance > 0)) return bits;
+    const double tol_bits = -std::log2(s.tolerance);
+    return static_cast<unsigned>(std::clamp(tol_bits, 8.0, static_cast<double>(bits)));
+  }
 
   dense_trajectory<T> run(const normalized_problem<T>& problem, const T& tau_end,
                           const progress_callback& progress = {}, picard_stats* stats = nullptr) {
@@ -196,6 +206,9 @@ class chebyshev_picard {
     }
     bool have_prev = false;
     int consecutive_rejects = 0;
+    // Length at which the iteration last failed to converge: growth stays below it, relaxing
+    // slowly, so the tail estimate cannot push segments back into non-convergence every step.
+    double L_cap = std::numeric_limits<double>::infinity();
     std::size_t since_progress = 0;
 
     while (tau < tau_end) {
@@ -223,6 +236,7 @@ class chebyshev_picard {
         }
       } else {
         next_L = L_used * 0.5;
+        L_cap = 0.8 * L_used;
       }
       if (!accept) {
         ++st.rejected;
@@ -264,7 +278,8 @@ class chebyshev_picard {
         progress(to_d(tau));
         since_progress = 0;
       }
-      L = next_L;
+      L_cap *= 1.05;
+      L = std::min(next_L, L_cap);
       if (last) break;
     }
     if (stats) *stats = st;
