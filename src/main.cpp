@@ -5,6 +5,7 @@
 // the tau where it happened and why. 1 is left for what should never happen (a bug).
 #include "input_error.hpp"
 #include "reference_command.hpp"
+#include "report_command.hpp"
 
 #include <eulervop/chebyshev_picard.hpp>
 
@@ -36,11 +37,14 @@ int main(int argc, char** argv) {
 
   eulervop::app::reference_options reference;
   CLI::App* reference_command = eulervop::app::add_reference_command(app, reference);
+  eulervop::app::report_options report_opts;
+  CLI::App* report_command = eulervop::app::add_report_command(app, report_opts);
 
   // CLI11 would report a mistyped command as "A subcommand is required"; name it instead.
-  if (argc >= 2 && argv[1][0] != '-' && std::string_view(argv[1]) != reference_command->get_name())
-    return report(exit_bad_input, "error: ",
-                  fmt::format("unknown command `{}` (expected: {})", argv[1], reference_command->get_name()));
+  const std::string commands = fmt::format("{}, {}", reference_command->get_name(), report_command->get_name());
+  if (argc >= 2 && argv[1][0] != '-' && std::string_view(argv[1]) != reference_command->get_name() &&
+      std::string_view(argv[1]) != report_command->get_name())
+    return report(exit_bad_input, "error: ", fmt::format("unknown command `{}` (expected: {})", argv[1], commands));
 
   try {
     app.parse(argc, argv);
@@ -53,12 +57,13 @@ int main(int argc, char** argv) {
     return 0;
   } catch (const CLI::ParseError& e) {
     std::string message = e.what();
-    if (message == "A subcommand is required") message += " (expected: reference; see eulervop --help)";
+    if (message == "A subcommand is required") message += fmt::format(" (expected: {}; see eulervop --help)", commands);
     return report(exit_bad_input, "error: ", message);
   }
 
   try {
     if (reference_command->parsed()) eulervop::app::run_reference(reference, std::cout);
+    if (report_command->parsed()) eulervop::app::run_report(report_opts, std::cout);
     return 0;
   } catch (const eulervop::app::input_error& e) {
     return report(exit_bad_input, "error: ", e.what());

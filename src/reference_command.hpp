@@ -2,6 +2,8 @@
 // (issue 2, section 6).
 #pragma once
 
+#include "scene_overrides.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <optional>
@@ -14,14 +16,8 @@ namespace eulervop::app {
 // quote the user's text).
 struct reference_options {
   std::optional<std::string> scene_path;  // none: the embedded default scene
-  std::optional<std::string> precision;   // double | quad | mpfr:BITS, overrides [reference]
-  std::optional<std::string> tau_end;     // normalized scenes
-  std::optional<std::string> t_end;       // physical scenes
-  std::optional<std::string> samples;
-  std::optional<std::string> times;       // comma-separated, tau (normalized) or t (physical)
+  scene_override_flags overrides;         // --tau-end, --samples, --precision, ...
   std::optional<std::string> out;         // none: standard output
-  std::optional<std::string> degree;
-  std::optional<std::string> tolerance;
   bool verify = false;
 };
 

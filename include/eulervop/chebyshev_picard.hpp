@@ -71,21 +71,26 @@ class numerical_failure : public std::runtime_error {
   std::string why_;
 };
 
-// One segment of the dense output: Omega(tau) = base + (base_lo + sum_k coeffs[k] T_k(s)), with
-// s = (tau - tau_begin) / half_length - 1 in [-1, 1]. base_lo is the TwoSum compensation.
+// One segment of the dense output: Omega(tau) = base + (base_lo + p(s)), where p is the
+// polynomial through the increments `values` at the Chebyshev-Lobatto nodes s_j = -cos(j pi/N)
+// and s = (tau - tau_begin) / half_length - 1 in [-1, 1]. base_lo is the TwoSum compensation.
 template <class T>
 struct chebyshev_segment {
   T tau_begin, tau_end, half_length;
   vec3<T> base, base_lo;
-  std::vector<vec3<T>> coeffs;  // N+2 coefficients of Omega(tau) - Omega(tau_begin)
+  std::vector<vec3<T>> values;  // Omega(tau_j) - Omega(tau_begin) at the N+1 nodes
 };
 
 // The reference solution on [tau_begin, tau_end], evaluable anywhere in it to full precision.
+// Evaluation is barycentric Lagrange interpolation (second form) on the Lobatto nodes, with
+// weights (-1)^j, halved at the ends: backward stable for these nodes (Higham 2004, Berrut &
+// Trefethen 2004) and O(N) per call.
 template <class T>
 class dense_trajectory {
  public:
   dense_trajectory() = default;
-  explicit dense_trajectory(std::vector<chebyshev_segment<T>> segs) : segs_(std::move(segs)) {}
+  dense_trajectory(std::vector<chebyshev_segment<T>> segs, std::vector<T> nodes)
+      : segs_(std::move(segs)), nodes_(std::move(nodes)) {}
 
   const T& tau_begin() const { return segs_.front().tau_begin; }
   const T& tau_end() const { return segs_.back().tau_end; }
@@ -100,22 +105,34 @@ class dense_trajectory {
     auto it = std::upper_bound(segs_.begin(), segs_.end(), tau,
                                [](const T& t, const chebyshev_segment<T>& s) { return t < s.tau_begin; });
     const chebyshev_segment<T>& seg = *(it - 1);
-    if (tau == seg.tau_begin) {  // the segment's start is known exactly: no series rounding
-      vec3<T> out;
-      for (int i = 0; i < 3; ++i) out[i] = seg.base[i] + seg.base_lo[i];
-      return out;
-    }
+    vec3<T> out;
+    const std::size_t n1 = nodes_.size();
     T s = (tau - seg.tau_begin) / seg.half_length - 1;
     if (s > 1) s = 1;
-    vec3<T> out;
-    for (int i = 0; i < 3; ++i)
-      out[i] = seg.base[i] + (seg.base_lo[i] +
-                              detail::clenshaw<T>(&seg.coeffs[0][i], seg.coeffs.size(), 3, s));
+    std::size_t hit = n1;
+    if (tau == seg.tau_begin) hit = 0;  // the segment's start is known exactly
+    for (std::size_t j = 0; j < n1 && hit == n1; ++j)
+      if (s == nodes_[j]) hit = j;
+    if (hit < n1) {
+      for (int i = 0; i < 3; ++i) out[i] = seg.base[i] + (seg.base_lo[i] + seg.values[hit][i]);
+      return out;
+    }
+    T den = 0;
+    vec3<T> num{T(0), T(0), T(0)};
+    for (std::size_t j = 0; j < n1; ++j) {
+      T w = 1 / (s - nodes_[j]);
+      if (j % 2) w = -w;
+      if (j == 0 || j + 1 == n1) w /= 2;
+      den += w;
+      for (int i = 0; i < 3; ++i) num[i] += w * seg.values[j][i];
+    }
+    for (int i = 0; i < 3; ++i) out[i] = seg.base[i] + (seg.base_lo[i] + num[i] / den);
     return out;
   }
 
  private:
   std::vector<chebyshev_segment<T>> segs_;
+  std::vector<T> nodes_;
 };
 
 // Progress callback: the tau reached so far.
@@ -159,6 +176,10 @@ class chebyshev_picard {
     tol_log_ = settings.tolerance > 0 ? std::log(settings.tolerance) : eps_log_;
     S_d_.resize(n1_ * n1_);
     for (std::size_t k = 0; k < n1_ * n1_; ++k) S_d_[k] = static_cast<double>(basis_.integral[k]);
+    Q_d_.resize((N_ + 2) * n1_);
+    for (std::size_t k = 0; k < (N_ + 2) * n1_; ++k) Q_d_[k] = static_cast<double>(basis_.to_coeffs[k]);
+    C_d_.resize(n1_ * n1_);
+    for (std::size_t k = 0; k < n1_ * n1_; ++k) C_d_[k] = static_cast<double>(basis_.coeffs[k]);
     for (int i = 0; i < 3; ++i) {
       X_[i].resize(n1_); F_[i].resize(n1_); Yc_[i].resize(n1_); Yn_[i].resize(n1_);
       r_[i].resize(n1_); delta_[i].resize(n1_); delta_new_[i].resize(n1_); g_[i].resize(n1_);
@@ -166,6 +187,9 @@ class chebyshev_picard {
     }
     acc_ = T(0);
     bd_.resize(N_ + 2);
+    Fd_.resize(n1_);
+    coeff_log_.resize(N_ + 2);
+    noise_log_.resize(N_ + 2);
   }
 
   unsigned degree() const { return static_cast<unsigned>(N_); }
@@ -227,7 +251,7 @@ class chebyshev_picard {
       double next_L = L_used;
       bool accept = res.converged;
       if (accept) {
-        const tail_estimate te = estimate_tail(res.scale_log);
+        const tail_estimate te = estimate_tail(hl, res.scale_log);
         if (te.excess_log > std::log(8.0)) {
           accept = false;
           next_L = L_used * std::max(0.2, 0.8 * std::exp(-te.excess_log / double(N_ + 1)));
@@ -256,7 +280,9 @@ class chebyshev_picard {
       seg.half_length = hl;
       seg.base = x0;
       seg.base_lo = c0;
-      seg.coeffs = coeffs_;
+      seg.values.resize(n1_);
+      for (std::size_t j = 0; j < n1_; ++j)
+        for (int i = 0; i < 3; ++i) seg.values[j][i] = Yn_[i][j];
       vec3<T> x1, c1;
       for (int i = 0; i < 3; ++i) {
         const T y = Yn_[i][N_] + c0[i];
@@ -283,7 +309,7 @@ class chebyshev_picard {
       if (last) break;
     }
     if (stats) *stats = st;
-    return dense_trajectory<T>(std::move(segs));
+    return dense_trajectory<T>(std::move(segs), basis_.nodes);
   }
 
  private:
@@ -303,27 +329,31 @@ class chebyshev_picard {
     return isfinite(x);
   }
 
-  // Increments at the new nodes extrapolated from the previous segment's series, in double.
+  // Increments at the new nodes extrapolated from the previous segment's interpolant, in double.
   void make_warm_start(const chebyshev_segment<T>* prev, const T& hl_new) {
     for (int i = 0; i < 3; ++i) std::fill(warm_[i].begin(), warm_[i].end(), 0.0);
     if (!prev) return;
     const double ratio = to_d(hl_new / prev->half_length);
-    const std::size_t nc = prev->coeffs.size();
     double ymax = 0;
     for (int i = 0; i < 3; ++i) {
-      // Coefficients below the double noise floor only amplify under extrapolation: drop them.
+      for (std::size_t j = 0; j < n1_; ++j) Fd_[j] = to_d(prev->values[j][i]);
+      // Chebyshev coefficients of the degree-N interpolant through the node values.
       double cmax = 0;
-      for (std::size_t k = 0; k < nc; ++k) {
-        bd_[k] = to_d(prev->coeffs[k][i]);
-        cmax = std::max(cmax, std::abs(bd_[k]));
+      for (std::size_t k = 0; k < n1_; ++k) {
+        const double* row = &C_d_[k * n1_];
+        double a = 0;
+        for (std::size_t j = 0; j < n1_; ++j) a += row[j] * Fd_[j];
+        bd_[k] = a;
+        cmax = std::max(cmax, std::abs(a));
       }
       ymax = std::max(ymax, cmax);
-      for (std::size_t k = 1; k < nc; ++k)
-        if (std::abs(bd_[k]) < 1e-17 * cmax) bd_[k] = 0;
-      const double p1 = detail::clenshaw<double>(bd_.data(), nc, 1, 1.0);
+      // Coefficients at the double noise floor only amplify under extrapolation: drop them.
+      for (std::size_t k = 1; k < n1_; ++k)
+        if (std::abs(bd_[k]) < 1e-15 * cmax) bd_[k] = 0;
+      const double p1 = detail::clenshaw<double>(bd_.data(), n1_, 1, 1.0);
       for (std::size_t j = 0; j < n1_; ++j) {
         const double s = 1.0 + ratio * (static_cast<double>(basis_.nodes[j]) + 1.0);
-        warm_[i][j] = detail::clenshaw<double>(bd_.data(), nc, 1, s) - p1;
+        warm_[i][j] = detail::clenshaw<double>(bd_.data(), n1_, 1, s) - p1;
       }
     }
     // A wild extrapolation is worse than a cold start.
@@ -335,8 +365,42 @@ class chebyshev_picard {
         }
   }
 
+  // The first pass from the warm start, all in double: its residual is far above double
+  // rounding, so computing it in T would buy nothing (for T = double this is the T pass itself).
+  // Returns log of the residual, or NaN on failure.
+  double double_pass(const vec3<T>& x0, const vec3<T>& c0, double hl_d, picard_stats& st, std::string& why) {
+    vec3<double> x0d, dx;
+    for (int i = 0; i < 3; ++i) x0d[i] = to_d(x0[i]) + to_d(c0[i]);
+    const vec3<double> Gd{to_d(G_[0]), to_d(G_[1]), to_d(G_[2])};
+    for (std::size_t j = 0; j < n1_; ++j) {
+      vec3<double> x;
+      for (int i = 0; i < 3; ++i) x[i] = Xd_[i][j] = x0d[i] + warm_[i][j];
+      euler_rhs(x, Gd, dx);
+      for (int i = 0; i < 3; ++i) g_[i][j] = dx[i];
+    }
+    double r_max = 0;
+    for (int i = 0; i < 3; ++i) {
+      r_[i][0] = 0;
+      for (std::size_t j = 1; j < n1_; ++j) {
+        const double* row = &S_d_[j * n1_];
+        double a = 0;
+        for (std::size_t k = 0; k < n1_; ++k) a += row[k] * g_[i][k];
+        r_[i][j] = hl_d * a - warm_[i][j];
+        r_max = std::max(r_max, std::abs(r_[i][j]));
+      }
+    }
+    if (!std::isfinite(r_max)) {
+      why = "non-finite residual";
+      return std::numeric_limits<double>::quiet_NaN();
+    }
+    if (!solve_correction(hl_d, st, why)) return std::numeric_limits<double>::quiet_NaN();
+    for (int i = 0; i < 3; ++i)
+      for (std::size_t j = 1; j < n1_; ++j) Yc_[i][j] += T(delta_[i][j]);
+    return r_max > 0 ? std::log(r_max) : -std::numeric_limits<double>::infinity();
+  }
+
   // Solves the collocation problem on one segment from the warm start. On success Yn_ holds the
-  // increments at the nodes, F_ the derivative there, and coeffs_ the dense series.
+  // increments at the nodes and F_ the derivative there.
   solve_result solve_segment(const vec3<T>& x0, const vec3<T>& c0, const T& hl, picard_stats& st) {
     using std::abs;
     solve_result out;
@@ -346,6 +410,10 @@ class chebyshev_picard {
       for (std::size_t j = 0; j < n1_; ++j) Yc_[i][j] = T(warm_[i][j]);
 
     double r_prev_log = std::numeric_limits<double>::infinity();
+    if constexpr (!std::is_same_v<T, double>) {
+      r_prev_log = double_pass(x0, c0, hl_d, st, out.why);
+      if (std::isnan(r_prev_log)) return out;
+    }
     for (std::size_t outer = 0;; ++outer) {
       // X = x0 + (c0 + Yc);  F = f(X)  (Eq. 5).
       double scale = 0;
@@ -387,14 +455,17 @@ class chebyshev_picard {
         return out;
       }
       const double r_log = r_max > 0 ? std::log(r_max) : -std::numeric_limits<double>::infinity();
-      // Converged: residual within the tolerance, or stagnant at the rounding floor of T.
+      // Converged: residual within the tolerance or at the rounding level of one residual
+      // evaluation (a sum of N+1 rounded terms: ~sqrt(N+1) eps), or stagnant near that floor.
+      const double rounding_log = eps_log_ + std::log(4.0 * std::sqrt(double(n1_))) + out.scale_log;
       const double floor_log = eps_log_ + std::log(64.0 * n1_) + out.scale_log;
-      if (r_log <= tol_log_ + out.scale_log ||
+      if (r_log <= std::max(tol_log_ + out.scale_log, rounding_log) ||
           (r_log <= floor_log && r_log > r_prev_log - std::log(16.0))) {
         out.converged = true;
         break;
       }
-      if (outer + 1 >= max_outer || (outer > 0 && r_log > r_prev_log - std::log(2.0))) {
+      if (outer + 1 >= max_outer || (r_prev_log < std::numeric_limits<double>::infinity() &&
+                                     r_log > r_prev_log - std::log(2.0))) {
         out.why = "residual " + std::to_string(r_max) + " after " + std::to_string(outer + 1) + " passes";
         return out;
       }
@@ -402,17 +473,6 @@ class chebyshev_picard {
       if (!solve_correction(hl_d, st, out.why)) return out;
       for (int i = 0; i < 3; ++i)
         for (std::size_t j = 1; j < n1_; ++j) Yc_[i][j] += T(delta_[i][j]);
-    }
-    // Dense series of the increment: b = hl Q F (N+2 coefficients).
-    coeffs_.resize(N_ + 2);
-    for (std::size_t k = 0; k < N_ + 2; ++k) {
-      const T* row = &basis_.to_coeffs[k * n1_];
-      for (int i = 0; i < 3; ++i) {
-        acc_ = 0;
-        for (std::size_t j = 0; j < n1_; ++j) acc_ += row[j] * F_[i][j];
-        acc_ *= hl;
-        coeffs_[k][i] = acc_;
-      }
     }
     return out;
   }
@@ -467,39 +527,63 @@ class chebyshev_picard {
     return false;
   }
 
-  // Truncation estimate from the decay of the series coefficients b_1..b_{N+1} (already scaled by
-  // hl): a least-squares line through log max_i |b_k| over the coefficients above the rounding
-  // floor, evaluated at k = N+1, compared with tol * scale.
-  tail_estimate estimate_tail(double scale_log) {
-    const std::size_t nb = N_ + 2;
-    env_.assign(nb, -std::numeric_limits<double>::infinity());
-    for (std::size_t k = 1; k < nb; ++k)
-      for (int i = 0; i < 3; ++i) env_[k] = std::max(env_[k], detail::log_abs(coeffs_[k][i]));
+  // Truncation estimate from the decay of the Chebyshev coefficients b_k of the increment
+  // (b = hl Q F): a least-squares line through log max_i |b_k| over the coefficients above their
+  // rounding floor, evaluated at k = N+1, and the last coefficients themselves; compared with
+  // tol * scale. The head b_0..b_{N-3} is formed in double (it only has to show the decay rate);
+  // the last four in T, since they must be resolved down to the tolerance.
+  tail_estimate estimate_tail(const T& hl, double scale_log) {
+    const std::size_t nb = N_ + 2, tail_from = N_ - 2;
+    const double hl_d = to_d(hl);
+    std::fill(coeff_log_.begin(), coeff_log_.end(), -std::numeric_limits<double>::infinity());
+    double head_max = 0;
+    for (int i = 0; i < 3; ++i) {
+      for (std::size_t j = 0; j < n1_; ++j) Fd_[j] = to_d(F_[i][j]);
+      for (std::size_t k = 1; k < tail_from; ++k) {
+        const double* row = &Q_d_[k * n1_];
+        double a = 0;
+        for (std::size_t j = 0; j < n1_; ++j) a += row[j] * Fd_[j];
+        a = std::abs(a * hl_d);
+        head_max = std::max(head_max, a);
+        coeff_log_[k] = std::max(coeff_log_[k], a > 0 ? std::log(a) : -std::numeric_limits<double>::infinity());
+      }
+      for (std::size_t k = tail_from; k < nb; ++k) {
+        const T* row = &basis_.to_coeffs[k * n1_];
+        acc_ = 0;
+        for (std::size_t j = 0; j < n1_; ++j) acc_ += row[j] * F_[i][j];
+        acc_ *= hl;
+        coeff_log_[k] = std::max(coeff_log_[k], detail::log_abs(acc_));
+      }
+    }
+    const double head_noise = std::log(std::max(head_max, 1e-300) * 8.0 * n1_ * 2.2e-16);
+    const double tail_noise = eps_log_ + scale_log + std::log(4.0 * n1_);
+    for (std::size_t k = 0; k < nb; ++k) noise_log_[k] = k < tail_from ? std::max(head_noise, tail_noise) : tail_noise;
     // Envelope over neighbours: odd/even parts of the series vanish alternately.
-    for (std::size_t k = 1; k + 1 < nb; ++k) env_[k] = std::max(env_[k], env_[k + 1]);
-    const double noise = eps_log_ + scale_log + std::log(4.0 * n1_);
+    for (std::size_t k = 1; k + 1 < nb; ++k) coeff_log_[k] = std::max(coeff_log_[k], coeff_log_[k + 1]);
     const double target = tol_log_ + scale_log;
+    const double margin = std::log(100.0);
     double sx = 0, sy = 0, sxx = 0, sxy = 0;
     int n = 0;
     for (std::size_t k = 1; k < nb; ++k) {
-      if (env_[k] > noise + std::log(100.0)) {
+      if (coeff_log_[k] > noise_log_[k] + margin) {
         const double x = static_cast<double>(k);
-        sx += x; sy += env_[k]; sxx += x * x; sxy += x * env_[k];
+        sx += x; sy += coeff_log_[k]; sxx += x * x; sxy += x * coeff_log_[k];
         ++n;
       }
     }
     tail_estimate te;
-    const double last = env_[nb - 1];
+    const double last = coeff_log_[nb - 1];
+    const bool last_resolved = last > tail_noise + margin;
     if (n >= 3) {
       const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
       const double icpt = (sy - slope * sx) / n;
       double pred = icpt + slope * static_cast<double>(nb - 1);
       if (slope >= 0) pred = last;  // no decay seen: trust only the actual tail
-      te.excess_log = std::max(pred, last > noise + std::log(100.0) ? last : pred) - target;
+      te.excess_log = std::max(pred, last_resolved ? last : pred) - target;
     } else {
       // Everything but the first coefficients is at the rounding floor: the series converges
       // much faster than needed, so let the segment grow (the caller caps growth at 2x).
-      te.excess_log = last > noise + std::log(100.0) ? last - target : -std::log(4.0) * double(N_ + 1);
+      te.excess_log = last_resolved ? last - target : -std::log(4.0) * double(N_ + 1);
     }
     return te;
   }
@@ -512,8 +596,8 @@ class chebyshev_picard {
   vec3<T> G_{};
   std::array<std::vector<T>, 3> X_, F_, Yc_, Yn_;
   std::array<std::vector<double>, 3> r_, delta_, delta_new_, g_, Xd_, warm_;
-  std::vector<vec3<T>> coeffs_;
-  std::vector<double> bd_, env_;
+  std::vector<double> Q_d_, C_d_;
+  std::vector<double> bd_, Fd_, coeff_log_, noise_log_;
   T acc_;
 };
 

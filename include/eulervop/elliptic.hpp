@@ -10,7 +10,8 @@
 //
 // Formulas (A&S = Abramowitz & Stegun; DLMF = NIST Digital Library of Mathematical Functions):
 //   AGM       a_0 = 1, b_0 = kc, c_0 = k;  a_n = (a_{n-1}+b_{n-1})/2,  b_n = sqrt(a_{n-1} b_{n-1}),
-//             c_n = c_{n-1}^2 / (4 a_n)  (equal to (a_{n-1}-b_{n-1})/2 without its cancellation).
+//             c_n = (a_{n-1}-b_{n-1})/2 computed without cancellation: as k_n a_n with
+//             k_n = 1 - b_{n-1}/a_n while k_n > 1/2, then as c_{n-1}^2 / (4 a_n).
 //             Stops on the relative test c_N <= eps a_N (A&S 16.4, 17.6).  An absolute test
 //             would never stop for k -> 1 in wide types (DESIGN.md section 2).
 //   K         pi / (2 a_N)                                                        (A&S 17.6.3)
@@ -29,12 +30,15 @@
 //             with 1 - k_n = b_{n-1}/a_n.  The dn forms are DLMF 22.7.3 rewritten without the
 //             0/0 of a ratio at odd multiples of K (DESIGN.md section 2) and without the
 //             cancellation of 1 - k_n s^2 near s = 1.  Bottom level: sin, cos, 1 of a_N u
-//             (error O(k_N^2) <= eps^2).
+//             (error O(k_N^2) <= eps^2), or equivalently level N-1 to first order in
+//             k_{N-1}^2 (A&S 16.13), which is what the code does.
 //   am        n pi + atan2(sn(r), cn(r)) with r = u - 2nK, n = nearest(u/2K); continuous in u.
-//   Z(u)      sum_{n=1}^N c_n sin(phi_n) (A&S 17.6.? "Z(phi_0|m) = c_1 sin phi_1 + ..."), with
-//             phi_0 = am(r) and tan(phi_n - phi_{n-1}) = (b_{n-1}/a_{n-1}) tan phi_{n-1}
-//             (A&S 17.6.8), evaluated on (sin, cos) pairs algebraically:
-//               h = sqrt(a^2 C^2 + b^2 S^2),  sin phi_n = (a+b) S C / h,  cos phi_n = (a C^2 - b S^2)/h.
+//   Z(u)      sum_{n=1}^N 2^n c_n sn_n cn_n dn_n / (1 + k_n sn_n^2), the level-n values from
+//             the same upward pass. This is the Gauss transformation of Z,
+//               Z(u|k) = (1+kc) Z(v|k_1) + (1-kc) sn cn dn(v|k_1) / (1 + k_1 sn^2(v|k_1)),
+//             v = u/(1+k_1), unrolled (derived from the Fourier series of Z; checked against
+//             mpmath to 1e-40 and against Boost.Math jacobi_zeta in the tests). It replaces the
+//             A&S 17.6 sum c_n sin(phi_n) over the Landen angles, which needs a second pass.
 //   E(u)      Jacobi's epsilon function = E(am u | k) = Z(u) + (E/K) u.
 //   F(phi)    A&S 17.6.8-17.6.9: phi_n = phi_{n-1} + atan((b_{n-1}/a_{n-1}) tan phi_{n-1}) on the
 //             branch that keeps phi_n - phi_{n-1} within pi/2 of phi_{n-1}; F = phi_N / (2^N a_N).
@@ -46,12 +50,21 @@
 // with D_1 = 0 exactly.  The terms are positive unless a_{n-1} > 5 b_{n-1}-ish, which only happens
 // for small kc, hence the Legendre branch there.
 //
-// Accuracy (measured in tests/test_elliptic.cpp): double within a few ulp for |u| <= a few K;
-// for large |u| the reduction u - 2nK carries the rounding of K (n ulp(K)): the absolute error in
-// the argument grows like eps |u|, the same as the sensitivity to the last bit of u itself.
+// Accuracy (measured in tests/test_elliptic.cpp against Boost.Math in MPFR at 2 bits(T) + 256;
+// the same multiples of eps for double, quad and MPFR):
+//   |u| <= K: sn, cn (absolute), am, Z, E(u) within ~6 ulp; dn relative within ~5 ulp times
+//     max(1, |u dn'/dn|) (the ~1 ulp rounding of the argument a_n u, amplified by the condition
+//     number of dn, which reaches ~|u| for k -> 1 where dn ~ kc: up to 18 ulp relative in double
+//     at k = 1 - 1e-12, |u| ~ 5..15; the absolute error there is tiny).
+//   any u: |error| <= ~6 eps (|f| + |u f'(u)|) (forward-backward stable). For large |u| the
+//     reduction u - 2nK carries the rounding of K (n ulp(K) ~ eps |u|): log2(|u|/K) bits of the
+//     input are lost, the same as the sensitivity to the last bit of u itself.
+//   K, E(k): within 1.5 ulp.  F(phi): within ~1.5 eps (|F| + |phi| dF/dphi).
 //
-// Cost: no heap allocation for double and quad (fixed arrays of max_levels); for MPFR each
-// temporary allocates (use the in-place overloads and keep the objects alive in hot loops).
+// Cost (double, AMD EPYC 2.1 GHz, benchmarks/bench_elliptic.cpp): jacobi_eval ~50 ns with the
+// modulus cached, elliptic_modulus construction ~50 ns. No heap allocation for double and quad
+// (fixed arrays of max_levels); for MPFR each temporary allocates (use the in-place overloads and
+// assign(), and keep the objects alive in hot loops).
 #pragma once
 
 #include "eulervop/scalar.hpp"
@@ -68,15 +81,15 @@ namespace eulervop {
 
 namespace detail {
 
-// Nearest integer (ties either way), as a value of T.
+// Nearest integer (ties either way; for double, off by one when x + 1/2 rounds up), as a T.
 template <class T>
 inline T elliptic_nearest(const T& x) {
   if constexpr (std::is_same_v<T, double>) {
-    // 1.5 * 2^52: adding it rounds to an integer in the current rounding mode (nearest), without
-    // a libm call (std::nearbyint is a call unless SSE4.1 is enabled).
-    constexpr double shifter = 6755399441055744.0;
-    if (std::fabs(x) < 2251799813685248.0) return (x + shifter) - shifter;
-    return std::nearbyint(x);
+    // Truncation of x +- 1/2 is one inline instruction; std::nearbyint and std::round are libm
+    // calls unless SSE4.1 is enabled (GCC even turns the (x + 1.5*2^52) - 1.5*2^52 trick into
+    // one). Ties and the rounding of x + 1/2 may go either way: callers only need a nearby integer.
+    if (std::fabs(x) < 0x1p52) return static_cast<double>(static_cast<long long>(x + (x < 0 ? -0.5 : 0.5)));
+    return x;  // already an integer
   } else {
     using std::round;
     return round(x);
@@ -86,6 +99,9 @@ inline T elliptic_nearest(const T& x) {
 // True when the integer-valued x is odd.
 template <class T>
 inline bool elliptic_is_odd(const T& x) {
+  if constexpr (std::is_same_v<T, double>) {
+    if (std::fabs(x) < 0x1p62) return (static_cast<long long>(x) & 1) != 0;
+  }
   using std::floor;
   T half = x / 2;
   return half != floor(half);
@@ -120,6 +136,8 @@ class elliptic_modulus {
     a_[0] = 1;
     b_[0] = kc_;
     c_[0] = k;
+    kn_[0] = k;
+    omkn_[0] = 1 - k;
     int n = 0;
     // Relative stopping test. At least one level when k > 0, so that Z (whose first term is
     // c_1 ~ k^2/4) keeps its relative accuracy for tiny k.
@@ -142,14 +160,22 @@ class elliptic_modulus {
         // Fast phase: c_n = (a_{n-1} - b_{n-1})/2 would cancel; square instead (its relative
         // error doubles per level, but c_n falls doubly exponentially, so its absolute error
         // stays far below eps a_n).
-        c_[n] = c_[n - 1] * c_[n - 1] / (4 * a_[n]);
+        c_[n] = c_[n - 1] * c_[n - 1] * inv_a / 4;
         kn_[n] = c_[n] * inv_a;
       }
     }
     levels_ = n;
+    zw_[0] = 0;
+    {
+      T p = 1;
+      for (int j = 1; j <= n; ++j) {
+        p *= 2;
+        zw_[j] = c_[j] * p;
+      }
+    }
     const T& aN = a_[n];
     K_ = pi_ / (2 * aN);
-    two_K_ = pi_ / aN;
+    two_K_ = 2 * K_;  // exact
     inv_two_K_ = aN / pi_;
 
     if (kc_ * 16 >= 1) {
@@ -196,6 +222,7 @@ class elliptic_modulus {
   const T& k_level(int n) const { return kn_[n]; }              // k_n = c_n / a_n, n >= 1
   const T& one_minus_k_level(int n) const { return omkn_[n]; }  // 1 - k_n = b_{n-1} / a_n
   const T& inv_two_K() const { return inv_two_K_; }              // 1 / (2K) = a_N / pi
+  const T& z_weight(int n) const { return zw_[n]; }              // 2^n c_n, weights of Z
 
  private:
 
@@ -204,6 +231,7 @@ class elliptic_modulus {
   std::array<T, max_levels> a_, b_, c_;
   std::array<T, max_levels> kn_;    // k_n = c_n / a_n (n >= 1), the modulus of level n
   std::array<T, max_levels> omkn_;  // 1 - k_n = b_{n-1} / a_n (n >= 1), without cancellation
+  std::array<T, max_levels> zw_;    // 2^n c_n
 };
 
 // Everything one evaluation at u returns.
@@ -236,44 +264,63 @@ void jacobi_eval(const T& u, const elliptic_modulus<T>& m, jacobi_values<T>& out
   const T q = detail::elliptic_nearest<T>(u * m.inv_two_K());
   const T r = u - q * m.two_K();
 
-  // Bottom level: modulus k_N <= eps, argument a_N r.
-  const T v = m.a(N) * r;
-  T s = sin(v), c = cos(v), d = 1;
-  // Up the Gauss transformation (DLMF 22.7.1-22.7.3), level N -> 0.
-  for (int n = N; n >= 1; --n) {
+  // Bottom: level L = N-1, whose modulus k_L ~ 2 sqrt(k_N) <= 2 sqrt(eps) (the AGM stopped at
+  // k_N <= eps), argument a_L r, first order in m = k_L^2 (A&S 16.13.1-16.13.3); the remainder
+  // is O(m^2) <= 16 eps^2. This saves the last Gauss step.
+  const int L = N - 1;
+  const T v = m.a(L) * r;
+  const T sv = sin(v), cv = cos(v);
+  const T mL = m.k_level(L) * m.k_level(L);
+  const T w = mL / 4 * (v - sv * cv);
+  T s = sv - w * cv, c = cv + w * sv, d = 1 - mL / 2 * (sv * sv);
+  // Z(r) = sum_{n=1}^N 2^n c_n sn_n cn_n dn_n / (1 + k_n sn_n^2), with sn_n, cn_n, dn_n the
+  // level-n values; all terms have the sign of r (no cancellation). It is the Gauss
+  // transformation Z(u|k) = (1+kc) Z(v|k_1) + (1-kc) sn cn dn(v|k_1) / (1 + k_1 sn^2(v|k_1)),
+  // v = u/(1+k_1) (derived from the Fourier series of Z, checked to 1e-40 with mpmath), unrolled.
+  // Level N's term, 2^N c_N sin cos (its O(k_N) correction is below 2^N eps^2):
+  T z = m.z_weight(N) * sv * cv;
+  // Up the Gauss transformation (DLMF 22.7.1-22.7.3), level L -> 0, in homogeneous coordinates
+  // (s, c, d) = (S, C, D)/W so that no division sits on the dependency chain: with
+  // W' = W^2 + k_n S^2 (that is, D = 1 + k_n s^2 times W^2),
+  //   S' = (1 + k_n) S W,   C' = C D,   D' = W^2 - k_n S^2  or  (1 - k_n) W^2 + k_n C^2.
+  // All four are homogeneous of degree 2, so a power-of-two rescaling is exact and harmless.
+  // dn: the first form, (1 - k_n s^2)/D, depends on s alone and is used while it has no
+  // cancellation. Computing d from c everywhere feeds the error of c back into d, so that
+  // (s, c, d) drift off sn^2 + cn^2 = 1 and the error doubles at every level with k_n ~ 1
+  // (k -> 1). Where k_n s^2 > 1/2, c^2 < 1/2 and that feedback gain stays below ~1.
+  T S = s, C = c, D = d, W = 1;
+  for (int n = L; n >= 1; --n) {
     const T& kn = m.k_level(n);
-    const T ks2 = kn * (s * s);
-    const T inv = 1 / (1 + ks2);
-    const T s_new = (1 + kn) * s * inv;
-    const T c_new = c * d * inv;
-    // dn = (1 - k_n s^2)/D = ((1 - k_n) + k_n c^2)/D. The first form depends on s alone and is
-    // used while it has no cancellation: computing d from c everywhere feeds the error of c
-    // back into d, and (s, c, d) drift off sn^2 + cn^2 = 1, doubling the error at every level
-    // with k_n ~ 1 (k -> 1). Where k_n s^2 > 1/2, c^2 < 1/2 and that feedback gain is below ~1.
-    if (2 * ks2 <= 1)
-      d = (1 - ks2) * inv;
+    const T kS2 = kn * (S * S);
+    const T W2 = W * W;
+    const T Wn = W2 + kS2;
+    const T Sn = (1 + kn) * S * W;
+    const T Cn = C * D;
+    if (2 * kS2 <= W2)
+      D = W2 - kS2;
     else
-      d = (m.one_minus_k_level(n) + kn * (c * c)) * inv;
-    s = s_new;
-    c = c_new;
+      D = m.one_minus_k_level(n) * W2 + kn * (C * C);
+    // Z term 2^n c_n sn_n cn_n dn_n / (1 + k_n sn_n^2) = 2^n c_n s_n c_{n-1}: off the chain.
+    z += m.z_weight(n) * S * Cn / (W * Wn);
+    S = Sn;
+    C = Cn;
+    W = Wn;
+    if (W > T(0x1p64)) {  // W >= 1 grows like 2^(2^levels); keep it far from overflow
+      const T scale = T(0x1p-64);
+      S *= scale;
+      C *= scale;
+      D *= scale;
+      W *= scale;
+    }
   }
-  // Z(r) = sum c_n sin phi_n, phi_0 = am(r): down the Landen angles (A&S 17.6.8), on sin/cos.
-  T S = s, C = c, z = 0;
-  for (int n = 1; n <= N; ++n) {
-    const T& a = m.a(n - 1);
-    const T& b = m.b(n - 1);
-    const T aC = a * C, bS = b * S;
-    const T inv_h = 1 / sqrt(aC * aC + bS * bS);
-    const T S_new = 2 * m.a(n) * S * C * inv_h;  // (a + b) = 2 a_n
-    C = (aC * C - bS * S) * inv_h;
-    S = S_new;
-    z += m.c(n) * S;
-  }
+  const T inv_w = 1 / W;
   const bool odd = detail::elliptic_is_odd(q);
-  out.am = q * m.pi() + atan2(s, c);
+  out.am = q * m.pi() + atan2(S, C);
+  s = S * inv_w;
+  c = C * inv_w;
   out.sn = odd ? T(-s) : s;
   out.cn = odd ? T(-c) : c;
-  out.dn = d;
+  out.dn = D * inv_w;
   out.E = z + m.e_over_k() * u;
   out.Z = z;
 }

@@ -1,0 +1,143 @@
+// The reference solution as the subcommands compute it: integrate a scene's problem with the
+// Chebyshev-Picard integrator (with a progress line), sample the dense output, and optionally
+// verify the samples one precision up (--verify). Shared by `reference` and `report`.
+#pragma once
+
+#include "progress_line.hpp"
+#include "scene.hpp"
+#include "scene_problem.hpp"
+
+#include <eulervop/chebyshev_picard.hpp>
+#include <eulervop/model.hpp>
+#include <eulervop/scalar.hpp>
+
+#include <boost/math/special_functions/fpclassify.hpp>
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include <mpfr.h>
+
+namespace eulervop::app {
+
+template <scalar T>
+struct sampled_reference {
+  std::vector<vec3<T>> Omega;
+  picard_stats stats;
+  double wall_seconds = 0;
+};
+
+// Integrates the problem to tau_end and evaluates the dense output at every tau (each within
+// [tau0, tau_end]). A non-finite sample is a numerical_failure: no NaN is ever printed as a
+// result (issue 5).
+template <scalar T>
+sampled_reference<T> integrate_and_sample(const normalized_problem<T>& problem, const T& tau_end,
+                                          const std::vector<T>& taus, const picard_settings& settings,
+                                          const std::string& label) {
+  const auto start = std::chrono::steady_clock::now();
+  sampled_reference<T> out;
+  progress_line progress(label, static_cast<double>(tau_end));
+  const dense_trajectory<T> trajectory = integrate_reference<T>(
+      problem, tau_end, settings, [&](double tau) { progress.update(tau); }, &out.stats);
+  progress.clear();
+  out.Omega.reserve(taus.size());
+  for (const T& tau : taus) {
+    vec3<T> Om = trajectory(tau);
+    for (const T& x : Om)
+      if (!(boost::math::isfinite)(x))
+        throw numerical_failure(static_cast<double>(tau), "non-finite state in the dense output");
+    out.Omega.push_back(std::move(Om));
+  }
+  out.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+// A value of the narrower type, exactly, in the wider one (created at the current precision).
+template <scalar Hi, scalar Lo>
+Hi widen(const Lo& x) {
+  if constexpr (std::is_same_v<Hi, mpfr_real> && std::is_same_v<Lo, mpfr_real>) {
+    Hi r;  // thread default precision, which is the wider one inside the verify scope
+    mpfr_set(r.backend().data(), x.backend().data(), MPFR_RNDN);
+    return r;
+  } else {
+    return Hi(x);  // double -> quad, quad -> mpfr: exact
+  }
+}
+
+// "1.23e-30": three significant digits, in the wide type (an MPFR error can underflow double).
+template <scalar T>
+std::string three_digits(const T& x) {
+  if constexpr (std::is_same_v<T, double>)
+    return fmt::format("{:.2e}", x);
+  else
+    return x.str(2, std::ios_base::scientific);
+}
+
+// The settings the integrator actually used (it derives degree and tolerance from the
+// precision when they are left at 0).
+inline std::string method_text(const picard_settings& settings, const picard_stats& stats) {
+  const unsigned degree = stats.degree ? stats.degree : settings.degree;
+  const double tolerance = stats.tolerance > 0 ? stats.tolerance : settings.tolerance;
+  return fmt::format("chebyshev-picard degree={} tolerance={:.3g} segments={} rejected={}", degree, tolerance,
+                     stats.segments, stats.rejected);
+}
+
+inline std::string precision_text(const eulervop::precision& p) {
+  if (p.type == eulervop::precision::kind::mpfr)
+    return fmt::format("{} (effective_bits={})", p.name(), eulervop::mpfr_effective_bits(p.bits));
+  return p.name();
+}
+
+// The verification (--verify): the same samples, recomputed one precision up with the
+// integrator's default (stricter) settings, from the scene's decimals converted directly into
+// the wider type. Evaluated at the narrow run's tau values (widened exactly), so the difference
+// measures the narrow run's error at the rows it prints, input rounding included.
+struct verify_result {
+  std::string max_error;  // three significant digits
+  std::string precision;
+  std::string method;
+  double wall_seconds = 0;
+};
+
+template <scalar Hi, scalar Lo>
+verify_result verify_in(const scene& s, const Lo& tau_end, const std::vector<Lo>& taus,
+                        const std::vector<vec3<Lo>>& Omega, const eulervop::precision& wide) {
+  std::vector<Hi> wide_taus;
+  wide_taus.reserve(taus.size());
+  for (const Lo& t : taus) wide_taus.push_back(widen<Hi>(t));
+  const sampled_reference<Hi> ref =
+      integrate_and_sample<Hi>(to_problem<Hi>(s), widen<Hi>(tau_end), wide_taus, picard_settings{}, "verify");
+  Hi worst = 0;
+  for (std::size_t i = 0; i < Omega.size(); ++i) {
+    Hi sum = 0;
+    for (int c = 0; c < 3; ++c) {
+      const Hi d = ref.Omega[i][c] - widen<Hi>(Omega[i][c]);
+      sum += d * d;
+    }
+    using std::sqrt;
+    const Hi err = sqrt(sum);  // Eq. 20
+    if (err > worst) worst = err;
+  }
+  return {three_digits(worst), precision_text(wide), method_text(picard_settings{}, ref.stats), ref.wall_seconds};
+}
+
+// One precision up: double -> quad -> mpfr:(113+64) ; mpfr:B -> mpfr:(B+64). `narrow` is the
+// precision of Lo (its bits matter for MPFR).
+template <scalar Lo>
+verify_result verify(const scene& s, const Lo& tau_end, const std::vector<Lo>& taus,
+                     const std::vector<vec3<Lo>>& Omega, const eulervop::precision& narrow) {
+  constexpr unsigned extra_bits = 64;
+  if constexpr (std::is_same_v<Lo, double>) {
+    return verify_in<quad>(s, tau_end, taus, Omega, eulervop::precision::binary128());
+  } else {
+    const unsigned bits = (std::is_same_v<Lo, quad> ? 113u : narrow.bits) + extra_bits;
+    const mpfr_precision_scope scope(bits);
+    return verify_in<mpfr_real>(s, tau_end, taus, Omega, eulervop::precision::mpfr(bits));
+  }
+}
+
+}  // namespace eulervop::app

@@ -1,0 +1,763 @@
+#include "report_command.hpp"
+
+#include "atomic_file.hpp"
+#include "decimal.hpp"
+#include "input_error.hpp"
+#include "reference_compute.hpp"
+#include "scene_problem.hpp"
+
+#include <eulervop/chebyshev_picard.hpp>
+#include <eulervop/comparison_run.hpp>
+#include <eulervop/elliptic.hpp>
+#include <eulervop/error_measure.hpp>
+#include <eulervop/model.hpp>
+#include <eulervop/runge_kutta.hpp>
+#include <eulervop/scalar.hpp>
+
+#include <boost/math/special_functions/fpclassify.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include <sys/wait.h>
+
+#ifndef EULERVOP_SOURCE_DIR
+#define EULERVOP_SOURCE_DIR "."
+#endif
+
+namespace eulervop::app {
+
+namespace fs = std::filesystem;
+
+// ---- the step ---------------------------------------------------------------------------------
+
+step_spec parse_step_flag(const std::string& text) {
+  step_spec spec;
+  if (text.starts_with("K/")) {
+    std::int64_t n = 0;
+    const char* digits = text.data() + 2;
+    auto [ptr, ec] = std::from_chars(digits, text.data() + text.size(), n);
+    if (ec != std::errc{} || ptr != text.data() + text.size() || n < 1)
+      throw input_error(fmt::format("--step {}: expected K/N with a whole number N >= 1, or a positive number", text));
+    spec.K_divisor = n;
+  } else {
+    spec.value = positive_flag_number("--step", text);
+  }
+  return spec;
+}
+
+fixed_step_choice resolve_step(const scene& s, const step_spec& spec, const std::string& origin) {
+  fixed_step_choice out;
+  const double tau_span = tau_end_of<double>(s);
+  if (spec.K_divisor) {
+    const auto N = static_cast<double>(*spec.K_divisor);
+    const vec3<double> Om = to_problem<double>(s).Omega0;
+    const double c1 = std::hypot(Om[0], Om[1]), c2 = std::hypot(Om[1], Om[2]);
+    if (!(c1 > 0 || c2 > 0))
+      throw input_error(fmt::format("{}: K/N needs a rotating initial state (Omega(0) = 0); give the step as a number",
+                                    origin));
+    if (c1 == c2)
+      throw input_error(fmt::format("{}: K/N is undefined at k0 = c1/c2 = 1 (the separatrix, K = infinity); give the "
+                                    "step as a number",
+                                    origin));
+    if (c1 < c2) {
+      const double k0 = c1 / c2;
+      const double K = elliptic_modulus<double>(k0).K();
+      out.h = K / (N * c2);
+      out.rule = fmt::format("h = K(k0)/({} c2) = {} with k0 = c1/c2 = {}, K = {}, c2 = {}", *spec.K_divisor, out.h,
+                             k0, K, c2);
+    } else {
+      // Rotation near the minor axis: the period is set by the reciprocal modulus (DESIGN.md 1.2).
+      const double k0 = c1 / c2;  // may be inf when c2 = 0
+      const double K = elliptic_modulus<double>(c2 / c1).K();
+      out.h = K / (N * c1);
+      out.reciprocal = true;
+      out.rule = fmt::format("h = K(1/k0)/({} c1) = {} with the reciprocal modulus, since k0 = c1/c2 = {} >= 1; K = {}, "
+                             "c1 = {}",
+                             *spec.K_divisor, out.h, k0, K, c1);
+    }
+  } else {
+    const double value = spec.value->value;
+    if (s.is_physical()) {
+      out.h = value * scaling_of<double>(s).tau_rate();
+      out.rule = fmt::format("h = {} s in t = {} in tau", spec.value->text, out.h);
+    } else {
+      out.h = value;
+      out.rule = fmt::format("h = {}", spec.value->text);
+    }
+  }
+  if (!(out.h > 0) || !std::isfinite(out.h))
+    throw input_error(fmt::format("{}: the step h = {} in tau is not a positive finite number", origin, out.h));
+  const double n = std::floor(tau_span / out.h + 1e-9);
+  constexpr double max_steps = 2e9;
+  if (n < 1)
+    throw input_error(fmt::format("{}: the step h = {} in tau is longer than the span (tau_end = {})", origin, out.h,
+                                  tau_span));
+  if (n > max_steps)
+    throw input_error(fmt::format("{}: h = {} in tau needs {:.3g} steps to tau_end = {} (at most {:.0e})", origin,
+                                  out.h, n, tau_span, max_steps));
+  out.n_steps = static_cast<std::size_t>(n);
+  return out;
+}
+
+namespace {
+
+// ---- flags -> a job -------------------------------------------------------------------------
+
+struct run_spec {
+  formulation form;
+  rk::method method;
+  std::string column() const { return fmt::format("{}_{}", formulation_name(form), rk::method_name(method)); }
+};
+
+// The metadata of a --reference file, read before the computation's scalar type is chosen.
+struct reference_file_info {
+  std::string path;
+  std::vector<std::string> lines;  // the whole file
+  eulervop::precision precision = eulervop::precision::binary128();
+  std::string precision_name = "quad";
+  std::optional<double> estimated_max_error;
+};
+
+struct report_job {
+  scene scn;
+  std::string overrides;
+  fixed_step_choice step;
+  std::vector<run_spec> runs;
+  std::size_t samples = 0;
+  eulervop::precision precision;  // of a computed reference
+  picard_settings settings;
+  bool verify = false;
+  std::optional<reference_file_info> file;
+  fs::path out_dir;
+  bool json = false;
+  bool plot = true;
+};
+
+constexpr std::int64_t default_K_divisor = 200;
+constexpr std::int64_t default_samples = 2000;
+
+std::string joined(const auto& names) {
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : ", ") + std::string(n);
+  return s;
+}
+
+std::vector<std::string> available_formulations() {
+  std::vector<std::string> names;
+  for (formulation f : all_formulations) names.emplace_back(formulation_name(f));
+  return names;
+}
+
+std::vector<std::string> available_methods() {
+  std::vector<std::string> names;
+  for (rk::method m : rk::all_methods) names.emplace_back(rk::method_name(m));
+  return names;
+}
+
+// `where` names the source in messages: "--formulations euler,foo" or "[run] formulations".
+std::vector<formulation> formulations_of(const std::vector<std::string>& names, const std::string& where,
+                                         const std::string& hint) {
+  std::vector<formulation> out;
+  for (const std::string& name : names) {
+    const auto f = formulation_from_name(name);
+    if (!f) {
+      const bool known = std::find(known_formulations.begin(), known_formulations.end(), name) != known_formulations.end();
+      throw input_error(fmt::format("{}: formulation `{}` {} (available: {}){}", where, name,
+                                    known ? "is not implemented yet" : "is unknown", joined(available_formulations()),
+                                    hint));
+    }
+    if (std::find(out.begin(), out.end(), *f) != out.end())
+      throw input_error(fmt::format("{}: formulation `{}` is listed twice", where, name));
+    out.push_back(*f);
+  }
+  return out;
+}
+
+std::vector<rk::method> methods_of(const std::vector<std::string>& names, const std::string& where,
+                                   const std::string& hint) {
+  std::vector<rk::method> out;
+  for (const std::string& name : names) {
+    const auto m = rk::method_from_name(name);
+    if (!m)
+      throw input_error(fmt::format("{}: method `{}` is unknown (available: {}){}", where, name,
+                                    joined(available_methods()), hint));
+    if (std::find(out.begin(), out.end(), *m) != out.end())
+      throw input_error(fmt::format("{}: method `{}` is listed twice", where, name));
+    out.push_back(*m);
+  }
+  return out;
+}
+
+std::string read_text_file(const std::string& flag, const std::string& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw input_error(fmt::format("{} {}: is a directory", flag, path));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw input_error(fmt::format("{} {}: cannot read the file", flag, path));
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string trimmed(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  return std::string(s);
+}
+
+// Reads the file and its '#' metadata: precision, estimated_max_error, scene (must match).
+reference_file_info read_reference_metadata(const std::string& path, const scene& s) {
+  reference_file_info info;
+  info.path = path;
+  const std::string text = read_text_file("--reference", path);
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) {
+    if (!l.empty() && l.back() == '\r') l.pop_back();
+    info.lines.push_back(std::move(l));
+  }
+  const std::string where = "--reference " + path;
+  for (std::size_t i = 0; i < info.lines.size(); ++i) {
+    const std::string& l = info.lines[i];
+    if (!l.starts_with("#")) continue;
+    auto value_of = [&](std::string_view key) -> std::optional<std::string> {
+      const std::string prefix = fmt::format("# {}:", key);
+      if (!l.starts_with(prefix)) return std::nullopt;
+      return trimmed(std::string_view(l).substr(prefix.size()));
+    };
+    if (auto v = value_of("precision")) {
+      const std::string name = v->substr(0, v->find(' '));  // "mpfr:256 (effective_bits=257)"
+      const auto p = eulervop::precision::parse(name);
+      if (!p) throw input_error(fmt::format("{}: line {}: unknown precision `{}`", where, i + 1, name));
+      info.precision_name = name;
+      // Double values are read exactly enough in quad; MPFR at the stated bits.
+      info.precision = p->type == eulervop::precision::kind::mpfr ? *p : eulervop::precision::binary128();
+    } else if (auto e = value_of("estimated_max_error")) {
+      const auto parsed = parse_decimal(*e);
+      if (!parsed.number || parsed.number->value < 0)
+        throw input_error(fmt::format("{}: line {}: estimated_max_error `{}` is not a non-negative number", where,
+                                      i + 1, *e));
+      info.estimated_max_error = parsed.number->value;
+    } else if (auto name = value_of("scene")) {
+      if (*name != s.name)
+        throw input_error(fmt::format("{}: line {}: the reference is for scene `{}`, the report is for scene `{}`",
+                                      where, i + 1, *name, s.name));
+    }
+  }
+  return info;
+}
+
+report_job make_job(const report_options& o) {
+  report_job job;
+  job.scn = o.scene_path ? load_scene_file(*o.scene_path) : load_default_scene();
+  scene& s = job.scn;
+
+  // Error samples are step points of the runs, about `samples` of them: the scene's explicit
+  // sample times do not apply.
+  if (!s.samples) s.samples = s.times.empty() ? default_samples : std::max<std::int64_t>(2, std::ssize(s.times));
+  s.times.clear();
+
+  if (o.reference_file) {
+    for (const auto& [flag, given] : {std::pair{"--samples", o.overrides.samples.has_value()},
+                                      std::pair{"--precision", o.overrides.precision.has_value()},
+                                      std::pair{"--degree", o.overrides.degree.has_value()},
+                                      std::pair{"--tolerance", o.overrides.tolerance.has_value()},
+                                      std::pair{"--verify", o.verify}})
+      if (given)
+        throw input_error(fmt::format("{}: not used with --reference {} (the file's samples and precision are used)",
+                                      flag, *o.reference_file));
+  }
+  const applied_overrides applied = apply_scene_overrides(s, o.overrides);
+  job.overrides = applied.text();
+  job.precision = applied.precision;
+  job.settings = applied.settings;
+  job.verify = o.verify;
+  job.samples = static_cast<std::size_t>(*s.samples);
+
+  // Step: --step, else [run] step, else K/200.
+  if (o.step) {
+    job.step = resolve_step(s, parse_step_flag(*o.step), "--step " + *o.step);
+  } else if (s.step) {
+    job.step = resolve_step(s, *s.step, "[run] step (override with --step)");
+  } else {
+    step_spec spec;
+    spec.K_divisor = default_K_divisor;
+    job.step = resolve_step(s, spec, fmt::format("the default step K/{} (give --step)", default_K_divisor));
+  }
+
+  // Formulations x methods.
+  std::vector<formulation> forms;
+  if (o.formulations)
+    forms = formulations_of(flag_list("--formulations", *o.formulations), "--formulations " + *o.formulations, "");
+  else if (!s.formulations.empty())
+    forms = formulations_of(s.formulations, "[run] formulations", "; override with --formulations");
+  else
+    forms = {formulation::euler, formulation::vop};
+  std::vector<rk::method> methods;
+  if (o.methods)
+    methods = methods_of(flag_list("--methods", *o.methods), "--methods " + *o.methods, "");
+  else if (!s.methods.empty())
+    methods = methods_of(s.methods, "[run] methods", "; override with --methods");
+  else
+    methods = {rk::method::rk4, rk::method::rkf45};
+  for (formulation f : forms)
+    for (rk::method m : methods) job.runs.push_back({f, m});
+
+  // A formulation that cannot start from this state (the paper's VOP needs k0 < 1) is bad input:
+  // probe one step of each before anything is computed.
+  const normalized_problem<double> problem = to_problem<double>(s);
+  for (formulation f : forms) {
+    try {
+      (void)run_fixed(f, rk::method::rk4, problem, fixed_run_settings{job.step.h, 1, 1});
+    } catch (const std::domain_error& e) {
+      throw input_error(fmt::format("formulation {} cannot start from this scene: {} (leave it out with --formulations)",
+                                    formulation_name(f), e.what()));
+    }
+  }
+
+  if (o.reference_file) job.file = read_reference_metadata(*o.reference_file, s);
+
+  job.out_dir = o.out_dir ? fs::path(*o.out_dir) : fs::path("eulervop-report");
+  if (o.out_dir && o.out_dir->empty()) throw input_error("--out-dir: empty path");
+  const std::string format = o.format.value_or("table");
+  if (format != "table" && format != "json")
+    throw input_error(fmt::format("--format {}: expected table or json", format));
+  job.json = format == "json";
+  job.plot = !o.no_plot;
+  return job;
+}
+
+// ---- the output directory -----------------------------------------------------------------------
+
+// Creates the output directory (if missing) and checks that files can be created in it, before
+// any computation. If the report then fails, a directory it created is removed again (it is
+// still empty: every file is written atomically at the end).
+class output_dir {
+ public:
+  explicit output_dir(const fs::path& dir) : dir_(dir) {
+    const std::string where = fmt::format("--out-dir {}", dir.string());
+    std::error_code ec;
+    if (fs::exists(dir, ec)) {
+      if (!fs::is_directory(dir, ec)) throw input_error(fmt::format("{}: exists and is not a directory", where));
+    } else {
+      created_ = fs::create_directories(dir, ec);
+      if (ec) throw input_error(fmt::format("{}: cannot create the directory: {}", where, ec.message()));
+    }
+    try {
+      atomic_file probe(dir / "errors.csv");  // removed again on scope exit
+    } catch (const input_error& e) {
+      std::string why = e.what();
+      if (why.starts_with("--out ")) why = why.substr(6);
+      remove_if_created();
+      throw input_error(fmt::format("{}: {}", where, why));
+    }
+  }
+  ~output_dir() {
+    if (!kept_) remove_if_created();
+  }
+  output_dir(const output_dir&) = delete;
+  output_dir& operator=(const output_dir&) = delete;
+
+  void keep() { kept_ = true; }
+  const fs::path& path() const { return dir_; }
+
+ private:
+  void remove_if_created() noexcept {
+    std::error_code ec;
+    if (created_) fs::remove(dir_, ec);  // only if empty
+  }
+  fs::path dir_;
+  bool created_ = false;
+  bool kept_ = false;
+};
+
+void write_atomically(const fs::path& path, const std::string& text) {
+  atomic_file f(path);
+  f.write(text);
+  f.commit();
+}
+
+// ---- the computation ---------------------------------------------------------------------------
+
+// The reference at the error sample points, in T.
+template <scalar T>
+struct reference_samples {
+  std::vector<std::size_t> steps;  // step index of each sample, increasing
+  std::vector<T> tau;              // its tau: n h exactly (computed) or the file's tau
+  std::vector<vec3<T>> Omega;
+  std::size_t n_steps = 0;         // the runs go this far
+  std::size_t sample_every = 1;    // the runs sample every this many steps (and the last)
+  std::string precision;
+  std::optional<double> estimated_max_error;
+  std::optional<double> seconds;
+  std::optional<std::size_t> segments;
+  std::string source;
+};
+
+// n h, exactly in quad and MPFR (a 53-bit h times an integer below 2^53).
+template <scalar T>
+T tau_of_step(std::size_t n, double h) {
+  return T(static_cast<double>(n)) * T(h);
+}
+
+// The file's rows in T, after checking that each tau is a step point of the runs.
+template <scalar T>
+reference_samples<T> load_reference_file(const report_job& job) {
+  const reference_file_info& info = *job.file;
+  const std::string where = "--reference " + info.path;
+  reference_samples<T> out;
+  out.precision = info.precision_name;
+  out.estimated_max_error = info.estimated_max_error;
+  out.source = info.path;
+
+  std::vector<std::string> header;
+  int col_tau = -1, col_O[3] = {-1, -1, -1};
+  auto split = [](const std::string& l) {
+    std::vector<std::string> cells;
+    std::size_t begin = 0;
+    while (true) {
+      const std::size_t comma = l.find(',', begin);
+      cells.push_back(trimmed(std::string_view(l).substr(begin, comma == std::string::npos ? std::string::npos : comma - begin)));
+      if (comma == std::string::npos) break;
+      begin = comma + 1;
+    }
+    return cells;
+  };
+  const double h = job.step.h;
+  const std::size_t max_step = job.step.n_steps;
+  for (std::size_t i = 0; i < info.lines.size(); ++i) {
+    const std::string& l = info.lines[i];
+    const std::size_t line = i + 1;
+    if (l.starts_with("#") || trimmed(l).empty()) continue;
+    if (header.empty()) {
+      header = split(l);
+      for (std::size_t c = 0; c < header.size(); ++c) {
+        if (header[c] == "tau") col_tau = static_cast<int>(c);
+        for (int k = 0; k < 3; ++k)
+          if (header[c] == fmt::format("Omega{}", k + 1)) col_O[k] = static_cast<int>(c);
+      }
+      const char* names[] = {"Omega1", "Omega2", "Omega3"};
+      if (col_tau < 0) throw input_error(fmt::format("{}: line {}: the header has no `tau` column", where, line));
+      for (int k = 0; k < 3; ++k)
+        if (col_O[k] < 0)
+          throw input_error(fmt::format("{}: line {}: the header has no `{}` column", where, line, names[k]));
+      continue;
+    }
+    const std::vector<std::string> cells = split(l);
+    if (cells.size() != header.size())
+      throw input_error(fmt::format("{}: line {}: {} cells, the header has {}", where, line, cells.size(), header.size()));
+    auto number = [&](int c) {
+      const std::string& cell = cells[static_cast<std::size_t>(c)];
+      const auto parsed = parse_decimal(cell);
+      if (!parsed.number)
+        throw input_error(fmt::format("{}: line {}: {} = `{}` is {}", where, line, header[static_cast<std::size_t>(c)],
+                                      cell, parsed.problem == decimal_problem::not_a_number ? "not a number"
+                                                                                            : describe(parsed.problem)));
+      return *parsed.number;
+    };
+    const decimal tau = number(col_tau);
+    vec3<T> Om;
+    for (int k = 0; k < 3; ++k) Om[k] = number(col_O[k]).template to_scalar<T>();
+    if (tau.value < 0) throw input_error(fmt::format("{}: line {}: tau = {} is negative", where, line, tau.text));
+    if (!out.tau.empty() && !(tau.value > static_cast<double>(out.tau.back())))
+      throw input_error(fmt::format("{}: line {}: tau = {} does not increase", where, line, tau.text));
+    // A step point of the runs: tau / h within 1e-9 of a whole number.
+    const double r = tau.value / h;
+    const double n = std::nearbyint(r);
+    if (!(std::abs(r - n) <= 1e-9))
+      throw input_error(fmt::format("{}: line {}: tau = {} is not a step point of h = {} (tau/h = {}); choose --step so "
+                                    "that it divides every tau of the file",
+                                    where, line, tau.text, h, r));
+    if (static_cast<std::size_t>(n) > max_step)
+      throw input_error(fmt::format("{}: line {}: tau = {} is beyond the span end ({} steps of h = {}); raise --tau-end",
+                                    where, line, tau.text, max_step, h));
+    out.steps.push_back(static_cast<std::size_t>(n));
+    out.tau.push_back(tau.template to_scalar<T>());
+    out.Omega.push_back(Om);
+  }
+  if (header.empty()) throw input_error(fmt::format("{}: no header line (tau,Omega1,Omega2,Omega3)", where));
+  if (out.tau.empty()) throw input_error(fmt::format("{}: no data rows", where));
+  out.n_steps = out.steps.back();
+  std::size_t g = 0;
+  for (std::size_t n : out.steps) g = std::gcd(g, n);
+  out.sample_every = std::max<std::size_t>(g, 1);
+  return out;
+}
+
+// The reference computed here at the sample steps {0, e, 2e, ..., n_steps}.
+template <scalar T>
+reference_samples<T> compute_reference(const report_job& job) {
+  reference_samples<T> out;
+  out.precision = job.precision.name();
+  out.source = "computed";
+  out.n_steps = job.step.n_steps;
+  out.sample_every = std::max<std::size_t>(1, out.n_steps / std::max<std::size_t>(job.samples, 1));
+  for (std::size_t n = 0; n <= out.n_steps; n += out.sample_every) out.steps.push_back(n);
+  if (out.steps.back() != out.n_steps) out.steps.push_back(out.n_steps);
+  for (std::size_t n : out.steps) out.tau.push_back(tau_of_step<T>(n, job.step.h));
+
+  const normalized_problem<T> problem = to_problem<T>(job.scn);
+  T tau_end = tau_end_of<T>(job.scn);
+  if (out.tau.back() > tau_end) tau_end = out.tau.back();  // within the 1e-9 h slack of n_steps
+  sampled_reference<T> ref = integrate_and_sample<T>(problem, tau_end, out.tau, job.settings, "reference");
+  out.Omega = std::move(ref.Omega);
+  out.seconds = ref.wall_seconds;
+  out.segments = ref.stats.segments;
+  if (job.verify) {
+    const verify_result v = verify<T>(job.scn, tau_end, out.tau, out.Omega, job.precision);
+    out.estimated_max_error = std::strtod(v.max_error.c_str(), nullptr);
+  }
+  return out;
+}
+
+// One run's errors at the sample points (nullopt: not reached, or after divergence).
+struct run_errors {
+  fixed_run run;
+  std::vector<std::optional<double>> error;
+  std::optional<double> max_error, final_tau, final_error;
+};
+
+template <scalar T>
+run_errors measure(const run_spec& spec, const normalized_problem<double>& problem, const reference_samples<T>& ref,
+                   double h) {
+  run_errors out;
+  out.run = run_fixed(spec.form, spec.method, problem, fixed_run_settings{h, ref.n_steps, ref.sample_every});
+  const fixed_run& r = out.run;
+  out.error.resize(ref.steps.size());
+  std::size_t pos = 0;
+  for (std::size_t i = 0; i < ref.steps.size(); ++i) {
+    const std::size_t n = ref.steps[i];
+    while (pos < r.sample_steps.size() && r.sample_steps[pos] < n) ++pos;
+    if (pos == r.sample_steps.size() || r.sample_steps[pos] != n) continue;
+    const double tau = static_cast<double>(n) * h;
+    if (r.diverged && r.diverged_at && tau >= *r.diverged_at) continue;
+    const double e = static_cast<double>(eq20_error(ref.Omega[i], r.Omega[pos]));
+    if (!std::isfinite(e)) continue;  // never a NaN as an error value
+    out.error[i] = e;
+    out.max_error = std::max(out.max_error.value_or(0.0), e);
+    out.final_tau = static_cast<double>(ref.tau[i]);
+    out.final_error = e;
+  }
+  return out;
+}
+
+// ---- output -----------------------------------------------------------------------------------
+
+nlohmann::ordered_json number_or_null(const std::optional<double>& x) {
+  return x ? nlohmann::ordered_json(*x) : nlohmann::ordered_json(nullptr);
+}
+
+template <scalar T>
+std::string errors_csv(const report_job& job, const reference_samples<T>& ref, const std::vector<run_errors>& runs) {
+  fmt::memory_buffer out;
+  fmt::format_to(std::back_inserter(out), "tau");
+  for (const run_spec& r : job.runs) fmt::format_to(std::back_inserter(out), ",{}", r.column());
+  out.push_back('\n');
+  for (std::size_t i = 0; i < ref.steps.size(); ++i) {
+    fmt::format_to(std::back_inserter(out), "{}", static_cast<double>(ref.tau[i]));  // shortest round trip
+    for (const run_errors& r : runs) {
+      out.push_back(',');
+      if (r.error[i]) fmt::format_to(std::back_inserter(out), "{}", *r.error[i]);
+    }
+    out.push_back('\n');
+  }
+  return fmt::to_string(out);
+}
+
+template <scalar T>
+nlohmann::ordered_json summary_json(const report_job& job, const reference_samples<T>& ref, const std::vector<run_errors>& runs) {
+  nlohmann::ordered_json j;
+  j["scene"] = job.scn.name;
+  j["reference"] = {{"precision", ref.precision},
+                    {"estimated_max_error", number_or_null(ref.estimated_max_error)},
+                    {"source", ref.source}};
+  if (ref.seconds) j["reference"]["seconds"] = *ref.seconds;
+  if (ref.segments) j["reference"]["segments"] = *ref.segments;
+  j["step_rule"] = job.step.rule;
+  j["runs"] = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const fixed_run& r = runs[i].run;
+    j["runs"].push_back({{"formulation", std::string(formulation_name(job.runs[i].form))},
+                         {"method", std::string(rk::method_name(job.runs[i].method))},
+                         {"step", job.step.h},
+                         {"steps", r.steps},
+                         {"rhs_evals", r.rhs_evals},
+                         {"seconds", r.seconds},
+                         {"max_error", number_or_null(runs[i].max_error)},
+                         {"final_tau", number_or_null(runs[i].final_tau)},
+                         {"final_error", number_or_null(runs[i].final_error)},
+                         {"diverged", r.diverged},
+                         {"diverged_at", r.diverged ? number_or_null(r.diverged_at) : nlohmann::ordered_json(nullptr)},
+                         {"why", r.diverged ? nlohmann::ordered_json(r.why) : nlohmann::ordered_json(nullptr)}});
+  }
+  return j;
+}
+
+std::string optional_text(const std::optional<double>& x, const char* spec) {
+  return x ? fmt::format(fmt::runtime(spec), *x) : std::string("-");
+}
+
+template <scalar T>
+std::string table_text(const report_job& job, const reference_samples<T>& ref, const std::vector<run_errors>& runs) {
+  std::vector<std::vector<std::string>> rows = {
+      {"formulation", "method", "h", "steps", "rhs evals", "seconds", "max error", "final tau", "final error"}};
+  std::vector<std::string> notes = {""};
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const fixed_run& r = runs[i].run;
+    rows.push_back({std::string(formulation_name(job.runs[i].form)), std::string(rk::method_name(job.runs[i].method)),
+                    fmt::format("{:.6g}", job.step.h), fmt::format("{}", r.steps), fmt::format("{}", r.rhs_evals),
+                    fmt::format("{:.3f}", r.seconds), optional_text(runs[i].max_error, "{:.3e}"),
+                    optional_text(runs[i].final_tau, "{:.6g}"), optional_text(runs[i].final_error, "{:.3e}")});
+    notes.push_back(r.diverged ? fmt::format("diverged at tau={} ({})", optional_text(r.diverged_at, "{:.6g}"), r.why)
+                               : "");
+  }
+  std::vector<std::size_t> width(rows[0].size(), 0);
+  for (const auto& row : rows)
+    for (std::size_t c = 0; c < row.size(); ++c) width[c] = std::max(width[c], row[c].size());
+  fmt::memory_buffer out;
+  auto put = [&]<class... Args>(fmt::format_string<Args...> f, Args&&... args) {
+    fmt::format_to(std::back_inserter(out), f, std::forward<Args>(args)...);
+  };
+  put("scene {}{}: {} steps to tau = {:.6g}\n", job.scn.name, job.overrides.empty() ? "" : " (" + job.overrides + ")",
+      job.step.n_steps, static_cast<double>(job.step.n_steps) * job.step.h);
+  put("step: {}\n", job.step.rule);
+  put("reference: {} ({}{}), estimated max error {}\n", ref.precision, ref.source,
+      ref.seconds ? fmt::format(", {:.1f} s", *ref.seconds) : "", optional_text(ref.estimated_max_error, "{:.2e}"));
+  put("error samples: {} (every {} steps)\n\n", ref.steps.size(), ref.sample_every);
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    std::string line;
+    for (std::size_t c = 0; c < rows[r].size(); ++c) {
+      // Text columns left-aligned, numbers right-aligned.
+      const std::string cell = c < 2 ? fmt::format("{:<{}}", rows[r][c], width[c]) : fmt::format("{:>{}}", rows[r][c], width[c]);
+      line += (c ? "  " : "") + cell;
+    }
+    if (!notes[r].empty()) line += "  " + notes[r];
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    put("{}\n", line);
+  }
+  return fmt::to_string(out);
+}
+
+// Draws fig1.png/svg with tools/plot_fig1.py. Never fails the report: a missing python3 or
+// matplotlib is one line on stderr saying how to get the figure.
+void draw_figure(const fs::path& dir) {
+  const fs::path script = fs::path(EULERVOP_SOURCE_DIR) / "tools" / "plot_fig1.py";
+  const std::string how = fmt::format("apt-get install python3-matplotlib, then tools/plot_fig1.py {}", dir.string());
+  std::error_code ec;
+  if (!fs::exists(script, ec)) {
+    fmt::print(stderr, "figure skipped: {} not found ({})\n", script.string(), how);
+    return;
+  }
+  auto quote = [](const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+  };
+  // The python3 on PATH first; then Debian's own, which is where python3-matplotlib installs
+  // (a pyenv or venv python3 on PATH does not see it).
+  int code = -1;
+  std::string output;
+  for (const char* python : {"python3", "/usr/bin/python3"}) {
+    if (python[0] == '/' && !fs::exists(python, ec)) continue;
+    const std::string cmd = fmt::format("{} {} {} 2>&1 < /dev/null", python, quote(script.string()), quote(dir.string()));
+    std::fflush(stdout);
+    FILE* pipe = ::popen(cmd.c_str(), "r");
+    if (!pipe) continue;
+    output.clear();
+    char buf[512];
+    while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) output.append(buf, n);
+    const int status = ::pclose(pipe);
+    code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    if (code != 4 && code != 127) break;  // drawn, or failed for another reason
+  }
+  if (code == 0) return;
+  if (code == 4) {
+    fmt::print(stderr, "figure skipped: matplotlib not found ({})\n", how);
+  } else if (code == 127) {
+    fmt::print(stderr, "figure skipped: python3 not found ({})\n", how);
+  } else {
+    std::string last;  // the last line of the script's output says why (a traceback ends with it)
+    std::istringstream in(output);
+    for (std::string l; std::getline(in, l);)
+      if (!l.empty()) last = l;
+    fmt::print(stderr, "figure failed: plot_fig1.py exited with code {}: {}\n", code, input_error::one_line(last));
+  }
+}
+
+template <scalar T>
+void execute(const report_job& job, std::ostream& standard_output) {
+  // Everything that can be bad input is checked before the directory is touched.
+  std::optional<reference_samples<T>> from_file;
+  if (job.file) from_file = load_reference_file<T>(job);
+  output_dir dir(job.out_dir);
+
+  const reference_samples<T> ref = from_file ? std::move(*from_file) : compute_reference<T>(job);
+  const normalized_problem<double> problem = to_problem<double>(job.scn);
+  std::vector<run_errors> runs;
+  for (const run_spec& spec : job.runs) runs.push_back(measure<T>(spec, problem, ref, job.step.h));
+
+  const std::string summary = summary_json<T>(job, ref, runs).dump(2) + "\n";
+  write_atomically(dir.path() / "errors.csv", errors_csv<T>(job, ref, runs));
+  write_atomically(dir.path() / "summary.json", summary);
+  dir.keep();
+
+  if (job.json)
+    standard_output << summary;
+  else
+    standard_output << table_text<T>(job, ref, runs);
+  standard_output << std::flush;
+  if (job.plot) draw_figure(dir.path());
+}
+
+}  // namespace
+
+CLI::App* add_report_command(CLI::App& app, report_options& o) {
+  CLI::App* sub = app.add_subcommand(
+      "report", "Run Euler and VOP in double at a fixed step; Eq. 20 errors, summary and Fig. 1");
+  auto bind = [&](const std::string& name, std::optional<std::string>& target, const std::string& help) {
+    return sub->add_option_function<std::string>(name, [&target](const std::string& v) { target = v; }, help);
+  };
+  bind("scene", o.scene_path, "Scene file (TOML); default: the embedded paper scene")->type_name("SCENE");
+  bind("--reference", o.reference_file, "Reference CSV written by `eulervop reference` (default: computed here)")
+      ->type_name("FILE");
+  bind("--step", o.step, "Fixed step: K/N (K of the initial modulus) or h (default: [run] step, else K/200)")
+      ->type_name("S");
+  bind("--methods", o.methods, "Comma-separated: rk4,rkf45,dp45,rk8 (default: [run] methods, else rk4,rkf45)")
+      ->type_name("LIST");
+  bind("--formulations", o.formulations, "Comma-separated: euler,vop (default: [run] formulations, else euler,vop)")
+      ->type_name("LIST");
+  scene_override_set which;
+  which.times = false;
+  add_scene_override_options(*sub, o.overrides, which, "About this many error samples, at the runs' step points");
+  bind("--out-dir", o.out_dir, "Output directory (default: ./eulervop-report/, created if missing)")->type_name("DIR");
+  bind("--format", o.format, "Standard output: table (default) or json (summary.json)")->type_name("F");
+  sub->add_flag("--no-plot", o.no_plot, "Do not draw fig1.png/fig1.svg");
+  sub->add_flag("--verify", o.verify, "Recompute the reference one precision up for its estimated_max_error");
+  return sub;
+}
+
+void run_report(const report_options& options, std::ostream& standard_output) {
+  const report_job job = make_job(options);
+  const eulervop::precision p = job.file ? job.file->precision : job.precision;
+  switch (p.type) {
+    case eulervop::precision::kind::binary64: return execute<double>(job, standard_output);
+    case eulervop::precision::kind::binary128: return execute<quad>(job, standard_output);
+    case eulervop::precision::kind::mpfr: {
+      const mpfr_precision_scope scope(p.bits);
+      return execute<mpfr_real>(job, standard_output);
+    }
+  }
+  throw std::logic_error("unknown precision kind");
+}
+
+}  // namespace eulervop::app

@@ -1,0 +1,87 @@
+// Helpers for the end-to-end tests of the `eulervop` program (test_cli.cpp, test_report.cpp):
+// run the binary (EULERVOP_BINARY) in a fresh directory and capture its exit code and output.
+#pragma once
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace eulervop::cli_test {
+
+namespace fs = std::filesystem;
+
+inline const std::string binary = EULERVOP_BINARY;
+inline const std::string source_dir = EULERVOP_SOURCE_DIR;
+
+inline std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+inline void write_file(const fs::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary);
+  out << text;
+}
+
+inline std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  return lines;
+}
+
+inline std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// A fresh directory per test, removed afterwards.
+class temp_dir {
+ public:
+  temp_dir() {
+    std::string pattern = (fs::temp_directory_path() / "eulervop-cli-XXXXXX").string();
+    path_ = ::mkdtemp(pattern.data());
+  }
+  ~temp_dir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  temp_dir(const temp_dir&) = delete;
+  temp_dir& operator=(const temp_dir&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+struct run_result {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+// Runs the binary in `dir` with `args`, capturing stdout and stderr.
+inline run_result run(const fs::path& dir, const std::vector<std::string>& args) {
+  std::string cmd = "cd " + shell_quote(dir.string()) + " && " + shell_quote(binary);
+  for (const auto& a : args) cmd += " " + shell_quote(a);
+  cmd += " > .stdout 2> .stderr < /dev/null";
+  const int status = std::system(cmd.c_str());
+  run_result r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_file(dir / ".stdout");
+  r.err = read_file(dir / ".stderr");
+  fs::remove(dir / ".stdout");
+  fs::remove(dir / ".stderr");
+  return r;
+}
+
+}  // namespace eulervop::cli_test

@@ -1,0 +1,372 @@
+// `eulervop report` (issue 3, section 4): the output files and their layout, the paper's claim
+// on a short span, divergence without NaN, bad flags, and the --reference round trip. Also the
+// step rule in process (resolve_step).
+#include "cli_test_support.hpp"
+
+#include "report_command.hpp"
+#include "scene.hpp"
+
+#include <eulervop/elliptic.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace eulervop::cli_test;
+using nlohmann::json;
+
+// Cells of a CSV line (empty cells kept).
+std::vector<std::string> cells_of(const std::string& line) {
+  std::vector<std::string> cells;
+  std::size_t begin = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', begin);
+    cells.push_back(line.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin));
+    if (comma == std::string::npos) break;
+    begin = comma + 1;
+  }
+  return cells;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// No NaN or infinity in any output, in any spelling.
+void expect_no_nan(const std::string& text, const std::string& what) {
+  const std::string l = lower(text);
+  EXPECT_EQ(l.find("nan"), std::string::npos) << what << ":\n" << text;
+  EXPECT_EQ(l.find("inf"), std::string::npos) << what << ":\n" << text;
+}
+
+const json& run_of(const json& summary, const std::string& formulation, const std::string& method) {
+  for (const json& r : summary.at("runs"))
+    if (r.at("formulation") == formulation && r.at("method") == method) return r;
+  throw std::runtime_error("no run " + formulation + "_" + method);
+}
+
+// The paper's step h = K(0.5)/200 (K(0.5) = 1.6857503548125960429, A&S table 17.1).
+const double paper_h = 1.6857503548125960429 / 200;
+
+// ---- the step rule (in process) -----------------------------------------------------------------
+
+TEST(ReportStep, PaperSceneIsKHalfOver200) {
+  const auto s = eulervop::app::load_default_scene();
+  ASSERT_TRUE(s.step && s.step->K_divisor);
+  const auto st = eulervop::app::resolve_step(s, *s.step, "[run] step");
+  EXPECT_NEAR(st.h, paper_h, 4e-16 * paper_h);
+  EXPECT_NEAR(st.h, 0.0084288, 1e-7);
+  EXPECT_FALSE(st.reciprocal);
+  EXPECT_EQ(st.n_steps, static_cast<std::size_t>(std::floor(136 / st.h)));  // 16135
+  EXPECT_EQ(st.n_steps, 16135u);
+}
+
+TEST(ReportStep, MinorAxisUsesTheReciprocalModulus) {
+  // Omega(0) = (1, 0, 0.5): c1 = 1, c2 = 0.5, k0 = 2 -> h = K(1/2) / (N c1).
+  const auto s = eulervop::app::parse_scene(
+      "name = \"minor\"\n[initial]\nOmega = [1.0, 0.0, 0.5]\n[span]\ntau_end = 10.0\nsamples = 3\n", "minor.toml");
+  const auto st = eulervop::app::resolve_step(s, eulervop::app::parse_step_flag("K/100"), "--step K/100");
+  EXPECT_TRUE(st.reciprocal);
+  EXPECT_NEAR(st.h, 1.6857503548125960429 / 100, 1e-16);
+  EXPECT_NE(st.rule.find("reciprocal"), std::string::npos) << st.rule;
+}
+
+TEST(ReportStep, PlainNumberIsInTheScenesTimeVariable) {
+  const auto s = eulervop::app::load_scene_file(source_dir + "/data/scenes/spacecraft-physical.toml");
+  const auto st = eulervop::app::resolve_step(s, eulervop::app::parse_step_flag("2"), "--step 2");
+  // Inertias 100, 150, 200: A = (50/100, 100/150, 50/200), dtau/dt = sqrt(A1 A2 A3) = sqrt(1/12).
+  EXPECT_NEAR(st.h, 2 * std::sqrt(1.0 / 12), 1e-15);
+  EXPECT_EQ(st.n_steps, 1800u);  // t_end = 3600 s
+}
+
+// ---- a short paper-scene report -----------------------------------------------------------------
+
+TEST(Report, ShortPaperReportWritesTheFiles) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"report", "--tau-end", "5", "--samples", "50", "--no-plot", "--out-dir", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+
+  // 593 steps of h to tau 5; sample every 593/50 = 11 steps (0, 11, ..., 583) plus the last.
+  const std::size_t n_steps = static_cast<std::size_t>(std::floor(5 / paper_h));
+  ASSERT_EQ(n_steps, 593u);
+  const std::size_t every = n_steps / 50;
+  const std::size_t expected_rows = n_steps / every + 1 + (n_steps % every != 0);
+
+  const auto lines = lines_of(read_file(dir.path() / "out" / "errors.csv"));
+  ASSERT_EQ(lines.size(), expected_rows + 1);
+  EXPECT_EQ(lines[0], "tau,euler_rk4,euler_rkf45,vop_rk4,vop_rkf45");
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const auto cells = cells_of(lines[i]);
+    ASSERT_EQ(cells.size(), 5u) << lines[i];
+    for (const auto& c : cells) EXPECT_FALSE(c.empty()) << lines[i];
+  }
+  EXPECT_EQ(std::stod(cells_of(lines[1])[0]), 0.0);
+  EXPECT_NEAR(std::stod(cells_of(lines.back())[0]), n_steps * paper_h, 1e-13);
+  EXPECT_NEAR(std::stod(cells_of(lines[2])[0]), every * paper_h, 1e-15);
+
+  const json summary = json::parse(read_file(dir.path() / "out" / "summary.json"));
+  EXPECT_EQ(summary.at("scene"), "paper-fig1");
+  ASSERT_TRUE(summary.at("reference").contains("precision"));
+  EXPECT_EQ(summary["reference"]["precision"], "quad");
+  ASSERT_TRUE(summary["reference"].contains("estimated_max_error"));
+  EXPECT_TRUE(summary["reference"]["estimated_max_error"].is_null());  // no --verify
+  ASSERT_EQ(summary.at("runs").size(), 4u);
+  for (const json& run : summary["runs"]) {
+    for (const char* key : {"formulation", "method", "step", "steps", "rhs_evals", "seconds", "max_error",
+                            "final_tau", "final_error", "diverged", "diverged_at"})
+      EXPECT_TRUE(run.contains(key)) << key << " in " << run.dump();
+    EXPECT_EQ(run["steps"], n_steps);
+    EXPECT_DOUBLE_EQ(run["step"].get<double>(), paper_h);
+    EXPECT_EQ(run["diverged"], false);
+    EXPECT_TRUE(run["diverged_at"].is_null());
+    EXPECT_GT(run["rhs_evals"].get<double>(), 4.0 * n_steps - 1);
+    EXPECT_NEAR(run["final_tau"].get<double>(), n_steps * paper_h, 1e-13);
+    EXPECT_GE(run["max_error"].get<double>(), run["final_error"].get<double>());
+  }
+  EXPECT_FALSE(fs::exists(dir.path() / "out" / "fig1.png"));  // --no-plot
+
+  // The table: a header and one row per run, aligned (every row as wide as the header's columns).
+  const auto out = lines_of(r.out);
+  const auto header = std::find_if(out.begin(), out.end(), [](const std::string& l) { return l.starts_with("formulation"); });
+  ASSERT_NE(header, out.end()) << r.out;
+  ASSERT_EQ(out.end() - header, 5) << r.out;
+  for (const char* col : {"method", "h", "steps", "rhs evals", "seconds", "max error", "final tau", "final error"})
+    EXPECT_NE(header->find(col), std::string::npos) << col;
+  EXPECT_TRUE(header[1].starts_with("euler        rk4 ")) << header[1];
+  EXPECT_EQ(header[1].size(), header->size());
+}
+
+TEST(Report, JsonFormatPrintsTheSummary) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"report", "--tau-end", "1", "--samples", "4", "--no-plot", "--format", "json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // Default output directory: ./eulervop-report/, created.
+  EXPECT_EQ(json::parse(r.out), json::parse(read_file(dir.path() / "eulervop-report" / "summary.json")));
+  EXPECT_TRUE(fs::exists(dir.path() / "eulervop-report" / "errors.csv"));
+}
+
+// The paper's claim on a short span. Measured (quad reference, h = K(0.5)/200, rk4, tau = 20):
+// euler 1.30e-3, vop 3.34e-7 at tau = 20 (both also the maxima): VOP wins by about 3.6 orders.
+TEST(Report, VopBeatsEulerWithRk4AtTau20) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"report", "--tau-end", "20", "--methods", "rk4", "--samples", "100",
+                                        "--no-plot", "--out-dir", "out", "--format", "json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json summary = json::parse(r.out);
+  const json& euler = run_of(summary, "euler", "rk4");
+  const json& vop = run_of(summary, "vop", "rk4");
+  const double e = euler["max_error"], v = vop["max_error"];
+  EXPECT_LT(v, e);
+  EXPECT_LT(v * 1e3, e) << "vop " << v << ", euler " << e;  // at least three orders of magnitude
+  EXPECT_LT(vop["final_error"].get<double>() * 1e3, euler["final_error"].get<double>());
+  EXPECT_GT(e, 1e-4);  // the Euler run is really that far off (1.3e-3): not a vacuous comparison
+}
+
+// A step far too long: with h = 0.5 the Euler rk4 run explodes at tau = 7.5, and the VOP run
+// reaches c1 = 0 at tau = 51.5 (measured). Both stop there; nothing after is a number.
+TEST(Report, DivergedRunHasNoNaN) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"report", "--tau-end", "60", "--step", "0.5", "--methods", "rk4", "--samples",
+                                        "1000", "--no-plot", "--out-dir", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string csv = read_file(dir.path() / "out" / "errors.csv");
+  const std::string summary_text = read_file(dir.path() / "out" / "summary.json");
+  expect_no_nan(r.out, "stdout");
+  expect_no_nan(csv, "errors.csv");
+  expect_no_nan(summary_text, "summary.json");
+
+  const json summary = json::parse(summary_text);
+  const json& euler = run_of(summary, "euler", "rk4");
+  EXPECT_EQ(euler["diverged"], true);
+  ASSERT_TRUE(euler["diverged_at"].is_number());
+  const double at = euler["diverged_at"];
+  EXPECT_GT(at, 0);
+  EXPECT_LT(at, 60);
+  EXPECT_LE(euler["final_tau"].get<double>(), at);
+  EXPECT_LT(euler["steps"].get<int>(), 120);
+  EXPECT_NE(r.out.find("diverged at tau="), std::string::npos) << r.out;
+
+  // errors.csv: 121 rows (every step); the euler cells are empty from the divergence on.
+  const auto lines = lines_of(csv);
+  ASSERT_EQ(lines.size(), 122u);
+  EXPECT_EQ(lines[0], "tau,euler_rk4,vop_rk4");
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const auto cells = cells_of(lines[i]);
+    ASSERT_EQ(cells.size(), 3u) << lines[i];
+    const double tau = std::stod(cells[0]);
+    EXPECT_EQ(cells[1].empty(), tau >= at) << lines[i];
+  }
+}
+
+// ---- bad input -----------------------------------------------------------------------------------
+
+struct bad_report {
+  const char* label;
+  std::vector<std::string> args;  // after "report"
+  std::string expected;           // the flag and value the message must name
+};
+
+void PrintTo(const bad_report& c, std::ostream* os) { *os << c.label; }
+
+std::vector<bad_report> bad_reports() {
+  return {
+      {"method rk5", {"--methods", "rk5"}, "--methods rk5"},
+      {"formulation foo", {"--formulations", "foo"}, "--formulations foo"},
+      {"formulation not implemented", {"--formulations", "euler,vop-theta"}, "vop-theta"},
+      {"empty method item", {"--methods", "rk4,"}, "--methods rk4,"},
+      {"step K over 0", {"--step", "K/0"}, "--step K/0"},
+      {"step negative", {"--step", "-1"}, "--step -1"},
+      {"step text", {"--step", "fast"}, "--step fast"},
+      {"step longer than span", {"--step", "100", "--tau-end", "1"}, "--step 100"},
+      {"out dir in proc", {"--out-dir", "/proc/x"}, "--out-dir /proc/x"},
+      {"out dir is a file", {"--out-dir", "scene.toml"}, "--out-dir scene.toml"},
+      {"format xml", {"--format", "xml"}, "--format xml"},
+      {"samples 1", {"--samples", "1"}, "--samples 1"},
+      {"reference missing", {"--reference", "missing.csv"}, "--reference missing.csv"},
+      {"reference and precision", {"--reference", "scene.toml", "--precision", "double"}, "--precision"},
+  };
+}
+
+class BadReport : public ::testing::TestWithParam<bad_report> {};
+
+TEST_P(BadReport, ExitsTwoWithOneLineAndNoFiles) {
+  const bad_report& c = GetParam();
+  temp_dir dir;
+  write_file(dir.path() / "scene.toml", "not a directory\n");
+  std::vector<std::string> args = {"report", "--no-plot"};
+  args.insert(args.end(), c.args.begin(), c.args.end());
+  const run_result r = run(dir.path(), args);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  const auto lines = lines_of(r.err);
+  ASSERT_EQ(lines.size(), 1u) << r.err;
+  EXPECT_TRUE(lines[0].starts_with("eulervop: error: ")) << lines[0];
+  EXPECT_NE(lines[0].find(c.expected), std::string::npos) << "'" << c.expected << "' not in: " << lines[0];
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(dir.path()))
+    if (e.path().filename() != "scene.toml") files.push_back(e.path().filename().string());
+  EXPECT_TRUE(files.empty()) << files.front();  // not even the default ./eulervop-report/
+}
+
+INSTANTIATE_TEST_SUITE_P(Table, BadReport, ::testing::ValuesIn(bad_reports()),
+                         [](const ::testing::TestParamInfo<bad_report>& info) {
+                           std::string name;
+                           for (char ch : std::string(info.param.label))
+                             name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+                           return name;
+                         });
+
+TEST(Report, SceneFormulationNotImplementedIsBadInput) {
+  temp_dir dir;
+  write_file(dir.path() / "s.toml",
+             "name = \"t\"\n[torque]\nG = [1.0, 1.0, 1.0]\n[initial]\nOmega = [0.5, 0.0, 1.0]\n[span]\ntau_end = 1.0\n"
+             "samples = 3\n[run]\nformulations = [\"euler\", \"vop-theta\"]\n");
+  const run_result r = run(dir.path(), {"report", "s.toml", "--no-plot"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("[run] formulations: formulation `vop-theta` is not implemented yet"), std::string::npos) << r.err;
+  // --formulations overrides the scene's list.
+  const run_result ok = run(dir.path(), {"report", "s.toml", "--no-plot", "--formulations", "euler"});
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+}
+
+// ---- --reference FILE ---------------------------------------------------------------------------
+
+// A reference written by `eulervop reference` at tau = 0, 0.25, ..., 2 (step points of h = 0.25)
+// gives the same errors as the reference computed in process, to 1e-12 relative in every cell.
+TEST(Report, ReferenceFileRoundTrip) {
+  temp_dir dir;
+  const run_result ref = run(dir.path(), {"reference", "--tau-end", "2", "--samples", "9", "--out", "ref.csv"});
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+  const run_result from_file = run(dir.path(), {"report", "--reference", "ref.csv", "--tau-end", "2", "--step", "0.25",
+                                                "--no-plot", "--out-dir", "file"});
+  ASSERT_EQ(from_file.exit_code, 0) << from_file.err;
+  const run_result computed = run(dir.path(), {"report", "--tau-end", "2", "--step", "0.25", "--samples", "8",
+                                               "--no-plot", "--out-dir", "computed"});
+  ASSERT_EQ(computed.exit_code, 0) << computed.err;
+
+  const auto a = lines_of(read_file(dir.path() / "file" / "errors.csv"));
+  const auto b = lines_of(read_file(dir.path() / "computed" / "errors.csv"));
+  ASSERT_EQ(a.size(), 10u);
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(a[0], b[0]);
+  for (std::size_t i = 1; i < a.size(); ++i) {
+    const auto ca = cells_of(a[i]), cb = cells_of(b[i]);
+    ASSERT_EQ(ca.size(), cb.size());
+    EXPECT_EQ(std::stod(ca[0]), 0.25 * static_cast<double>(i - 1));
+    for (std::size_t c = 0; c < ca.size(); ++c) {
+      const double x = std::stod(ca[c]), y = std::stod(cb[c]);
+      EXPECT_LE(std::abs(x - y), 1e-12 * std::abs(y)) << "row " << i << " col " << c << ": " << x << " vs " << y;
+    }
+  }
+  const json summary = json::parse(read_file(dir.path() / "file" / "summary.json"));
+  EXPECT_EQ(summary["reference"]["precision"], "quad");
+  EXPECT_TRUE(summary["reference"]["estimated_max_error"].is_null());  // not verified
+}
+
+TEST(Report, ReferenceFileProblemsNameTheLine) {
+  temp_dir dir;
+  const std::string good = "# precision: quad\n# estimated_max_error: 1.0e-30\ntau,Omega1,Omega2,Omega3\n"
+                           "0,0.5,0,1\n0.5,0.5,0.1,1.1\n";
+  struct bad_file {
+    std::string text;
+    std::vector<std::string> flags;
+    std::string expected;
+  };
+  const std::vector<bad_file> cases = {
+      {good, {"--step", "0.3"}, "line 5: tau = 0.5 is not a step point of h = 0.3"},
+      {good, {"--step", "0.3"}, "--step"},
+      {"tau,Omega1,Omega3\n0,0.5,1\n", {"--step", "0.25"}, "line 1: the header has no `Omega2` column"},
+      {"# c\ntau,Omega1,Omega2,Omega3\n0,0.5,0,1\n0.25,0.5,x,1\n", {"--step", "0.25"}, "line 4: Omega2 = `x`"},
+      {"tau,Omega1,Omega2,Omega3\n0,0.5,0,1\n0.25,0.5,1\n", {"--step", "0.25"}, "line 3:"},
+      {"# scene: other\ntau,Omega1,Omega2,Omega3\n0,0.5,0,1\n", {"--step", "0.25"}, "line 1: the reference is for scene `other`"},
+      {good, {"--step", "0.25", "--tau-end", "0.25"}, "line 5: tau = 0.5 is beyond the span end"},
+  };
+  for (const bad_file& c : cases) {
+    SCOPED_TRACE(c.expected);
+    write_file(dir.path() / "r.csv", c.text);
+    std::vector<std::string> args = {"report", "--reference", "r.csv", "--no-plot", "--out-dir", "out"};
+    args.insert(args.end(), c.flags.begin(), c.flags.end());
+    const run_result r = run(dir.path(), args);
+    EXPECT_EQ(r.exit_code, 2);
+    ASSERT_EQ(lines_of(r.err).size(), 1u) << r.err;
+    EXPECT_NE(r.err.find("--reference r.csv: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir.path() / "out"));
+  }
+  // The good file with a fitting step: its metadata reaches the summary.
+  write_file(dir.path() / "r.csv", good);
+  const run_result ok = run(dir.path(), {"report", "--reference", "r.csv", "--step", "0.25", "--no-plot", "--format", "json",
+                                         "--out-dir", "out"});
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  const json summary = json::parse(ok.out);
+  EXPECT_EQ(summary["reference"]["estimated_max_error"], 1e-30);
+  EXPECT_EQ(run_of(summary, "vop", "rk4")["steps"], 2);  // the runs end at the file's last tau
+}
+
+// ---- the figure ----------------------------------------------------------------------------------
+
+// Drawn when matplotlib is there; otherwise one line saying how to get it, and still exit 0.
+TEST(Report, FigureOrOneLineHowToGetIt) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"report", "--tau-end", "2", "--samples", "20", "--out-dir", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  if (fs::exists(dir.path() / "out" / "fig1.png")) {
+    EXPECT_TRUE(fs::exists(dir.path() / "out" / "fig1.svg"));
+    EXPECT_TRUE(r.err.empty()) << r.err;
+  } else {
+    ASSERT_EQ(lines_of(r.err).size(), 1u) << r.err;
+    EXPECT_TRUE(r.err.starts_with("figure skipped: matplotlib not found (apt-get install python3-matplotlib")) << r.err;
+  }
+}
+
+}  // namespace
