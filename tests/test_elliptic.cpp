@@ -38,7 +38,7 @@
 //       ulp <= 8 for sn, cn, am, Z, E(u);
 //       dn (relative): ulp <= 8 max(1, |u dn'/dn|). The argument a_n u of the Gauss levels is
 //       rounded (~1 ulp); dn's relative condition number in u reaches ~|u| <= K as k -> 1, so
-//       the plain relative error of dn can reach ~1.2 K ulp there (reported; ~18 in double at
+//       the plain relative error of dn can reach ~2 K ulp there (reported; ~22 in double at
 //       k = 1 - 1e-12), while its absolute error stays below eps.
 //       mixed <= 8 for all six.
 //   |u| <= 4K (random, u = (2j+1)K exactly and +-1e-6, u = 2jK) and 10 <= |u| <= 1e5:

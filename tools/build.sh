@@ -3,7 +3,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${EULERVOP_BUILD_DIR:-$root/build}
-"$root/tools/setup.sh"
+"$root/tools/setup.sh"  # EULERVOP_WITH_PLOTS=1 adds matplotlib for the figures
 if [[ ! -f "$build/CMakeCache.txt" ]]; then
   cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 fi
