@@ -20,6 +20,7 @@
 #pragma once
 
 #include <eulervop/detail/chebyshev_basis.hpp>
+#include <eulervop/detail/double_double_matvec.hpp>
 #include <eulervop/model.hpp>
 #include <eulervop/scalar.hpp>
 
@@ -174,12 +175,14 @@ class chebyshev_picard {
     eps_ = static_cast<double>(epsilon<T>());  // 0 for MPFR beyond double's range is harmless
     eps_log_ = detail::log_abs(epsilon<T>());
     tol_log_ = settings.tolerance > 0 ? std::log(settings.tolerance) : eps_log_;
-    S_d_.resize(n1_ * n1_);
-    for (std::size_t k = 0; k < n1_ * n1_; ++k) S_d_[k] = static_cast<double>(basis_.integral[k]);
+    S_dt_.resize(n1_ * n1_);  // transposed: column k of S is contiguous
+    for (std::size_t j = 0; j < n1_; ++j)
+      for (std::size_t k = 0; k < n1_; ++k) S_dt_[k * n1_ + j] = static_cast<double>(basis_.integral[j * n1_ + k]);
     Q_d_.resize((N_ + 2) * n1_);
     for (std::size_t k = 0; k < (N_ + 2) * n1_; ++k) Q_d_[k] = static_cast<double>(basis_.to_coeffs[k]);
     C_d_.resize(n1_ * n1_);
     for (std::size_t k = 0; k < n1_ * n1_; ++k) C_d_[k] = static_cast<double>(basis_.coeffs[k]);
+    if constexpr (!std::is_same_v<T, double>) S_dd_ = detail::double_double_matrix(basis_.integral, n1_, n1_);
     for (int i = 0; i < 3; ++i) {
       X_[i].resize(n1_); F_[i].resize(n1_); Yc_[i].resize(n1_); Yn_[i].resize(n1_);
       r_[i].resize(n1_); delta_[i].resize(n1_); delta_new_[i].resize(n1_); g_[i].resize(n1_);
@@ -187,6 +190,7 @@ class chebyshev_picard {
     }
     acc_ = T(0);
     bd_.resize(N_ + 2);
+    for (auto* v : {&F_hi_, &F_lo_, &Y_hi_, &Y_lo_}) v->resize(n1_);
     Fd_.resize(n1_);
     coeff_log_.resize(N_ + 2);
     noise_log_.resize(N_ + 2);
@@ -379,13 +383,52 @@ class chebyshev_picard {
       for (int i = 0; i < 3; ++i) g_[i][j] = dx[i];
     }
     double r_max = 0;
+    double_integral(g_, r_);
     for (int i = 0; i < 3; ++i) {
       r_[i][0] = 0;
       for (std::size_t j = 1; j < n1_; ++j) {
-        const double* row = &S_d_[j * n1_];
-        double a = 0;
-        for (std::size_t k = 0; k < n1_; ++k) a += row[k] * g_[i][k];
-        r_[i][j] = hl_d * a - warm_[i][j];
+        r_[i][j] = hl_d * r_[i][j] - warm_[i][j];
+        r_max = std::max(r_max, std::abs(r_[i][j]));
+      }
+    }
+    if (!std::isfinite(r_max)) {
+      why = "non-finite residual";
+      return std::numeric_limits<double>::quiet_NaN();
+    }
+    if (!solve_correction(hl_d, st, why)) return std::numeric_limits<double>::quiet_NaN();
+    for (int i = 0; i < 3; ++i)
+      for (std::size_t j = 1; j < n1_; ++j) Yc_[i][j] += T(delta_[i][j]);
+    return r_max > 0 ? std::log(r_max) : -std::numeric_limits<double>::infinity();
+  }
+
+  // The second pass, for wide T: the residual in double-double (~1e-32 relative), enough to
+  // drive the correction that follows to that level, at a fraction of a residual in T. The next
+  // residual, in T, decides convergence. Returns log of the residual, or NaN on failure.
+  double double_double_pass(const vec3<T>& x0, const vec3<T>& c0, const T& hl, picard_stats& st,
+                            std::string& why) {
+    const double hl_d = to_d(hl);
+    for (std::size_t j = 0; j < n1_; ++j) {
+      vec3<T> x, dx;
+      for (int i = 0; i < 3; ++i) {
+        x[i] = x0[i] + (c0[i] + Yc_[i][j]);
+        Xd_[i][j] = to_d(x[i]);
+      }
+      euler_rhs(x, G_, dx);
+      for (int i = 0; i < 3; ++i) F_[i][j] = dx[i] * hl;  // scaled by hl here, once
+    }
+    double r_max = 0;
+    for (int i = 0; i < 3; ++i) {
+      for (std::size_t j = 0; j < n1_; ++j) {
+        F_hi_[j] = to_d(F_[i][j]);
+        F_lo_[j] = to_d(T(F_[i][j] - T(F_hi_[j])));
+      }
+      S_dd_.multiply(F_hi_.data(), F_lo_.data(), Y_hi_.data(), Y_lo_.data(), 1);
+      r_[i][0] = 0;
+      for (std::size_t j = 1; j < n1_; ++j) {
+        acc_ = T(Y_hi_[j]);
+        acc_ -= Yc_[i][j];
+        acc_ += T(Y_lo_[j]);
+        r_[i][j] = to_d(acc_);
         r_max = std::max(r_max, std::abs(r_[i][j]));
       }
     }
@@ -413,6 +456,13 @@ class chebyshev_picard {
     if constexpr (!std::is_same_v<T, double>) {
       r_prev_log = double_pass(x0, c0, hl_d, st, out.why);
       if (std::isnan(r_prev_log)) return out;
+      const double r_dd_log = double_double_pass(x0, c0, hl, st, out.why);
+      if (std::isnan(r_dd_log)) return out;
+      if (r_dd_log > r_prev_log - std::log(2.0)) {
+        out.why = "residual does not decrease";
+        return out;
+      }
+      r_prev_log = r_dd_log;
     }
     for (std::size_t outer = 0;; ++outer) {
       // X = x0 + (c0 + Yc);  F = f(X)  (Eq. 5).
@@ -477,6 +527,21 @@ class chebyshev_picard {
     return out;
   }
 
+  // y_i = S g_i (rows 1..N) for the three components in double. Column order (y += S[:,k] g[k])
+  // keeps the rows independent, so the compiler vectorizes across them without reassociating
+  // any sum (a row-by-row dot product is bound by the latency of its serial additions).
+  void double_integral(const std::array<std::vector<double>, 3>& g, std::array<std::vector<double>, 3>& y) const {
+    for (int i = 0; i < 3; ++i) {
+      double* out = y[i].data();
+      std::fill(out, out + n1_, 0.0);
+      for (std::size_t k = 0; k < n1_; ++k) {
+        const double* col = &S_dt_[k * n1_];
+        const double gk = g[i][k];
+        for (std::size_t j = 0; j < n1_; ++j) out[j] += col[j] * gk;
+      }
+    }
+  }
+
   // delta = r + hl S [J(Xd) delta + f_2(delta)] by Picard sweeps in double, where for Eq. 5
   // f(x + d) - f(x) = (-(x2 d3 + x3 d2 + d2 d3), x1 d3 + x3 d1 + d1 d3, -(x1 d2 + x2 d1 + d1 d2)).
   bool solve_correction(double hl_d, picard_stats& st, std::string& why) {
@@ -493,14 +558,11 @@ class chebyshev_picard {
         g_[2][k] = -(x1 * d2 + x2 * d1 + d1 * d2);
       }
       double diff = 0, dmax = 0;
+      double_integral(g_, delta_new_);
       for (int i = 0; i < 3; ++i) {
-        const double* g = g_[i].data();
         delta_new_[i][0] = 0;
         for (std::size_t j = 1; j < n1_; ++j) {
-          const double* row = &S_d_[j * n1_];
-          double a = 0;
-          for (std::size_t k = 0; k < n1_; ++k) a += row[k] * g[k];
-          const double v = r_[i][j] + hl_d * a;
+          const double v = r_[i][j] + hl_d * delta_new_[i][j];
           diff = std::max(diff, std::abs(v - delta_[i][j]));
           dmax = std::max(dmax, std::abs(v));
           delta_new_[i][j] = v;
@@ -592,11 +654,13 @@ class chebyshev_picard {
   std::size_t N_, n1_;
   detail::chebyshev_basis<T> basis_;
   double eps_ = 0, eps_log_ = 0, tol_log_ = 0;
-  std::vector<double> S_d_;
+  std::vector<double> S_dt_;
   vec3<T> G_{};
   std::array<std::vector<T>, 3> X_, F_, Yc_, Yn_;
   std::array<std::vector<double>, 3> r_, delta_, delta_new_, g_, Xd_, warm_;
   std::vector<double> Q_d_, C_d_;
+  detail::double_double_matrix S_dd_;
+  std::vector<double> F_hi_, F_lo_, Y_hi_, Y_lo_;
   std::vector<double> bd_, Fd_, coeff_log_, noise_log_;
   T acc_;
 };

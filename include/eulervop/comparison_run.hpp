@@ -8,14 +8,19 @@
 //              [-pi, pi) with whole turns counted apart (vop.hpp, DESIGN.md section 1.3).
 //
 // Both VOP formulations run in whichever regime the state is in (k < 1 or k > 1, either sign:
-// vop_frame::for_state). Near their singularities they fall back to Eq. 5 (docs/vop-strategies.md):
-//   separatrix band  1 - min(k, 1/k) < separatrix_band (and a torque acts): direct Euler steps,
-//                    same method and step, until 1 - min(k, 1/k) > 2 separatrix_band, then the
-//                    elements are re-derived, in the other regime if the band was crossed;
-//   small k          min(k, 1/k) < small_k (and a torque acts; c1 -> 0 makes Eq. 16 singular):
-//                    the same, until min(k, 1/k) > 2 small_k.
-//   A VOP step whose stages leave the domain (a stage crossed k = 1 or c1 = 0 within the step) is
-//   redone as a direct Euler step from the step's start, which opens a band there.
+// vop_frame::for_state). Near their singularities, and only when a torque acts (without torque
+// the elements are exactly constant), they fall back to Eq. 5 (docs/vop-strategies.md). With
+// kw = min(k, 1/k), c1, c2 the integrals and |G| the torque's norm:
+//   separatrix band  1 - kw < min(separatrix_band, separatrix_torque_scale |G| / (c1 c2)):
+//                    Eq. 16's torque terms carry 1 / (c1 kc^2) ~ 1 / (2 c1 (1 - kw)); the band
+//                    is where they would exceed about twice the free phase rate c2 (capped);
+//   small k          |G| / (c1 c2) > small_k_torque_ratio: the torque terms ~ |G| / c1 of
+//                    Eq. 16 dominate the free rate c2 (c1 -> 0 is singular; k itself may be
+//                    small harmlessly, as in the paper's spin-up where c2 grows).
+// Inside, the run takes direct Euler steps with the same method and step, and leaves when the
+// state is outside twice the band (hysteresis), re-deriving the elements, in the other regime if
+// the separatrix was crossed. A VOP step whose stages leave the domain (a stage crossed k = 1 or
+// c1 = 0 within the step) is redone as a direct step from the step's start, opening a band there.
 // Each stretch of direct steps is recorded as (tau entered, tau left) in fixed_run.
 #pragma once
 
@@ -57,14 +62,15 @@ constexpr std::optional<formulation> formulation_from_name(std::string_view text
 }
 
 // Fixed step h, n_steps of it; the state is sampled at every step index that is a multiple of
-// sample_every, and at the last step. The two thresholds apply to the VOP formulations only
-// (see the header note and docs/vop-strategies.md for the choice of 1e-3).
+// sample_every, and at the last step. The thresholds apply to the VOP formulations only (see
+// the header note; the values are chosen from the measurements in docs/vop-strategies.md).
 struct fixed_run_settings {
   double h = 0;
   std::size_t n_steps = 0;
   std::size_t sample_every = 1;
-  double separatrix_band = 1e-3;  // fall back to Eq. 5 while 1 - min(k, 1/k) < this
-  double small_k = 1e-3;          // fall back to Eq. 5 while min(k, 1/k) < this
+  double separatrix_band = 0.05;         // cap of the band in 1 - min(k, 1/k)
+  double separatrix_torque_scale = 0.25; // the band is min(cap, this |G| / (c1 c2))
+  double small_k_torque_ratio = 10;      // direct steps while |G| / (c1 c2) exceeds this
 };
 
 struct fixed_run {
@@ -79,7 +85,8 @@ struct fixed_run {
   std::optional<double> diverged_at;      // tau of the first bad step
   std::string why;                        // why it diverged
   // VOP formulations: the stretches stepped with Eq. 5, (tau entered, tau left); a stretch still
-  // open when the run stops ends at the run's last tau. Near the separatrix, and near k = 0.
+  // open when the run stops ends at the run's last tau. Near the separatrix (min(k, 1/k) > 1/2
+  // on entry), and near c1 = 0 (small k).
   std::vector<std::pair<double, double>> separatrix_bands;
   std::vector<std::pair<double, double>> small_k_bands;
   std::size_t direct_steps = 0;           // steps taken with Eq. 5 inside those stretches
@@ -156,6 +163,17 @@ void run_vop(fixed_run& out, const normalized_problem<double>& p, const fixed_ru
     const double lo = std::min(a, b), hi = std::max(a, b);
     return hi > 0 ? lo / hi : 0.0;
   };
+  const double gnorm = std::sqrt(G[0] * G[0] + G[1] * G[1] + G[2] * G[2]);
+  // Inside a band (widen = 1 to enter, 2 to stay), from the integrals (either order).
+  auto in_band = [&](double a, double b, double widen) {
+    if (!torque) return false;
+    const double ab = a * b;
+    if (!(ab > 0)) return true;
+    const double q = gnorm / ab;  // |G| / (c1 c2)
+    const double kw = ratio(a, b);
+    return 1 - kw < widen * std::min(s.separatrix_band, s.separatrix_torque_scale * q) ||
+           q * widen > s.small_k_torque_ratio;
+  };
   auto Omega_now = [&]() -> V {
     if (!elements) return x;
     if constexpr (Theta) return frame.Omega_of_theta(y);
@@ -163,8 +181,7 @@ void run_vop(fixed_run& out, const normalized_problem<double>& p, const fixed_ru
   };
   // Into the elements from Omega, if the state is outside the bands (widened by `widen`).
   auto try_elements = [&](const V& Om, double widen) {
-    const double kw = ratio(std::hypot(Om[0], Om[1]), std::hypot(Om[1], Om[2]));
-    if (torque && (1 - kw < widen * s.separatrix_band || kw < widen * s.small_k)) return false;
+    if (in_band(std::hypot(Om[0], Om[1]), std::hypot(Om[1], Om[2]), widen)) return false;
     vop_frame<double> f;
     try {
       f = vop_frame<double>::for_state(Om);
@@ -251,8 +268,7 @@ void run_vop(fixed_run& out, const normalized_problem<double>& p, const fixed_ru
       ++n;
       t = t_next;
       out.steps = n;
-      const double kw = ratio(y[0], y[1]);
-      if (torque && (1 - kw < s.separatrix_band || kw < s.small_k)) to_direct(t);
+      if (in_band(y[0], y[1], 1.0)) to_direct(t);
     } else {
       cxn = cx;
       stepper.do_step(euler_sys, x, t, s.h, xn, cxn);

@@ -54,7 +54,7 @@
 // the same multiples of eps for double, quad and MPFR):
 //   |u| <= K: sn, cn (absolute), am, Z, E(u) within ~6 ulp; dn relative within ~5 ulp times
 //     max(1, |u dn'/dn|) (the ~1 ulp rounding of the argument a_n u, amplified by the condition
-//     number of dn, which reaches ~|u| for k -> 1 where dn ~ kc: up to 18 ulp relative in double
+//     number of dn, which reaches ~|u| for k -> 1 where dn ~ kc: up to ~22 ulp relative in double
 //     at k = 1 - 1e-12, |u| ~ 5..15; the absolute error there is tiny).
 //   any u: |error| <= ~6 eps (|f| + |u f'(u)|) (forward-backward stable). For large |u| the
 //     reduction u - 2nK carries the rounding of K (n ulp(K) ~ eps |u|): log2(|u|/K) bits of the
@@ -244,7 +244,11 @@ struct jacobi_values {
 };
 
 // Evaluates sn, cn, dn, am, Z and E(u) at u for the cached modulus m, in place.
-template <scalar T>
+// Which outputs a caller needs: the amplitude costs an atan2 (about a fifth of an evaluation in
+// double) that right-hand sides such as Eq. 16 never use.
+enum class jacobi_outputs { all, without_amplitude };
+
+template <scalar T, jacobi_outputs Outputs = jacobi_outputs::all>
 void jacobi_eval(const T& u, const elliptic_modulus<T>& m, jacobi_values<T>& out) {
   using std::atan2;
   using std::cos;
@@ -315,7 +319,7 @@ void jacobi_eval(const T& u, const elliptic_modulus<T>& m, jacobi_values<T>& out
   }
   const T inv_w = 1 / W;
   const bool odd = detail::elliptic_is_odd(q);
-  out.am = q * m.pi() + atan2(S, C);
+  if constexpr (Outputs == jacobi_outputs::all) out.am = q * m.pi() + atan2(S, C);
   s = S * inv_w;
   c = C * inv_w;
   out.sn = odd ? T(-s) : s;

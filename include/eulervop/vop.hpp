@@ -241,7 +241,7 @@ class vop_system : public detail::vop_domain<T> {
     }
     // kc^2 = (c2 - c1)(c2 + c1) / c2^2 keeps its digits near k = 1, unlike 1 - k^2.
     const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
-    jacobi_eval(y[2], modulus_, j_);
+    jacobi_eval<T, jacobi_outputs::without_amplitude>(y[2], modulus_, j_);
     const jacobi_values<T>& j = j_;
     const T& G1 = G_[0];
     const T& G2 = G_[1];
@@ -295,7 +295,7 @@ class vop_theta_system : public detail::vop_domain<T> {
       return;
     }
     const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
-    jacobi_eval(T(y[2] / rate), modulus_, j_);
+    jacobi_eval<T, jacobi_outputs::without_amplitude>(T(y[2] / rate), modulus_, j_);
     const jacobi_values<T>& j = j_;
     const T& G1 = G_[0];
     const T& G2 = G_[1];
