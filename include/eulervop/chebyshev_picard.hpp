@@ -369,6 +369,19 @@ class chebyshev_picard {
         }
   }
 
+  // Solves for the correction of the residual in r_ (largest entry r_max) and applies it to Yc.
+  // Returns log(r_max), or NaN (with why) when the residual or the correction is not usable.
+  double correct_from_residual(double r_max, double hl_d, picard_stats& st, std::string& why) {
+    if (!std::isfinite(r_max)) {
+      why = "non-finite residual";
+      return std::numeric_limits<double>::quiet_NaN();
+    }
+    if (!solve_correction(hl_d, st, why)) return std::numeric_limits<double>::quiet_NaN();
+    for (int i = 0; i < 3; ++i)
+      for (std::size_t j = 1; j < n1_; ++j) Yc_[i][j] += T(delta_[i][j]);
+    return r_max > 0 ? std::log(r_max) : -std::numeric_limits<double>::infinity();
+  }
+
   // The first pass from the warm start, all in double: its residual is far above double
   // rounding, so computing it in T would buy nothing (for T = double this is the T pass itself).
   // Returns log of the residual, or NaN on failure.
@@ -391,14 +404,7 @@ class chebyshev_picard {
         r_max = std::max(r_max, std::abs(r_[i][j]));
       }
     }
-    if (!std::isfinite(r_max)) {
-      why = "non-finite residual";
-      return std::numeric_limits<double>::quiet_NaN();
-    }
-    if (!solve_correction(hl_d, st, why)) return std::numeric_limits<double>::quiet_NaN();
-    for (int i = 0; i < 3; ++i)
-      for (std::size_t j = 1; j < n1_; ++j) Yc_[i][j] += T(delta_[i][j]);
-    return r_max > 0 ? std::log(r_max) : -std::numeric_limits<double>::infinity();
+    return correct_from_residual(r_max, hl_d, st, why);
   }
 
   // The second pass, for wide T: the residual in double-double (~1e-32 relative), enough to
@@ -432,14 +438,7 @@ class chebyshev_picard {
         r_max = std::max(r_max, std::abs(r_[i][j]));
       }
     }
-    if (!std::isfinite(r_max)) {
-      why = "non-finite residual";
-      return std::numeric_limits<double>::quiet_NaN();
-    }
-    if (!solve_correction(hl_d, st, why)) return std::numeric_limits<double>::quiet_NaN();
-    for (int i = 0; i < 3; ++i)
-      for (std::size_t j = 1; j < n1_; ++j) Yc_[i][j] += T(delta_[i][j]);
-    return r_max > 0 ? std::log(r_max) : -std::numeric_limits<double>::infinity();
+    return correct_from_residual(r_max, hl_d, st, why);
   }
 
   // Solves the collocation problem on one segment from the warm start. On success Yn_ holds the
@@ -520,9 +519,7 @@ class chebyshev_picard {
         return out;
       }
       r_prev_log = r_log;
-      if (!solve_correction(hl_d, st, out.why)) return out;
-      for (int i = 0; i < 3; ++i)
-        for (std::size_t j = 1; j < n1_; ++j) Yc_[i][j] += T(delta_[i][j]);
+      if (std::isnan(correct_from_residual(r_max, hl_d, st, out.why))) return out;
     }
     return out;
   }

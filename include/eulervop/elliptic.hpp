@@ -146,7 +146,6 @@ class elliptic_modulus {
         throw std::runtime_error("eulervop::elliptic_modulus: AGM did not converge in " +
                                  std::to_string(max_levels) + " levels for k = " + to_text<T>(k));
       a_[n + 1] = (a_[n] + b_[n]) / 2;
-      b_[n + 1] = sqrt(a_[n] * b_[n]);
       ++n;
       const T inv_a = 1 / a_[n];
       omkn_[n] = b_[n - 1] * inv_a;  // 1 - k_n, relative error ~eps at every level
@@ -163,6 +162,9 @@ class elliptic_modulus {
         c_[n] = c_[n - 1] * c_[n - 1] * inv_a / 4;
         kn_[n] = c_[n] * inv_a;
       }
+      // b_n = sqrt(a_{n-1} b_{n-1}), except at the last level: there a_n - b_n = 2 c_{n+1}
+      // ~ c_n^2 / (2 a_n) <= eps^2 a_n, so b_n = a_n to rounding and the square root is saved.
+      b_[n] = c_[n] > eps * a_[n] ? T(sqrt(a_[n - 1] * b_[n - 1])) : a_[n];
     }
     levels_ = n;
     zw_[0] = 0;
@@ -176,7 +178,7 @@ class elliptic_modulus {
     const T& aN = a_[n];
     K_ = pi_ / (2 * aN);
     two_K_ = 2 * K_;  // exact
-    inv_two_K_ = aN / pi_;
+    inv_two_K_ = aN * boost::math::constants::one_div_pi<T>();
 
     if (kc_ * 16 >= 1) {
       T d = aN * aN;
