@@ -13,8 +13,8 @@ constexpr auto quiet_period = std::chrono::seconds(1);
 constexpr auto redraw_period = std::chrono::milliseconds(100);
 }  // namespace
 
-progress_line::progress_line(std::string label, double total)
-    : label_(std::move(label)), total_(total), enabled_(::isatty(STDERR_FILENO) == 1),
+progress_line::progress_line(std::string label, double total, std::string unit)
+    : label_(std::move(label)), total_(total), unit_(std::move(unit)), enabled_(::isatty(STDERR_FILENO) == 1),
       start_(clock::now()), last_draw_(start_) {}
 
 progress_line::~progress_line() { clear(); }
@@ -26,7 +26,7 @@ void progress_line::update(double reached) {
   last_draw_ = now;
   drawn_ = true;
   const double percent = total_ > 0 ? 100.0 * reached / total_ : 0.0;
-  fmt::print(stderr, "\r {}: tau {:.4g} / {:.4g} ({:.0f}%)\x1b[K", label_, reached, total_, percent);
+  fmt::print(stderr, "\r {}: {} {:.4g} / {:.4g} ({:.0f}%)\x1b[K", label_, unit_, reached, total_, percent);
   std::fflush(stderr);
 }
 

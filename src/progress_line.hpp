@@ -12,8 +12,9 @@ namespace eulervop::app {
 
 class progress_line {
  public:
-  // `label` names the stage ("reference", "verify"); `total` is the tau the run goes to.
-  progress_line(std::string label, double total);
+  // `label` names the stage ("reference", "verify"); `total` is how far the run goes, in
+  // `unit` ("tau" by default; "case" for a sweep).
+  progress_line(std::string label, double total, std::string unit = "tau");
   ~progress_line();
   progress_line(const progress_line&) = delete;
   progress_line& operator=(const progress_line&) = delete;
@@ -27,6 +28,7 @@ class progress_line {
   using clock = std::chrono::steady_clock;
   std::string label_;
   double total_;
+  std::string unit_;
   bool enabled_;
   bool drawn_ = false;
   clock::time_point start_, last_draw_;

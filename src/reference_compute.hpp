@@ -16,6 +16,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -31,27 +32,55 @@ struct sampled_reference {
   double wall_seconds = 0;
 };
 
+// The dense solution to tau_end, with a progress line labelled `label` (none if it is empty:
+// a sweep integrates its reference on a worker thread and draws its own line).
+template <scalar T>
+struct dense_reference {
+  dense_trajectory<T> trajectory;
+  picard_stats stats;
+  double wall_seconds = 0;
+};
+
+template <scalar T>
+dense_reference<T> integrate_dense(const normalized_problem<T>& problem, const T& tau_end,
+                                   const picard_settings& settings, const std::string& label) {
+  const auto start = std::chrono::steady_clock::now();
+  dense_reference<T> out;
+  std::optional<progress_line> progress;
+  if (!label.empty()) progress.emplace(label, static_cast<double>(tau_end));
+  out.trajectory = integrate_reference<T>(
+      problem, tau_end, settings,
+      [&](double tau) {
+        if (progress) progress->update(tau);
+      },
+      &out.stats);
+  if (progress) progress->clear();
+  out.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+// The dense output at `tau` (within the integrated span). A non-finite value is a
+// numerical_failure: no NaN is ever printed as a result (issue 5).
+template <scalar T>
+vec3<T> sample_dense(const dense_trajectory<T>& trajectory, const T& tau) {
+  vec3<T> Om = trajectory(tau);
+  for (const T& x : Om)
+    if (!(boost::math::isfinite)(x)) throw numerical_failure(static_cast<double>(tau), "non-finite state in the dense output");
+  return Om;
+}
+
 // Integrates the problem to tau_end and evaluates the dense output at every tau (each within
-// [tau0, tau_end]). A non-finite sample is a numerical_failure: no NaN is ever printed as a
-// result (issue 5).
+// [tau0, tau_end]).
 template <scalar T>
 sampled_reference<T> integrate_and_sample(const normalized_problem<T>& problem, const T& tau_end,
                                           const std::vector<T>& taus, const picard_settings& settings,
                                           const std::string& label) {
   const auto start = std::chrono::steady_clock::now();
+  dense_reference<T> dense = integrate_dense<T>(problem, tau_end, settings, label);
   sampled_reference<T> out;
-  progress_line progress(label, static_cast<double>(tau_end));
-  const dense_trajectory<T> trajectory = integrate_reference<T>(
-      problem, tau_end, settings, [&](double tau) { progress.update(tau); }, &out.stats);
-  progress.clear();
+  out.stats = dense.stats;
   out.Omega.reserve(taus.size());
-  for (const T& tau : taus) {
-    vec3<T> Om = trajectory(tau);
-    for (const T& x : Om)
-      if (!(boost::math::isfinite)(x))
-        throw numerical_failure(static_cast<double>(tau), "non-finite state in the dense output");
-    out.Omega.push_back(std::move(Om));
-  }
+  for (const T& tau : taus) out.Omega.push_back(sample_dense(dense.trajectory, tau));
   out.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

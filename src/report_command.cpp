@@ -1,6 +1,7 @@
 #include "report_command.hpp"
 
 #include "atomic_file.hpp"
+#include "csv_rows.hpp"
 #include "decimal.hpp"
 #include "input_error.hpp"
 #include "reference_compute.hpp"
@@ -19,7 +20,6 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -30,86 +30,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include <sys/wait.h>
-
-#ifndef EULERVOP_SOURCE_DIR
-#define EULERVOP_SOURCE_DIR "."
-#endif
-
 namespace eulervop::app {
 
 namespace fs = std::filesystem;
-
-// ---- the step ---------------------------------------------------------------------------------
-
-step_spec parse_step_flag(const std::string& text) {
-  step_spec spec;
-  if (text.starts_with("K/")) {
-    std::int64_t n = 0;
-    const char* digits = text.data() + 2;
-    auto [ptr, ec] = std::from_chars(digits, text.data() + text.size(), n);
-    if (ec != std::errc{} || ptr != text.data() + text.size() || n < 1)
-      throw input_error(fmt::format("--step {}: expected K/N with a whole number N >= 1, or a positive number", text));
-    spec.K_divisor = n;
-  } else {
-    spec.value = positive_flag_number("--step", text);
-  }
-  return spec;
-}
-
-fixed_step_choice resolve_step(const scene& s, const step_spec& spec, const std::string& origin) {
-  fixed_step_choice out;
-  const double tau_span = tau_end_of<double>(s);
-  if (spec.K_divisor) {
-    const auto N = static_cast<double>(*spec.K_divisor);
-    const vec3<double> Om = to_problem<double>(s).Omega0;
-    const double c1 = std::hypot(Om[0], Om[1]), c2 = std::hypot(Om[1], Om[2]);
-    if (!(c1 > 0 || c2 > 0))
-      throw input_error(fmt::format("{}: K/N needs a rotating initial state (Omega(0) = 0); give the step as a number",
-                                    origin));
-    if (c1 == c2)
-      throw input_error(fmt::format("{}: K/N is undefined at k0 = c1/c2 = 1 (the separatrix, K = infinity); give the "
-                                    "step as a number",
-                                    origin));
-    if (c1 < c2) {
-      const double k0 = c1 / c2;
-      const double K = elliptic_modulus<double>(k0).K();
-      out.h = K / (N * c2);
-      out.rule = fmt::format("h = K(k0)/({} c2) = {} with k0 = c1/c2 = {}, K = {}, c2 = {}", *spec.K_divisor, out.h,
-                             k0, K, c2);
-    } else {
-      // Rotation near the minor axis: the period is set by the reciprocal modulus (DESIGN.md 1.2).
-      const double k0 = c1 / c2;  // may be inf when c2 = 0
-      const double K = elliptic_modulus<double>(c2 / c1).K();
-      out.h = K / (N * c1);
-      out.reciprocal = true;
-      out.rule = fmt::format("h = K(1/k0)/({} c1) = {} with the reciprocal modulus, since k0 = c1/c2 = {} >= 1; K = {}, "
-                             "c1 = {}",
-                             *spec.K_divisor, out.h, k0, K, c1);
-    }
-  } else {
-    const double value = spec.value->value;
-    if (s.is_physical()) {
-      out.h = value * scaling_of<double>(s).tau_rate();
-      out.rule = fmt::format("h = {} s in t = {} in tau", spec.value->text, out.h);
-    } else {
-      out.h = value;
-      out.rule = fmt::format("h = {}", spec.value->text);
-    }
-  }
-  if (!(out.h > 0) || !std::isfinite(out.h))
-    throw input_error(fmt::format("{}: the step h = {} in tau is not a positive finite number", origin, out.h));
-  const double n = std::floor(tau_span / out.h + 1e-9);
-  constexpr double max_steps = 2e9;
-  if (n < 1)
-    throw input_error(fmt::format("{}: the step h = {} in tau is longer than the span (tau_end = {})", origin, out.h,
-                                  tau_span));
-  if (n > max_steps)
-    throw input_error(fmt::format("{}: h = {} in tau needs {:.3g} steps to tau_end = {} (at most {:.0e})", origin,
-                                  out.h, n, tau_span, max_steps));
-  out.n_steps = static_cast<std::size_t>(n);
-  return out;
-}
 
 namespace {
 
@@ -148,58 +71,6 @@ struct report_job {
 constexpr std::int64_t default_K_divisor = 200;
 constexpr std::int64_t default_samples = 2000;
 
-std::string joined(const auto& names) {
-  std::string s;
-  for (const auto& n : names) s += (s.empty() ? "" : ", ") + std::string(n);
-  return s;
-}
-
-std::vector<std::string> available_formulations() {
-  std::vector<std::string> names;
-  for (formulation f : all_formulations) names.emplace_back(formulation_name(f));
-  return names;
-}
-
-std::vector<std::string> available_methods() {
-  std::vector<std::string> names;
-  for (rk::method m : rk::all_methods) names.emplace_back(rk::method_name(m));
-  return names;
-}
-
-// `where` names the source in messages: "--formulations euler,foo" or "[run] formulations".
-std::vector<formulation> formulations_of(const std::vector<std::string>& names, const std::string& where,
-                                         const std::string& hint) {
-  std::vector<formulation> out;
-  for (const std::string& name : names) {
-    const auto f = formulation_from_name(name);
-    if (!f) {
-      const bool known = std::find(known_formulations.begin(), known_formulations.end(), name) != known_formulations.end();
-      throw input_error(fmt::format("{}: formulation `{}` {} (available: {}){}", where, name,
-                                    known ? "is not implemented yet" : "is unknown", joined(available_formulations()),
-                                    hint));
-    }
-    if (std::find(out.begin(), out.end(), *f) != out.end())
-      throw input_error(fmt::format("{}: formulation `{}` is listed twice", where, name));
-    out.push_back(*f);
-  }
-  return out;
-}
-
-std::vector<rk::method> methods_of(const std::vector<std::string>& names, const std::string& where,
-                                   const std::string& hint) {
-  std::vector<rk::method> out;
-  for (const std::string& name : names) {
-    const auto m = rk::method_from_name(name);
-    if (!m)
-      throw input_error(fmt::format("{}: method `{}` is unknown (available: {}){}", where, name,
-                                    joined(available_methods()), hint));
-    if (std::find(out.begin(), out.end(), *m) != out.end())
-      throw input_error(fmt::format("{}: method `{}` is listed twice", where, name));
-    out.push_back(*m);
-  }
-  return out;
-}
-
 std::string read_text_file(const std::string& flag, const std::string& path) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw input_error(fmt::format("{} {}: is a directory", flag, path));
@@ -208,12 +79,6 @@ std::string read_text_file(const std::string& flag, const std::string& path) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
-}
-
-std::string trimmed(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
-  return std::string(s);
 }
 
 // Reads the file and its '#' metadata: precision, estimated_max_error, scene (must match).
@@ -230,11 +95,7 @@ reference_file_info read_reference_metadata(const std::string& path, const scene
   for (std::size_t i = 0; i < info.lines.size(); ++i) {
     const std::string& l = info.lines[i];
     if (!l.starts_with("#")) continue;
-    auto value_of = [&](std::string_view key) -> std::optional<std::string> {
-      const std::string prefix = fmt::format("# {}:", key);
-      if (!l.starts_with(prefix)) return std::nullopt;
-      return trimmed(std::string_view(l).substr(prefix.size()));
-    };
+    auto value_of = [&](std::string_view key) { return metadata_value(l, key); };  // csv_rows.hpp
     if (auto v = value_of("precision")) {
       const std::string name = v->substr(0, v->find(' '));  // "mpfr:256 (effective_bits=257)"
       const auto p = eulervop::precision::parse(name);
@@ -313,17 +174,7 @@ report_job make_job(const report_options& o) {
   for (formulation f : forms)
     for (rk::method m : methods) job.runs.push_back({f, m});
 
-  // A formulation that cannot start from this state (the paper's VOP needs k0 < 1) is bad input:
-  // probe one step of each before anything is computed.
-  const normalized_problem<double> problem = to_problem<double>(s);
-  for (formulation f : forms) {
-    try {
-      (void)run_fixed(f, rk::method::rk4, problem, fixed_run_settings{job.step.h, 1, 1});
-    } catch (const std::domain_error& e) {
-      throw input_error(fmt::format("formulation {} cannot start from this scene: {} (leave it out with --formulations)",
-                                    formulation_name(f), e.what()));
-    }
-  }
+  probe_formulations(forms, to_problem<double>(s), job.step.h);
 
   if (o.reference_file) job.file = read_reference_metadata(*o.reference_file, s);
 
@@ -335,56 +186,6 @@ report_job make_job(const report_options& o) {
   job.json = format == "json";
   job.plot = !o.no_plot;
   return job;
-}
-
-// ---- the output directory -----------------------------------------------------------------------
-
-// Creates the output directory (if missing) and checks that files can be created in it, before
-// any computation. If the report then fails, a directory it created is removed again (it is
-// still empty: every file is written atomically at the end).
-class output_dir {
- public:
-  explicit output_dir(const fs::path& dir) : dir_(dir) {
-    const std::string where = fmt::format("--out-dir {}", dir.string());
-    std::error_code ec;
-    if (fs::exists(dir, ec)) {
-      if (!fs::is_directory(dir, ec)) throw input_error(fmt::format("{}: exists and is not a directory", where));
-    } else {
-      created_ = fs::create_directories(dir, ec);
-      if (ec) throw input_error(fmt::format("{}: cannot create the directory: {}", where, ec.message()));
-    }
-    try {
-      atomic_file probe(dir / "errors.csv");  // removed again on scope exit
-    } catch (const input_error& e) {
-      std::string why = e.what();
-      if (why.starts_with("--out ")) why = why.substr(6);
-      remove_if_created();
-      throw input_error(fmt::format("{}: {}", where, why));
-    }
-  }
-  ~output_dir() {
-    if (!kept_) remove_if_created();
-  }
-  output_dir(const output_dir&) = delete;
-  output_dir& operator=(const output_dir&) = delete;
-
-  void keep() { kept_ = true; }
-  const fs::path& path() const { return dir_; }
-
- private:
-  void remove_if_created() noexcept {
-    std::error_code ec;
-    if (created_) fs::remove(dir_, ec);  // only if empty
-  }
-  fs::path dir_;
-  bool created_ = false;
-  bool kept_ = false;
-};
-
-void write_atomically(const fs::path& path, const std::string& text) {
-  atomic_file f(path);
-  f.write(text);
-  f.commit();
 }
 
 // ---- the computation ---------------------------------------------------------------------------
@@ -404,12 +205,6 @@ struct reference_samples {
   std::string source;
 };
 
-// n h, exactly in quad and MPFR (a 53-bit h times an integer below 2^53).
-template <scalar T>
-T tau_of_step(std::size_t n, double h) {
-  return T(static_cast<double>(n)) * T(h);
-}
-
 // The file's rows in T, after checking that each tau is a step point of the runs.
 template <scalar T>
 reference_samples<T> load_reference_file(const report_job& job) {
@@ -422,17 +217,7 @@ reference_samples<T> load_reference_file(const report_job& job) {
 
   std::vector<std::string> header;
   int col_tau = -1, col_O[3] = {-1, -1, -1};
-  auto split = [](const std::string& l) {
-    std::vector<std::string> cells;
-    std::size_t begin = 0;
-    while (true) {
-      const std::size_t comma = l.find(',', begin);
-      cells.push_back(trimmed(std::string_view(l).substr(begin, comma == std::string::npos ? std::string::npos : comma - begin)));
-      if (comma == std::string::npos) break;
-      begin = comma + 1;
-    }
-    return cells;
-  };
+  auto split = [](const std::string& l) { return split_csv_cells(l); };  // csv_rows.hpp
   const double h = job.step.h;
   const std::size_t max_step = job.step.n_steps;
   for (std::size_t i = 0; i < info.lines.size(); ++i) {
@@ -553,10 +338,6 @@ run_errors measure(const run_spec& spec, const normalized_problem<double>& probl
 
 // ---- output -----------------------------------------------------------------------------------
 
-nlohmann::ordered_json number_or_null(const std::optional<double>& x) {
-  return x ? nlohmann::ordered_json(*x) : nlohmann::ordered_json(nullptr);
-}
-
 template <scalar T>
 std::string errors_csv(const report_job& job, const reference_samples<T>& ref, const std::vector<run_errors>& runs) {
   fmt::memory_buffer out;
@@ -572,6 +353,36 @@ std::string errors_csv(const report_job& job, const reference_samples<T>& ref, c
     out.push_back('\n');
   }
   return fmt::to_string(out);
+}
+
+// The VOP fallback stretches (issue 5 section 2): [[tau_in, tau_out], ...].
+nlohmann::ordered_json bands_json(const std::vector<std::pair<double, double>>& bands) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const auto& [in, out_tau] : bands) out.push_back({in, out_tau});
+  return out;
+}
+
+// "separatrix band tau 14.19..15.19, small-k bands tau 0..0.52, 3.1..3.4 (120 direct Euler steps,
+// 1 regime change)": one line under the table for a run that left its elements; empty otherwise.
+std::string bands_note(const fixed_run& r) {
+  std::vector<std::string> parts;
+  auto list = [&](const char* what, const std::vector<std::pair<double, double>>& bands) {
+    if (bands.empty()) return;
+    constexpr std::size_t shown = 4;
+    std::string text = fmt::format("{} band{} tau ", what, bands.size() > 1 ? "s" : "");
+    for (std::size_t i = 0; i < std::min(bands.size(), shown); ++i)
+      text += fmt::format("{}{:.4g}..{:.4g}", i ? ", " : "", bands[i].first, bands[i].second);
+    if (bands.size() > shown) text += fmt::format(" and {} more", bands.size() - shown);
+    parts.push_back(std::move(text));
+  };
+  list("separatrix", r.separatrix_bands);
+  list("small-k", r.small_k_bands);
+  if (parts.empty()) return "";
+  std::string line = parts[0];
+  for (std::size_t i = 1; i < parts.size(); ++i) line += "; " + parts[i];
+  line += fmt::format(" ({} direct Euler steps", r.direct_steps);
+  if (r.regime_changes) line += fmt::format(", {} regime change{}", r.regime_changes, r.regime_changes > 1 ? "s" : "");
+  return line + ")";
 }
 
 template <scalar T>
@@ -598,7 +409,11 @@ nlohmann::ordered_json summary_json(const report_job& job, const reference_sampl
                          {"final_error", number_or_null(runs[i].final_error)},
                          {"diverged", r.diverged},
                          {"diverged_at", r.diverged ? number_or_null(r.diverged_at) : nlohmann::ordered_json(nullptr)},
-                         {"why", r.diverged ? nlohmann::ordered_json(r.why) : nlohmann::ordered_json(nullptr)}});
+                         {"why", r.diverged ? nlohmann::ordered_json(r.why) : nlohmann::ordered_json(nullptr)},
+                         {"separatrix_bands", bands_json(r.separatrix_bands)},
+                         {"small_k_bands", bands_json(r.small_k_bands)},
+                         {"direct_steps", r.direct_steps},
+                         {"regime_changes", r.regime_changes}});
   }
   return j;
 }
@@ -645,53 +460,16 @@ std::string table_text(const report_job& job, const reference_samples<T>& ref, c
     while (!line.empty() && line.back() == ' ') line.pop_back();
     put("{}\n", line);
   }
+  // Where the VOP runs left their elements (separatrix and small-k fallbacks), one line per run.
+  bool first_note = true;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const std::string note = bands_note(runs[i].run);
+    if (note.empty()) continue;
+    if (first_note) put("\n");
+    first_note = false;
+    put("{} {}: {}\n", formulation_name(job.runs[i].form), rk::method_name(job.runs[i].method), note);
+  }
   return fmt::to_string(out);
-}
-
-// Draws fig1.png/svg with tools/plot_fig1.py. Never fails the report: a missing python3 or
-// matplotlib is one line on stderr saying how to get the figure.
-void draw_figure(const fs::path& dir) {
-  const fs::path script = fs::path(EULERVOP_SOURCE_DIR) / "tools" / "plot_fig1.py";
-  const std::string how = fmt::format("apt-get install python3-matplotlib, then tools/plot_fig1.py {}", dir.string());
-  std::error_code ec;
-  if (!fs::exists(script, ec)) {
-    fmt::print(stderr, "figure skipped: {} not found ({})\n", script.string(), how);
-    return;
-  }
-  auto quote = [](const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-  };
-  // The python3 on PATH first; then Debian's own, which is where python3-matplotlib installs
-  // (a pyenv or venv python3 on PATH does not see it).
-  int code = -1;
-  std::string output;
-  for (const char* python : {"python3", "/usr/bin/python3"}) {
-    if (python[0] == '/' && !fs::exists(python, ec)) continue;
-    const std::string cmd = fmt::format("{} {} {} 2>&1 < /dev/null", python, quote(script.string()), quote(dir.string()));
-    std::fflush(stdout);
-    FILE* pipe = ::popen(cmd.c_str(), "r");
-    if (!pipe) continue;
-    output.clear();
-    char buf[512];
-    while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) output.append(buf, n);
-    const int status = ::pclose(pipe);
-    code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    if (code != 4 && code != 127) break;  // drawn, or failed for another reason
-  }
-  if (code == 0) return;
-  if (code == 4) {
-    fmt::print(stderr, "figure skipped: matplotlib not found ({})\n", how);
-  } else if (code == 127) {
-    fmt::print(stderr, "figure skipped: python3 not found ({})\n", how);
-  } else {
-    std::string last;  // the last line of the script's output says why (a traceback ends with it)
-    std::istringstream in(output);
-    for (std::string l; std::getline(in, l);)
-      if (!l.empty()) last = l;
-    fmt::print(stderr, "figure failed: plot_fig1.py exited with code {}: {}\n", code, input_error::one_line(last));
-  }
 }
 
 template <scalar T>
@@ -699,7 +477,7 @@ void execute(const report_job& job, std::ostream& standard_output) {
   // Everything that can be bad input is checked before the directory is touched.
   std::optional<reference_samples<T>> from_file;
   if (job.file) from_file = load_reference_file<T>(job);
-  output_dir dir(job.out_dir);
+  output_dir dir(job.out_dir, "errors.csv");
 
   const reference_samples<T> ref = from_file ? std::move(*from_file) : compute_reference<T>(job);
   const normalized_problem<double> problem = to_problem<double>(job.scn);
@@ -716,7 +494,7 @@ void execute(const report_job& job, std::ostream& standard_output) {
   else
     standard_output << table_text<T>(job, ref, runs);
   standard_output << std::flush;
-  if (job.plot) draw_figure(dir.path());
+  if (job.plot) draw_figure(dir.path(), "plot_fig1.py");
 }
 
 }  // namespace

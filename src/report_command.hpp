@@ -2,6 +2,7 @@
 // their Eq. 20 errors against the reference, and the paper's Fig. 1 (issue 3, section 4).
 #pragma once
 
+#include "comparison_common.hpp"
 #include "scene.hpp"
 #include "scene_overrides.hpp"
 
@@ -34,21 +35,5 @@ CLI::App* add_report_command(CLI::App& app, report_options& options);
 // and before anything is written); eulervop::numerical_failure when the reference integrator
 // gives up. Prints the table (or summary.json) to `standard_output`.
 void run_report(const report_options& options, std::ostream& standard_output);
-
-// The fixed step of the comparison runs, in tau.
-struct fixed_step_choice {
-  double h = 0;
-  std::size_t n_steps = 0;     // floor(tau_span / h + 1e-9): the runs end at n_steps h <= tau_end
-  bool reciprocal = false;     // "K/N" with k0 > 1: K(1/k0) / (N c1)
-  std::string rule;            // how h was obtained, for the summary
-};
-
-// Resolves a step specification for scene `s` ("K/N": h = K(k0) / (N c2_0), or for k0 > 1
-// K(1/k0) / (N c1_0); a number: h in the scene's time variable, converted to tau). `origin`
-// names where the step came from ("--step K/0", "[run] step") in messages.
-fixed_step_choice resolve_step(const scene& s, const step_spec& spec, const std::string& origin);
-
-// Parses --step text: "K/N" (whole N >= 1) or a positive number.
-step_spec parse_step_flag(const std::string& text);
 
 }  // namespace eulervop::app

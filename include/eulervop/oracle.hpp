@@ -1,0 +1,116 @@
+// The reference as a test oracle for other tools (issue 6, section 3): build a problem, get a
+// dense reference in a chosen precision, evaluate it at any tau, and measure a double
+// trajectory against it by Eq. 20.
+//
+//   #include <eulervop/oracle.hpp>            // CMake: find_package(eulervop REQUIRED)
+//                                             //        target_link_libraries(app PRIVATE eulervop::core)
+//   using eulervop::quad;
+//   const auto p = eulervop::oracle::problem<quad>({1, 1, 1}, {quad("0.5"), 0, 1});  // G, Omega(0)
+//   const eulervop::oracle::reference<quad> ref(p, quad(20));  // Omega on [0, 20], ~1e-32 accurate
+//   eulervop::vec3<quad> Om = ref(quad("1.5"));                // Omega(1.5)
+//   double e = ref.error(1.5, my_omega_at_1_5);                // Eq. 20 error of a double state
+//   double worst = ref.max_error(my_taus, my_states);          // over a whole trajectory
+//
+// Precision is the scalar type: double, eulervop::quad (binary128) or eulervop::mpfr_real.
+// MPFR values take the thread's default precision when they are created, so construct and use
+// an MPFR reference inside one scope:
+//   const eulervop::mpfr_precision_scope scope(256);
+//   eulervop::oracle::reference<eulervop::mpfr_real> ref(eulervop::oracle::problem<eulervop::mpfr_real>(G, Om0), 20);
+// A precision named at run time ("double", "quad", "mpfr:256") is eulervop::precision::parse(text);
+// dispatch on its .type to one of the three instantiations (as `eulervop check` does).
+//
+// Values: give numbers in T directly from text (quad("0.1"), not quad(0.1)) when the decimal
+// matters: a double literal carries its own rounding error of ~1e-17 into the problem.
+//
+// Scene files (TOML, data/scenes/) are read by the optional library eulervop::scene
+// (find_package(eulervop REQUIRED COMPONENTS scene); needs fmt and toml++), not by this
+// header-only core:
+//   #include <scene_problem.hpp>                       // installed in include/eulervop/scene/
+//   const eulervop::app::scene s = eulervop::app::load_scene_file("paper-fig1.toml");
+//   const auto p = eulervop::app::to_problem<quad>(s);  // decimals converted directly in quad
+//   const quad tau_end = eulervop::app::tau_end_of<quad>(s);
+//   eulervop::oracle::reference<quad> ref(p, tau_end);
+// load_scene_file throws eulervop::app::input_error (a std::runtime_error) naming the bad field.
+#pragma once
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__STRICT_ANSI__)
+#error "eulervop needs GNU extensions for quad (__float128): compile with -std=gnu++20 (CMake: CXX_EXTENSIONS ON, the default)"
+#endif
+
+#include <eulervop/chebyshev_picard.hpp>
+#include <eulervop/error_measure.hpp>
+#include <eulervop/model.hpp>
+#include <eulervop/scalar.hpp>
+
+#include <cstddef>
+#include <stdexcept>
+#include <vector>
+
+namespace eulervop::oracle {
+
+// The normalized problem of Eq. 5 from values: constant torque G, Omega(0) = Omega0, tau0 = 0.
+template <scalar T>
+normalized_problem<T> problem(const vec3<T>& G, const vec3<T>& Omega0) {
+  normalized_problem<T> p;
+  p.G = G;
+  p.Omega0 = Omega0;
+  p.tau0 = T(0);
+  return p;
+}
+
+// A physical body (principal moments I1 < I2 < I3, torque M in N m, omega(0) in rad/s) mapped by
+// Eqs. 2-4. Use scaling.tau_of_t(t) for times and scaling.omega_of_Omega(...) for rates.
+template <scalar T>
+struct physical_problem {
+  physical_scaling<T> scaling;
+  normalized_problem<T> normalized;
+
+  physical_problem(const inertia<T>& I, const vec3<T>& M, const vec3<T>& omega0) : scaling(I) {
+    normalized = problem<T>(scaling.G_of_M(M), scaling.Omega_of_omega(omega0));
+  }
+};
+
+// The dense reference on [0, tau_end]: Chebyshev-Picard at the precision of T (tolerance and
+// degree from T unless `settings` says otherwise). Throws eulervop::numerical_failure if the
+// integrator gives up (a blow-up, or a segment that cannot converge).
+template <scalar T>
+class reference {
+ public:
+  reference(const normalized_problem<T>& p, const T& tau_end, const picard_settings& settings = {})
+      : trajectory_(integrate_reference<T>(p, tau_end, settings, {}, &stats_)) {}
+
+  // Omega(tau) for tau in [0, tau_end] (std::out_of_range outside).
+  vec3<T> operator()(const T& tau) const { return trajectory_(tau); }
+
+  const T& tau_end() const { return trajectory_.tau_end(); }
+  const picard_stats& stats() const { return stats_; }
+  const dense_trajectory<T>& trajectory() const { return trajectory_; }
+
+  // Eq. 20: |Omega_ref(tau) - Omega|, computed in T (the double state converts exactly),
+  // returned in double. `tau` is converted to T: pass it in T for a time a double cannot hold.
+  double error(const T& tau, const vec3<double>& Omega) const {
+    return static_cast<double>(eq20_error((*this)(tau), Omega));
+  }
+
+  // The largest Eq. 20 error over a trajectory (taus[i], states[i]); the index of the row in
+  // *where if given. std::invalid_argument if the sizes differ.
+  double max_error(const std::vector<double>& taus, const std::vector<vec3<double>>& states,
+                   std::size_t* where = nullptr) const {
+    if (taus.size() != states.size()) throw std::invalid_argument("oracle::reference::max_error: sizes differ");
+    double worst = 0;
+    for (std::size_t i = 0; i < taus.size(); ++i) {
+      const double e = error(T(taus[i]), states[i]);
+      if (i == 0 || e > worst) {
+        worst = e;
+        if (where) *where = i;
+      }
+    }
+    return worst;
+  }
+
+ private:
+  picard_stats stats_;  // declared first: filled while trajectory_ is initialised
+  dense_trajectory<T> trajectory_;
+};
+
+}  // namespace eulervop::oracle

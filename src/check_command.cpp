@@ -1,0 +1,600 @@
+#include "check_command.hpp"
+
+#include "atomic_file.hpp"
+#include "csv_rows.hpp"
+#include "decimal.hpp"
+#include "input_error.hpp"
+#include "reference_compute.hpp"
+#include "scene.hpp"
+#include "scene_overrides.hpp"
+#include "scene_problem.hpp"
+
+#include <eulervop/chebyshev_picard.hpp>
+#include <eulervop/error_measure.hpp>
+#include <eulervop/model.hpp>
+#include <eulervop/scalar.hpp>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace eulervop::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int exit_within = 0;
+constexpr int exit_outside = 1;
+
+// Trajectory times must equal reference sample times to this relative difference.
+constexpr double time_match_rel = 1e-12;
+
+// ---- flags -> a job ------------------------------------------------------------------------------
+
+// The canonical column names and the file's names for them (--columns).
+const std::array<std::string, 8> canonical_columns = {"tau", "Omega1", "Omega2", "Omega3",
+                                                       "t",   "omega1", "omega2", "omega3"};
+
+struct check_job {
+  std::string trajectory_path;
+  std::string reference_path;
+  bool from_scene = false;
+  scene scn;                      // from_scene
+  eulervop::precision precision;  // from_scene: --precision, else the scene's
+  picard_settings settings;
+  std::map<std::string, std::string> names;  // canonical -> the file's column name
+  std::map<std::string, bool> renamed;       // canonical -> given by --columns
+  std::optional<double> tol, rel_tol;
+  std::optional<std::string> errors_out;
+  bool json = false;
+};
+
+std::ifstream open_input(const std::string& what, const std::string& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw input_error(fmt::format("{} {}: is a directory", what, path));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw input_error(fmt::format("{} {}: cannot read the file", what, path));
+  return in;
+}
+
+// A scene (.toml) or a reference CSV? By extension, else by the first non-blank line.
+bool looks_like_scene(const std::string& path) {
+  const std::string ext = fs::path(path).extension().string();
+  if (ext == ".toml") return true;
+  if (ext == ".csv") return false;
+  std::ifstream in = open_input("reference", path);
+  for (std::string l; std::getline(in, l);) {
+    const std::string t = trimmed(l);
+    if (t.empty()) continue;
+    return !(t.starts_with("#") || t.find(',') != std::string::npos);
+  }
+  return true;
+}
+
+std::optional<double> non_negative_flag(const char* flag, const std::optional<std::string>& text) {
+  if (!text) return std::nullopt;
+  const decimal d = flag_number(flag, *text);
+  if (d.value < 0) throw input_error(fmt::format("{} {}: must be >= 0", flag, *text));
+  return d.value;
+}
+
+check_job make_job(const check_options& o) {
+  check_job job;
+  job.trajectory_path = o.trajectory;
+  job.reference_path = o.reference;
+  for (const std::string& c : canonical_columns) {
+    job.names[c] = c;
+    job.renamed[c] = false;
+  }
+  if (o.columns) {
+    for (const std::string& item : flag_list("--columns", *o.columns)) {
+      const std::size_t eq = item.find('=');
+      const std::string key = trimmed(std::string_view(item).substr(0, eq));
+      const std::string value = eq == std::string::npos ? "" : trimmed(std::string_view(item).substr(eq + 1));
+      if (eq == std::string::npos || value.empty())
+        throw input_error(fmt::format("--columns {}: `{}` is not NAME=COLUMN", *o.columns, item));
+      if (!job.names.contains(key))
+        throw input_error(fmt::format("--columns {}: unknown name `{}` (expected: tau, Omega1..3, t, omega1..3)",
+                                      *o.columns, key));
+      job.names[key] = value;
+      job.renamed[key] = true;
+    }
+  }
+  job.tol = non_negative_flag("--tol", o.tol);
+  job.rel_tol = non_negative_flag("--rel-tol", o.rel_tol);
+  const std::string format = o.format.value_or("table");
+  if (format != "table" && format != "json") throw input_error(fmt::format("--format {}: expected table or json", format));
+  job.json = format == "json";
+  if (o.errors_out && o.errors_out->empty()) throw input_error("--errors-out: empty path");
+  job.errors_out = o.errors_out;
+
+  job.from_scene = looks_like_scene(o.reference);
+  if (job.from_scene) {
+    job.scn = load_scene_file(o.reference);
+    scene_override_flags flags;
+    flags.precision = o.precision;
+    const applied_overrides applied = apply_scene_overrides(job.scn, flags);
+    job.precision = applied.precision;
+    job.settings = applied.settings;
+  } else if (o.precision) {
+    throw input_error(fmt::format("--precision {}: not used with a reference file (its own precision is used)",
+                                  *o.precision));
+  }
+  open_input("trajectory", o.trajectory);  // unreadable: bad input before any work
+  return job;
+}
+
+// ---- the trajectory's columns ----------------------------------------------------------------------
+
+struct trajectory_columns {
+  bool physical = false;  // t, omega1..3
+  std::size_t time = 0;
+  std::array<std::size_t, 3> value{};
+  std::string time_name;  // as in the file
+};
+
+std::string column_label(const check_job& job, const std::string& canonical) {
+  return job.renamed.at(canonical) ? fmt::format("`{}` (for {} by --columns)", job.names.at(canonical), canonical)
+                                   : fmt::format("`{}`", canonical);
+}
+
+trajectory_columns find_columns(const check_job& job, const csv_rows& rows) {
+  trajectory_columns c;
+  const std::string where = fmt::format("{}: line {}", rows.where(), rows.line());
+  if (auto tau = rows.column(job.names.at("tau"))) {
+    c.time = *tau;
+  } else if (auto t = rows.column(job.names.at("t"))) {
+    c.physical = true;
+    c.time = *t;
+  } else {
+    throw input_error(fmt::format("{}: the header has no column {} (nor {} for a physical scene)", where,
+                                  column_label(job, "tau"), column_label(job, "t")));
+  }
+  c.time_name = rows.header()[c.time];
+  for (int k = 0; k < 3; ++k) {
+    const std::string canonical = fmt::format("{}{}", c.physical ? "omega" : "Omega", k + 1);
+    const auto col = rows.column(job.names.at(canonical));
+    if (!col) throw input_error(fmt::format("{}: the header has no column {}", where, column_label(job, canonical)));
+    c.value[k] = *col;
+  }
+  return c;
+}
+
+// ---- the tally ------------------------------------------------------------------------------------
+
+struct tally {
+  std::size_t rows = 0;
+  std::string first_time, last_time;  // as written in the file
+  double max_error = -1;
+  std::string max_time;
+  std::size_t max_line = 0;
+  long double sum_squares = 0;
+  std::size_t exceeding = 0;
+  std::optional<std::string> first_exceeding_time;
+  std::size_t first_exceeding_line = 0;
+};
+
+// Streams the per-row errors into an atomic file (so the file appears only when complete).
+class errors_writer {
+ public:
+  errors_writer(const std::optional<std::string>& path) {
+    if (path) file_ = std::make_unique<atomic_file>(*path);
+  }
+  void header(const std::string& time_name) {
+    if (file_) buffer_ += fmt::format("line,{},error,bar\n", time_name);
+  }
+  void row(std::size_t line, const std::string& time, double error, std::optional<double> bar) {
+    if (!file_) return;
+    buffer_ += bar ? fmt::format("{},{},{},{}\n", line, time, error, *bar) : fmt::format("{},{},{},\n", line, time, error);
+    if (buffer_.size() > (1u << 16)) flush();
+  }
+  void commit() {
+    if (!file_) return;
+    flush();
+    file_->commit();
+  }
+
+ private:
+  void flush() {
+    file_->write(buffer_);
+    buffer_.clear();
+  }
+  std::unique_ptr<atomic_file> file_;
+  std::string buffer_;
+};
+
+struct check_result {
+  tally t;
+  std::string time_name;
+  std::string reference_text;  // for the table
+  nlohmann::ordered_json reference_json;
+};
+
+template <scalar T>
+void record(const check_job& job, tally& t, errors_writer& out, std::size_t line, const decimal& time,
+            const vec3<T>& ref, const vec3<T>& Om) {
+  const double e = static_cast<double>(eq20_error(ref, Om));
+  if (!std::isfinite(e)) throw numerical_failure(time.value, "non-finite Eq. 20 error");
+  std::optional<double> bar;
+  if (job.tol || job.rel_tol) {
+    using std::sqrt;
+    const double norm = static_cast<double>(sqrt(ref[0] * ref[0] + ref[1] * ref[1] + ref[2] * ref[2]));
+    bar = job.tol.value_or(0.0) + job.rel_tol.value_or(0.0) * norm;
+    if (e > *bar) {
+      if (!t.exceeding) {
+        t.first_exceeding_time = time.text;
+        t.first_exceeding_line = line;
+      }
+      ++t.exceeding;
+    }
+  }
+  if (!t.rows) t.first_time = time.text;
+  t.last_time = time.text;
+  ++t.rows;
+  if (e > t.max_error) {
+    t.max_error = e;
+    t.max_time = time.text;
+    t.max_line = line;
+  }
+  t.sum_squares += static_cast<long double>(e) * e;
+  out.row(line, time.text, e, bar);
+}
+
+// A trajectory row: its time and state, checked (numbers, time >= 0 and increasing).
+struct row_reader {
+  csv_rows& rows;
+  const trajectory_columns& cols;
+  std::optional<decimal> previous;
+  std::size_t previous_line = 0;
+
+  decimal time() {
+    const decimal x = rows.number(cols.time);
+    if (x.value < 0)
+      throw input_error(fmt::format("{}: line {}: column {} = {} is negative (the reference starts at 0)", rows.where(),
+                                    rows.line(), cols.time_name, x.text));
+    if (previous && !(x.value > previous->value))
+      throw input_error(fmt::format("{}: line {}: column {} = {} does not increase (line {} has {})", rows.where(),
+                                    rows.line(), cols.time_name, x.text, previous_line, previous->text));
+    previous = x;
+    previous_line = rows.line();
+    return x;
+  }
+  std::array<decimal, 3> values() {
+    return {rows.number(cols.value[0]), rows.number(cols.value[1]), rows.number(cols.value[2])};
+  }
+};
+
+// ---- against a scene -------------------------------------------------------------------------------
+
+template <scalar T>
+check_result check_against_scene(const check_job& job) {
+  const scene& s = job.scn;
+  std::optional<physical_scaling<T>> scale;
+  if (s.is_physical()) scale.emplace(scaling_of<T>(s));
+
+  // Pass 1: validate every row and find the last time (nothing is held).
+  std::optional<decimal> last;
+  std::size_t count = 0;
+  trajectory_columns cols;
+  {
+    std::ifstream in = open_input("trajectory", job.trajectory_path);
+    csv_rows rows(in, "trajectory " + job.trajectory_path);
+    cols = find_columns(job, rows);
+    if (cols.physical && !s.is_physical())
+      throw input_error(fmt::format("{}: line {}: column `{}` is a physical time, but scene {} is normalized (give "
+                                    "tau,Omega1,Omega2,Omega3)",
+                                    rows.where(), rows.line(), cols.time_name, s.name));
+    row_reader reader{rows, cols};
+    while (rows.next()) {
+      last = reader.time();
+      reader.values();
+      ++count;
+    }
+    if (!count) throw input_error(fmt::format("{}: no data rows", rows.where()));
+  }
+
+  auto tau_of = [&](const decimal& x) {
+    const T v = x.template to_scalar<T>();
+    return cols.physical ? scale->tau_of_t(v) : v;
+  };
+  auto Omega_of = [&](const std::array<decimal, 3>& d) {
+    const vec3<T> v = {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
+    return cols.physical ? scale->Omega_of_omega(v) : v;
+  };
+
+  T tau_end = tau_of(*last);
+  if (!(tau_end > 0)) tau_end = T(1);  // a trajectory at tau = 0 only
+  errors_writer out(job.errors_out);    // an unwritable path fails before the integration
+  const dense_reference<T> ref = integrate_dense<T>(to_problem<T>(s), tau_end, job.settings, "reference");
+
+  // Pass 2: the errors.
+  check_result r;
+  r.time_name = cols.time_name;
+  out.header(cols.time_name);
+  std::ifstream in = open_input("trajectory", job.trajectory_path);
+  csv_rows rows(in, "trajectory " + job.trajectory_path);
+  row_reader reader{rows, cols};
+  while (rows.next()) {
+    const decimal time = reader.time();
+    const vec3<T> Om = Omega_of(reader.values());
+    record<T>(job, r.t, out, rows.line(), time, sample_dense(ref.trajectory, tau_of(time)), Om);
+  }
+  if (r.t.rows != count) throw input_error(fmt::format("{}: the file changed while it was read", rows.where()));
+  out.commit();
+
+  r.reference_text = fmt::format("scene {} ({}, computed to tau = {:.6g} in {:.2f} s, {} segments)", s.name,
+                                 job.precision.name(), static_cast<double>(tau_end), ref.wall_seconds,
+                                 ref.stats.segments);
+  r.reference_json = {{"source", "scene"},
+                      {"path", job.reference_path},
+                      {"scene", s.name},
+                      {"precision", job.precision.name()},
+                      {"tau_end", static_cast<double>(tau_end)},
+                      {"seconds", ref.wall_seconds},
+                      {"segments", ref.stats.segments}};
+  return r;
+}
+
+// ---- against a reference file ---------------------------------------------------------------------
+
+struct reference_file_meta {
+  eulervop::precision precision = eulervop::precision::binary128();  // of the computation here
+  std::string precision_name = "quad";
+  std::string scene_name;
+  std::string scene_text;  // "# scene_text:" lines, for the physical scaling
+  std::optional<std::string> estimated_max_error;
+};
+
+reference_file_meta reference_metadata(const csv_rows& rows) {
+  reference_file_meta m;
+  std::size_t line = 0;
+  for (const std::string& l : rows.comments()) {
+    ++line;  // the comments come first in the file (blank lines aside)
+    if (auto v = metadata_value(l, "precision")) {
+      const std::string name = v->substr(0, v->find(' '));  // "mpfr:256 (effective_bits=257)"
+      const auto p = eulervop::precision::parse(name);
+      if (!p) throw input_error(fmt::format("{}: line {}: unknown precision `{}`", rows.where(), line, name));
+      m.precision_name = name;
+      // Double values are read exactly enough in quad; MPFR at the stated bits.
+      m.precision = p->type == eulervop::precision::kind::mpfr ? *p : eulervop::precision::binary128();
+    } else if (auto e = metadata_value(l, "estimated_max_error")) {
+      m.estimated_max_error = *e;
+    } else if (auto n = metadata_value(l, "scene")) {
+      m.scene_name = *n;
+    } else if (l.starts_with("# scene_text:")) {
+      std::string_view text = std::string_view(l).substr(13);
+      if (text.starts_with(" ")) text.remove_prefix(1);
+      m.scene_text += std::string(text) + "\n";
+    }
+  }
+  return m;
+}
+
+bool same_time(double a, double b) { return std::abs(a - b) <= time_match_rel * std::max(std::abs(a), std::abs(b)); }
+
+template <scalar T>
+check_result check_against_file(const check_job& job, csv_rows& ref_rows, const reference_file_meta& meta) {
+  std::ifstream in = open_input("trajectory", job.trajectory_path);
+  csv_rows rows(in, "trajectory " + job.trajectory_path);
+  const trajectory_columns cols = find_columns(job, rows);
+
+  // The reference's columns (always the canonical names of `eulervop reference`).
+  auto ref_column = [&](const std::string& name) {
+    const auto c = ref_rows.column(name);
+    if (!c)
+      throw input_error(fmt::format("{}: line {}: the header has no column `{}`{}", ref_rows.where(), ref_rows.line(),
+                                    name, name == "t" ? " (the trajectory has physical times; the reference is normalized)" : ""));
+    return *c;
+  };
+  const std::size_t ref_time = ref_column(cols.physical ? "t" : "tau");
+  const std::array<std::size_t, 3> ref_Om = {ref_column("Omega1"), ref_column("Omega2"), ref_column("Omega3")};
+  std::optional<physical_scaling<T>> scale;
+  if (cols.physical) {
+    if (meta.scene_text.empty())
+      throw input_error(fmt::format("{}: no `# scene_text:` lines, so omega cannot be mapped to Omega", ref_rows.where()));
+    const scene s = parse_scene(meta.scene_text, ref_rows.where() + " (scene_text)");
+    if (!s.is_physical()) throw input_error(fmt::format("{}: the scene is not physical", ref_rows.where()));
+    scale.emplace(scaling_of<T>(s));
+  }
+
+  check_result r;
+  r.time_name = cols.time_name;
+  errors_writer out(job.errors_out);
+  out.header(cols.time_name);
+  row_reader reader{rows, cols};
+  std::optional<decimal> ref_prev;  // the last reference time read
+  std::size_t ref_prev_line = 0;
+  bool ref_valid = false;  // ref_rows holds an unconsumed row
+  std::optional<decimal> below;  // the last reference time consumed, and its line
+  std::size_t below_line = 0;
+  while (rows.next()) {
+    const decimal time = reader.time();
+    const std::array<decimal, 3> d = reader.values();
+    // Advance the reference to the first sample time not below this row's.
+    while (true) {
+      if (!ref_valid) {
+        if (!ref_rows.next()) break;
+        const decimal rt = ref_rows.number(ref_time);
+        if (ref_prev && !(rt.value > ref_prev->value))
+          throw input_error(fmt::format("{}: line {}: column {} = {} does not increase", ref_rows.where(),
+                                        ref_rows.line(), ref_rows.header()[ref_time], rt.text));
+        ref_prev = rt;
+        ref_prev_line = ref_rows.line();
+        ref_valid = true;
+      }
+      if (ref_prev->value < time.value && !same_time(ref_prev->value, time.value)) {
+        below = ref_prev;
+        below_line = ref_prev_line;
+        ref_valid = false;  // consumed: no later trajectory row can match it
+        continue;
+      }
+      break;
+    }
+    if (!ref_valid || !same_time(ref_prev->value, time.value)) {
+      std::string nearest;
+      if (below) nearest += fmt::format("{} (line {})", below->text, below_line);
+      if (ref_valid) nearest += fmt::format("{}{} (line {})", nearest.empty() ? "" : " and ", ref_prev->text, ref_prev_line);
+      throw input_error(fmt::format("{}: line {}: {} = {} is not a sample time of {}{}", rows.where(), rows.line(),
+                                    cols.time_name, time.text, ref_rows.where(),
+                                    nearest.empty() ? " (it has no samples there)" : "; nearest: " + nearest));
+    }
+    ref_valid = false;
+    below = ref_prev;
+    below_line = ref_prev_line;
+    const vec3<T> ref = {ref_rows.number(ref_Om[0]).template to_scalar<T>(),
+                         ref_rows.number(ref_Om[1]).template to_scalar<T>(),
+                         ref_rows.number(ref_Om[2]).template to_scalar<T>()};
+    vec3<T> Om = {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
+    if (scale) Om = scale->Omega_of_omega(Om);
+    record<T>(job, r.t, out, rows.line(), time, ref, Om);
+  }
+  if (!r.t.rows) throw input_error(fmt::format("{}: no data rows", rows.where()));
+  out.commit();
+
+  r.reference_text = fmt::format("file {} (scene {}, {}, estimated max error {})", job.reference_path,
+                                 meta.scene_name.empty() ? "?" : meta.scene_name, meta.precision_name,
+                                 meta.estimated_max_error.value_or("-"));
+  r.reference_json = {{"source", "file"},
+                      {"path", job.reference_path},
+                      {"scene", meta.scene_name.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(meta.scene_name)},
+                      {"precision", meta.precision_name},
+                      {"estimated_max_error", meta.estimated_max_error
+                                                  ? nlohmann::ordered_json(std::strtod(meta.estimated_max_error->c_str(), nullptr))
+                                                  : nlohmann::ordered_json(nullptr)}};
+  return r;
+}
+
+// ---- output -----------------------------------------------------------------------------------------
+
+nlohmann::ordered_json json_number(const std::optional<double>& x) {
+  return x ? nlohmann::ordered_json(*x) : nlohmann::ordered_json(nullptr);
+}
+
+double time_value(const std::string& text) { return std::strtod(text.c_str(), nullptr); }
+
+int report(const check_job& job, const check_result& r, std::ostream& standard_output) {
+  const tally& t = r.t;
+  const double rms = static_cast<double>(std::sqrt(t.sum_squares / static_cast<long double>(t.rows)));
+  const bool has_bar = job.tol || job.rel_tol;
+  const bool pass = t.exceeding == 0;
+  if (job.json) {
+    nlohmann::ordered_json j;
+    j["trajectory"] = job.trajectory_path;
+    j["reference"] = r.reference_json;
+    j["time_column"] = r.time_name;
+    j["rows"] = t.rows;
+    j["first_time"] = time_value(t.first_time);
+    j["last_time"] = time_value(t.last_time);
+    j["max_error"] = t.max_error;
+    j["max_error_time"] = time_value(t.max_time);
+    j["max_error_line"] = t.max_line;
+    j["rms_error"] = rms;
+    j["tol"] = json_number(job.tol);
+    j["rel_tol"] = json_number(job.rel_tol);
+    j["exceeding_rows"] = t.exceeding;
+    j["first_exceeding_time"] = t.first_exceeding_time ? nlohmann::ordered_json(time_value(*t.first_exceeding_time))
+                                                       : nlohmann::ordered_json(nullptr);
+    j["first_exceeding_line"] = t.first_exceeding_time ? nlohmann::ordered_json(t.first_exceeding_line)
+                                                       : nlohmann::ordered_json(nullptr);
+    j["pass"] = pass;
+    standard_output << j.dump(2) << "\n";
+  } else {
+    fmt::memory_buffer b;
+    auto put = [&]<class... Args>(fmt::format_string<Args...> f, Args&&... args) {
+      fmt::format_to(std::back_inserter(b), f, std::forward<Args>(args)...);
+    };
+    put("trajectory: {} ({} rows, {} from {} to {})\n", job.trajectory_path, t.rows, r.time_name, t.first_time,
+        t.last_time);
+    put("reference: {}\n", r.reference_text);
+    put("max error: {} at {} = {} (line {})\n", t.max_error, r.time_name, t.max_time, t.max_line);
+    put("rms error: {:.6e}\n", rms);
+    if (has_bar) {
+      std::string bar;
+      if (job.tol) bar = fmt::format("{}", *job.tol);
+      if (job.rel_tol) bar += fmt::format("{}{} |Omega_ref|", bar.empty() ? "" : " + ", *job.rel_tol);
+      put("tolerance: error <= {}\n", bar);
+      if (pass)
+        put("result: PASS (every row within tolerance)\n");
+      else
+        put("result: FAIL ({} of {} rows exceed; first at {} = {}, line {})\n", t.exceeding, t.rows, r.time_name,
+            *t.first_exceeding_time, t.first_exceeding_line);
+    } else {
+      put("tolerance: none given (--tol, --rel-tol)\n");
+    }
+    standard_output << fmt::to_string(b);
+  }
+  standard_output << std::flush;
+  return pass ? exit_within : exit_outside;
+}
+
+template <scalar T>
+check_result dispatch_file(const check_job& job, csv_rows& ref_rows, const reference_file_meta& meta) {
+  return check_against_file<T>(job, ref_rows, meta);
+}
+
+}  // namespace
+
+CLI::App* add_check_command(CLI::App& app, check_options& o) {
+  CLI::App* sub = app.add_subcommand(
+      "check", "Check another tool's trajectory (CSV) against the reference: Eq. 20 errors, pass/fail by tolerance");
+  sub->add_option("reference", o.reference, "A scene (.toml), or a reference CSV written by `eulervop reference`")
+      ->required()
+      ->type_name("SCENE_OR_REFERENCE");
+  sub->add_option("trajectory", o.trajectory, "The trajectory: CSV with header tau,Omega1,Omega2,Omega3 (or t,omega1..3)")
+      ->required()
+      ->type_name("TRAJECTORY");
+  auto bind = [&](const std::string& name, std::optional<std::string>& target, const std::string& help) {
+    return sub->add_option_function<std::string>(name, [&target](const std::string& v) { target = v; }, help);
+  };
+  bind("--columns", o.columns, "Column names of the file: tau=time,Omega1=w1,... (default: the canonical names)")
+      ->type_name("MAP");
+  bind("--precision", o.precision, "Scene only: double, quad or mpfr:BITS (default: the scene's [reference])")
+      ->type_name("P");
+  bind("--tol", o.tol, "Pass if every row's Eq. 20 error <= ABS (+ R |Omega_ref| with --rel-tol)")->type_name("ABS");
+  bind("--rel-tol", o.rel_tol, "Pass if every row's Eq. 20 error <= R |Omega_ref| (+ ABS with --tol)")->type_name("R");
+  bind("--errors-out", o.errors_out, "Write the per-row errors to FILE (CSV: line,time,error,bar)")->type_name("FILE");
+  bind("--format", o.format, "Standard output: table (default) or json")->type_name("F");
+  return sub;
+}
+
+int run_check(const check_options& options, std::ostream& standard_output) {
+  const check_job job = make_job(options);
+  if (job.from_scene) {
+    switch (job.precision.type) {
+      case eulervop::precision::kind::binary64: return report(job, check_against_scene<double>(job), standard_output);
+      case eulervop::precision::kind::binary128: return report(job, check_against_scene<quad>(job), standard_output);
+      case eulervop::precision::kind::mpfr: {
+        const mpfr_precision_scope scope(job.precision.bits);
+        return report(job, check_against_scene<mpfr_real>(job), standard_output);
+      }
+    }
+    throw std::logic_error("unknown precision kind");
+  }
+  std::ifstream in = open_input("reference", job.reference_path);
+  csv_rows ref_rows(in, "reference " + job.reference_path);
+  const reference_file_meta meta = reference_metadata(ref_rows);
+  switch (meta.precision.type) {
+    case eulervop::precision::kind::binary64:  // never: a double file is read in quad
+    case eulervop::precision::kind::binary128: return report(job, dispatch_file<quad>(job, ref_rows, meta), standard_output);
+    case eulervop::precision::kind::mpfr: {
+      const mpfr_precision_scope scope(meta.precision.bits);
+      return report(job, dispatch_file<mpfr_real>(job, ref_rows, meta), standard_output);
+    }
+  }
+  throw std::logic_error("unknown precision kind");
+}
+
+}  // namespace eulervop::app

@@ -1,0 +1,32 @@
+# cmake -DBUILD_DIR=<eulervop build> -DSOURCE_DIR=<tests/consumer> -DWORK_DIR=<scratch> -DSCENE=<toml>
+#       [-DCONFIG=<Release>] -P run_consumer_test.cmake
+# Installs the build into WORK_DIR/prefix, configures and builds the consumer against it with
+# CMAKE_PREFIX_PATH, and runs it (and the scene consumer if the package has eulervop::scene).
+foreach(v BUILD_DIR SOURCE_DIR WORK_DIR SCENE)
+  if(NOT DEFINED ${v})
+    message(FATAL_ERROR "run_consumer_test.cmake: -D${v}=... is required")
+  endif()
+endforeach()
+if(NOT CONFIG)
+  set(CONFIG Release)
+endif()
+
+function(run_step what)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  message("${out}")
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${what} failed (${rc}):\n${err}")
+  endif()
+endfunction()
+
+file(REMOVE_RECURSE ${WORK_DIR})
+set(prefix ${WORK_DIR}/prefix)
+run_step("install" ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix} --config ${CONFIG})
+run_step("configure the consumer" ${CMAKE_COMMAND} -S ${SOURCE_DIR} -B ${WORK_DIR}/build
+         -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=${CONFIG})
+run_step("build the consumer" ${CMAKE_COMMAND} --build ${WORK_DIR}/build --config ${CONFIG})
+run_step("run the consumer" ${WORK_DIR}/build/consumer)
+if(EXISTS ${WORK_DIR}/build/consumer_scene)
+  run_step("run the scene consumer" ${WORK_DIR}/build/consumer_scene ${SCENE})
+endif()
+file(REMOVE_RECURSE ${WORK_DIR})

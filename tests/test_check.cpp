@@ -1,0 +1,324 @@
+// `eulervop check` (issue 6, section 1 and its acceptance): an outside integrator's trajectory
+// (Boost.Odeint dopri5, made here) checked against the paper's scene and against a reference
+// file; the reported max error against one computed independently here; the exit code around
+// the tolerance; and bad files, each one line naming the line and column, exit 2.
+#include "cli_test_support.hpp"
+
+#include <eulervop/chebyshev_picard.hpp>
+#include <eulervop/error_measure.hpp>
+#include <eulervop/model.hpp>
+#include <eulervop/scalar.hpp>
+
+#include <boost/numeric/odeint.hpp>
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace odeint = boost::numeric::odeint;
+using namespace eulervop::cli_test;
+using eulervop::quad;
+using nlohmann::json;
+using state = std::array<double, 3>;
+
+constexpr double tau_end = 20;
+constexpr int n_times = 200;
+
+// The paper's scene (data/scenes/paper-fig1.toml): G = (1,1,1), c1 = 0.5, c2 = 1, u = 0, so
+// Omega(0) = (c1, 0, c2) exactly.
+const state G = {1, 1, 1};
+const state Omega0 = {0.5, 0, 1};
+
+std::string paper_scene() { return source_dir + "/data/scenes/paper-fig1.toml"; }
+
+// The outside integrator's trajectory: Boost.Odeint dopri5, dense output, tolerance 1e-10,
+// at tau_i = 20 i / 199 (i = 0..199). Times are written as their shortest round-trip text and
+// states with 17 digits, as another tool would write them.
+struct trajectory {
+  std::vector<std::string> tau_text;
+  std::vector<state> Omega;
+  std::string csv(const std::string& header = "tau,Omega1,Omega2,Omega3") const {
+    std::string out = header + "\n";
+    for (std::size_t i = 0; i < Omega.size(); ++i)
+      out += fmt::format("{},{:.17g},{:.17g},{:.17g}\n", tau_text[i], Omega[i][0], Omega[i][1], Omega[i][2]);
+    return out;
+  }
+};
+
+const trajectory& odeint_trajectory() {
+  static const trajectory traj = [] {
+    std::vector<double> times;
+    for (int i = 0; i < n_times; ++i) times.push_back(tau_end * i / (n_times - 1));
+    auto rhs = [](const state& x, state& dxdt, double) {
+      dxdt[0] = G[0] - x[1] * x[2];
+      dxdt[1] = G[1] + x[0] * x[2];
+      dxdt[2] = G[2] - x[0] * x[1];
+    };
+    trajectory t;
+    state x = Omega0;
+    odeint::integrate_times(odeint::make_dense_output(1e-10, 1e-10, odeint::runge_kutta_dopri5<state>()), rhs, x,
+                            times.begin(), times.end(), 1e-3, [&](const state& s, double tau) {
+                              t.tau_text.push_back(fmt::format("{}", tau));
+                              t.Omega.push_back(s);
+                            });
+    return t;
+  }();
+  return traj;
+}
+
+// The max Eq. 20 error computed here, independently of the program: a quad reference of the same
+// problem and the error at each row's time as written (its decimal text read in quad).
+struct independent_error {
+  double max = -1;
+  std::size_t row = 0;
+};
+
+const independent_error& odeint_error() {
+  static const independent_error e = [] {
+    eulervop::normalized_problem<quad> p;
+    p.G = {quad(1), quad(1), quad(1)};
+    p.Omega0 = {quad("0.5"), quad(0), quad(1)};
+    const eulervop::dense_trajectory<quad> ref = eulervop::integrate_reference<quad>(p, quad(tau_end));
+    const trajectory& t = odeint_trajectory();
+    independent_error out;
+    for (std::size_t i = 0; i < t.Omega.size(); ++i) {
+      eulervop::vec3<quad> Om;  // the 17-digit text, as the program reads it
+      for (int k = 0; k < 3; ++k) Om[k] = quad(fmt::format("{:.17g}", t.Omega[i][k]));
+      const double err = static_cast<double>(eulervop::eq20_error(ref(quad(t.tau_text[i])), Om));
+      if (err > out.max) {
+        out.max = err;
+        out.row = i;
+      }
+    }
+    return out;
+  }();
+  return e;
+}
+
+int count_lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+TEST(Check, OdeintTrajectoryAgainstTheSceneMatchesAnIndependentError) {
+  temp_dir dir;
+  write_file(dir.path() / "traj.csv", odeint_trajectory().csv());
+  const run_result r = run(dir.path(), {"check", paper_scene(), "traj.csv", "--format", "json", "--errors-out", "e.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  const independent_error& mine = odeint_error();
+  // dopri5 at 1e-10 over tau = 20: an error well above the quad reference's, well below 1e-6.
+  EXPECT_GT(mine.max, 1e-12);
+  EXPECT_LT(mine.max, 1e-6);
+  const double reported = j.at("max_error").get<double>();
+  EXPECT_NEAR(reported, mine.max, 1e-6 * mine.max) << r.out;
+  std::printf("max Eq. 20 error: reported %.17g, independent %.17g (relative difference %.2e), line %zu\n", reported,
+              mine.max, std::abs(reported - mine.max) / mine.max, mine.row + 2);
+  EXPECT_EQ(j.at("max_error_line").get<std::size_t>(), mine.row + 2);  // header is line 1
+  EXPECT_EQ(j.at("rows").get<int>(), n_times);
+  EXPECT_EQ(j.at("reference").at("precision"), "quad");
+  EXPECT_TRUE(j.at("tol").is_null());
+  EXPECT_TRUE(j.at("pass").get<bool>());
+  EXPECT_GT(j.at("rms_error").get<double>(), 0);
+  EXPECT_LE(j.at("rms_error").get<double>(), reported);
+  // The per-row file: a header and one line per row, the max among them.
+  const std::vector<std::string> lines = lines_of(read_file(dir.path() / "e.csv"));
+  ASSERT_EQ(lines.size(), static_cast<std::size_t>(n_times + 1));
+  EXPECT_EQ(lines[0], "line,tau,error,bar");
+  EXPECT_EQ(lines[1].substr(0, 4), "2,0,");
+}
+
+TEST(Check, ExitCodeFlipsAroundTheMaxError) {
+  temp_dir dir;
+  write_file(dir.path() / "traj.csv", odeint_trajectory().csv());
+  const run_result first = run(dir.path(), {"check", paper_scene(), "traj.csv", "--format", "json"});
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const double max = json::parse(first.out).at("max_error").get<double>();  // the reported max
+  const run_result above =
+      run(dir.path(), {"check", paper_scene(), "traj.csv", "--tol", fmt::format("{}", max * (1 + 1e-9))});
+  EXPECT_EQ(above.exit_code, 0) << above.out << above.err;
+  EXPECT_NE(above.out.find("PASS"), std::string::npos) << above.out;
+  const run_result below = run(dir.path(), {"check", paper_scene(), "traj.csv", "--tol",
+                                            fmt::format("{}", max * (1 - 1e-9)), "--format", "json"});
+  EXPECT_EQ(below.exit_code, 1) << below.out << below.err;
+  const json j = json::parse(below.out);
+  EXPECT_FALSE(j.at("pass").get<bool>());
+  EXPECT_EQ(j.at("exceeding_rows").get<int>(), 1);
+  EXPECT_EQ(j.at("first_exceeding_line"), j.at("max_error_line"));
+  // --rel-tol: |Omega_ref| stays above 1/4 here, so R = 4 max gives a bar above max.
+  const run_result rel =
+      run(dir.path(), {"check", paper_scene(), "traj.csv", "--rel-tol", fmt::format("{}", 4 * max)});
+  EXPECT_EQ(rel.exit_code, 0) << rel.out << rel.err;
+}
+
+TEST(Check, AgainstAReferenceFileAndRenamedColumns) {
+  temp_dir dir;
+  // The reference at the same times (20 i / 199: --samples 200), and the trajectory with other
+  // column names.
+  const run_result ref = run(dir.path(), {"reference", paper_scene(), "--tau-end", "20", "--samples", "200", "--out", "ref.csv"});
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+  std::string csv = "time,w1,w2,w3\n" + odeint_trajectory().csv().substr(odeint_trajectory().csv().find('\n') + 1);
+  write_file(dir.path() / "traj.csv", csv);
+  const run_result r = run(dir.path(), {"check", "ref.csv", "traj.csv", "--columns", "tau=time,Omega1=w1,Omega2=w2,Omega3=w3",
+                                        "--format", "json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j.at("reference").at("source"), "file");
+  EXPECT_EQ(j.at("time_column"), "time");
+  EXPECT_NEAR(j.at("max_error").get<double>(), odeint_error().max, 1e-6 * odeint_error().max);
+
+  // A time that is not one of the reference's samples: exit 2, naming it and its neighbours.
+  std::vector<std::string> lines = lines_of(csv);
+  lines.insert(lines.begin() + 3, "0.15,0.5,0,1");  // between 20/199 and 40/199
+  std::string with_extra;
+  for (const auto& l : lines) with_extra += l + "\n";
+  write_file(dir.path() / "extra.csv", with_extra);
+  const run_result missing = run(dir.path(), {"check", "ref.csv", "extra.csv", "--columns", "tau=time,Omega1=w1,Omega2=w2,Omega3=w3"});
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_EQ(count_lines(missing.err), 1) << missing.err;
+  EXPECT_NE(missing.err.find("line 4: time = 0.15 is not a sample time"), std::string::npos) << missing.err;
+
+  // --columns naming a column the file does not have.
+  const run_result unmapped = run(dir.path(), {"check", "ref.csv", "traj.csv", "--columns", "tau=time,Omega1=x1"});
+  EXPECT_EQ(unmapped.exit_code, 2);
+  EXPECT_NE(unmapped.err.find("no column `x1` (for Omega1 by --columns)"), std::string::npos) << unmapped.err;
+}
+
+TEST(Check, PhysicalTrajectoryInTAndOmega) {
+  temp_dir dir;
+  const std::string scene = source_dir + "/data/scenes/spacecraft-physical.toml";
+  const run_result ref =
+      run(dir.path(), {"reference", scene, "--t-end", "600", "--samples", "61", "--precision", "double", "--out", "ref.csv"});
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+  // The reference's own t, omega columns as a trajectory: errors at double rounding.
+  std::string traj = "t,omega1,omega2,omega3\n";
+  bool header_seen = false;
+  for (const std::string& l : lines_of(read_file(dir.path() / "ref.csv"))) {
+    if (l.starts_with("#")) continue;
+    if (!header_seen) {
+      header_seen = true;
+      continue;
+    }
+    std::vector<std::string> cells;
+    std::size_t b = 0;
+    for (std::size_t c; (c = l.find(',', b)) != std::string::npos; b = c + 1) cells.push_back(l.substr(b, c - b));
+    cells.push_back(l.substr(b));
+    traj += fmt::format("{},{},{},{}\n", cells[4], cells[5], cells[6], cells[7]);
+  }
+  write_file(dir.path() / "traj.csv", traj);
+  for (const std::string& against : {scene, std::string("ref.csv")}) {
+    const run_result r = run(dir.path(), {"check", against, "traj.csv", "--rel-tol", "1e-12", "--format", "json"});
+    ASSERT_EQ(r.exit_code, 0) << against << ": " << r.err << r.out;
+    const json j = json::parse(r.out);
+    EXPECT_EQ(j.at("time_column"), "t");
+    EXPECT_EQ(j.at("rows").get<int>(), 61);
+    EXPECT_LT(j.at("max_error").get<double>(), 1e-12) << against;
+  }
+  // A physical trajectory against a normalized scene is bad input.
+  const run_result wrong = run(dir.path(), {"check", paper_scene(), "traj.csv"});
+  EXPECT_EQ(wrong.exit_code, 2);
+  EXPECT_NE(wrong.err.find("normalized"), std::string::npos) << wrong.err;
+}
+
+// ---- bad files: one line naming the line and the column, exit 2, no errors file -----------------
+
+struct bad_file {
+  std::string name;
+  std::string (*make)(const std::string& good);
+  std::string expected;  // a part of the message
+};
+
+std::string replace_line(const std::string& text, std::size_t index, const std::string& with) {
+  std::vector<std::string> lines = lines_of(text);
+  lines[index] = with;
+  std::string out;
+  for (const auto& l : lines) out += l + "\n";
+  return out;
+}
+
+// Line `index` (0-based) with its cell `cell` replaced by `with`.
+std::string replace_cell(const std::string& text, std::size_t index, std::size_t cell, const std::string& with) {
+  std::vector<std::string> lines = lines_of(text);
+  std::string& l = lines[index];
+  std::size_t begin = 0;
+  for (std::size_t c = 0; c < cell; ++c) begin = l.find(',', begin) + 1;
+  const std::size_t end = l.find(',', begin);
+  l = l.substr(0, begin) + with + (end == std::string::npos ? "" : l.substr(end));
+  std::string out;
+  for (const auto& x : lines) out += x + "\n";
+  return out;
+}
+
+std::vector<bad_file> bad_files() {
+  return {
+      {"truncated",
+       [](const std::string& good) {
+         // The last line cut in the middle of its third cell, no final newline.
+         std::string t = good.substr(0, good.size() - 1);
+         const std::size_t last = t.rfind('\n');
+         const std::size_t second_comma = t.find(',', t.find(',', last + 1) + 1);
+         return t.substr(0, second_comma + 4);
+       },
+       "line 201: 3 cells, the header has 4: no column Omega3"},
+      {"non_numeric",
+       [](const std::string& good) { return replace_cell(good, 50, 2, "abc"); },
+       "line 51: column Omega2 = `abc` is not a number"},
+      {"missing_column",
+       [](const std::string& good) { return replace_line(good, 0, "tau,Omega1,Omega2,Omega4"); },
+       "line 1: the header has no column `Omega3`"},
+      {"non_monotonic",
+       [](const std::string& good) {
+         std::vector<std::string> lines = lines_of(good);
+         std::swap(lines[100], lines[101]);
+         std::string out;
+         for (const auto& l : lines) out += l + "\n";
+         return out;
+       },
+       "line 102: column tau = "},
+      {"empty_cell",
+       [](const std::string& good) { return replace_cell(good, 7, 1, ""); },
+       "line 8: column Omega1 = `` is empty"},
+  };
+}
+
+class BadFile : public ::testing::TestWithParam<bad_file> {};
+
+TEST_P(BadFile, OneLineNamingTheLineAndColumnExitTwo) {
+  temp_dir dir;
+  const bad_file& b = GetParam();
+  write_file(dir.path() / "traj.csv", b.make(odeint_trajectory().csv()));
+  const run_result r = run(dir.path(), {"check", paper_scene(), "traj.csv", "--tol", "1", "--errors-out", "e.csv"});
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  EXPECT_TRUE(r.err.starts_with("eulervop: error: trajectory traj.csv: ")) << r.err;
+  EXPECT_NE(r.err.find(b.expected), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_FALSE(fs::exists(dir.path() / "e.csv"));
+}
+
+INSTANTIATE_TEST_SUITE_P(Table, BadFile, ::testing::ValuesIn(bad_files()),
+                         [](const ::testing::TestParamInfo<bad_file>& info) { return info.param.name; });
+
+TEST(Check, BadFlags) {
+  temp_dir dir;
+  write_file(dir.path() / "traj.csv", odeint_trajectory().csv());
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"check", paper_scene(), "traj.csv", "--tol", "-1"},
+           {"check", paper_scene(), "traj.csv", "--format", "yaml"},
+           {"check", paper_scene(), "traj.csv", "--columns", "time"},
+           {"check", paper_scene(), "missing.csv"},
+           {"check", paper_scene()},
+       }) {
+    const run_result r = run(dir.path(), args);
+    EXPECT_EQ(r.exit_code, 2) << args.back() << ": " << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+  }
+}
+
+}  // namespace

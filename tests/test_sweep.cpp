@@ -1,0 +1,266 @@
+// `eulervop sweep` (issue 4, section 1): the grid in sweep.csv and its columns, identical error
+// columns with --jobs 1 and --jobs 2, the observed order of rk4, divergence without NaN,
+// cheapest.csv and summary.json, and bad flags.
+#include "cli_test_support.hpp"
+
+#include <eulervop/comparison_run.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace eulervop::cli_test;
+using nlohmann::json;
+
+std::vector<std::string> cells_of(const std::string& line) {
+  std::vector<std::string> cells;
+  std::size_t begin = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', begin);
+    cells.push_back(line.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin));
+    if (comma == std::string::npos) break;
+    begin = comma + 1;
+  }
+  return cells;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+void expect_no_nan(const std::string& text, const std::string& what) {
+  const std::string l = lower(text);
+  EXPECT_EQ(l.find("nan"), std::string::npos) << what << ":\n" << text;
+  EXPECT_EQ(l.find("inf"), std::string::npos) << what << ":\n" << text;
+}
+
+// sweep.csv as rows of named cells.
+struct csv_table {
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> rows;
+};
+
+csv_table read_csv(const fs::path& p) {
+  csv_table t;
+  const auto lines = lines_of(read_file(p));
+  if (lines.empty()) return t;
+  t.header = cells_of(lines[0]);
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const auto cells = cells_of(lines[i]);
+    EXPECT_EQ(cells.size(), t.header.size()) << lines[i];
+    std::map<std::string, std::string> row;
+    for (std::size_t c = 0; c < std::min(cells.size(), t.header.size()); ++c) row[t.header[c]] = cells[c];
+    t.rows.push_back(std::move(row));
+  }
+  return t;
+}
+
+const std::map<std::string, std::string>& row_of(const csv_table& t, const std::string& form, const std::string& method,
+                                                  const std::string& step) {
+  for (const auto& r : t.rows)
+    if (r.at("formulation") == form && r.at("method") == method && r.at("step") == step) return r;
+  throw std::runtime_error("no row " + form + " " + method + " " + step);
+}
+
+const std::vector<std::string> tiny = {"sweep", "--tau-end", "5", "--steps", "K/25,K/50", "--methods", "rk4",
+                                       "--repeat", "1", "--no-plot"};
+
+std::vector<std::string> with(std::vector<std::string> args, const std::vector<std::string>& more) {
+  args.insert(args.end(), more.begin(), more.end());
+  return args;
+}
+
+TEST(Sweep, TinySweepWritesTheGrid) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), with(tiny, {"--out-dir", "out"}));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+
+  const csv_table t = read_csv(dir.path() / "out" / "sweep.csv");
+  const std::vector<std::string> columns = {"formulation", "method",    "step",     "h",
+                                            "steps",       "rhs_evals", "seconds",  "max_error",
+                                            "final_error", "diverged",  "diverged_at"};
+  EXPECT_EQ(t.header, columns);
+  const std::size_t formulations = eulervop::all_formulations.size();
+  ASSERT_EQ(t.rows.size(), formulations * 1 * 2);  // formulations x methods x steps
+  for (std::size_t f = 0; f < formulations; ++f) {
+    const std::string name(eulervop::formulation_name(eulervop::all_formulations[f]));
+    for (const std::string step : {"K/25", "K/50"}) {
+      const auto& row = row_of(t, name, "rk4", step);
+      EXPECT_EQ(row.at("diverged"), "false");
+      EXPECT_TRUE(row.at("diverged_at").empty());
+      EXPECT_GT(std::stod(row.at("max_error")), 0);
+      EXPECT_LE(std::stod(row.at("final_error")), std::stod(row.at("max_error")));
+      EXPECT_GT(std::stod(row.at("seconds")), 0);
+      EXPECT_EQ(std::stoul(row.at("rhs_evals")), 4 * std::stoul(row.at("steps")));  // rk4: 4 stages
+    }
+    // Output order: formulation-major, then method, then the steps as given.
+    EXPECT_EQ(t.rows[2 * f].at("formulation"), name);
+    EXPECT_EQ(t.rows[2 * f].at("step"), "K/25");
+    EXPECT_EQ(t.rows[2 * f + 1].at("step"), "K/50");
+  }
+  // K/25 of K(0.5) = 1.6857503548125960429 (c2 = 1): 74 steps to tau 5.
+  EXPECT_NEAR(std::stod(t.rows[0].at("h")), 1.6857503548125960429 / 25, 1e-15);
+  EXPECT_EQ(t.rows[0].at("steps"), "74");
+
+  const csv_table cheap = read_csv(dir.path() / "out" / "cheapest.csv");
+  EXPECT_EQ(cheap.rows.size(), 5 * formulations);  // 5 levels
+  const json summary = json::parse(read_file(dir.path() / "out" / "summary.json"));
+  EXPECT_EQ(summary.at("runs").size(), formulations * 2);
+  EXPECT_EQ(summary.at("cheapest").size(), 5u);
+  EXPECT_EQ(summary.at("reference").at("precision"), "quad");
+  EXPECT_NE(r.out.find("cheapest configuration per formulation"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(dir.path() / "out" / "work_precision.png"));  // --no-plot
+}
+
+// The errors do not depend on how the cases were scheduled; --jobs 2 says its timings are
+// less pure.
+TEST(Sweep, ErrorColumnsIdenticalWithTwoJobs) {
+  temp_dir dir;
+  const std::vector<std::string> args = {"sweep", "--tau-end", "5", "--steps", "K/25,K/50", "--methods", "rk4,rk8",
+                                         "--repeat", "1", "--no-plot"};
+  const run_result one = run(dir.path(), with(args, {"--out-dir", "one", "--jobs", "1"}));
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  const run_result two = run(dir.path(), with(args, {"--out-dir", "two", "--jobs", "2"}));
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  const csv_table a = read_csv(dir.path() / "one" / "sweep.csv"), b = read_csv(dir.path() / "two" / "sweep.csv");
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  ASSERT_EQ(a.rows.size(), eulervop::all_formulations.size() * 2 * 2);
+  for (std::size_t i = 0; i < a.rows.size(); ++i)
+    for (const char* c : {"formulation", "method", "step", "h", "steps", "rhs_evals", "max_error", "final_error",
+                          "diverged", "diverged_at"})
+      EXPECT_EQ(a.rows[i].at(c), b.rows[i].at(c)) << "row " << i << " column " << c;
+  EXPECT_EQ(one.out.find("in parallel"), std::string::npos) << one.out;
+  EXPECT_NE(two.out.find("timings were taken in parallel and are less pure"), std::string::npos) << two.out;
+}
+
+// Halving the step divides rk4's error by about 2^4 on the direct Euler equations.
+TEST(Sweep, Rk4ErrorRatioIsAboutSixteen) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), with(tiny, {"--out-dir", "out", "--formulations", "euler"}));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const csv_table t = read_csv(dir.path() / "out" / "sweep.csv");
+  ASSERT_EQ(t.rows.size(), 2u);
+  const double ratio = std::stod(row_of(t, "euler", "rk4", "K/25").at("max_error")) /
+                       std::stod(row_of(t, "euler", "rk4", "K/50").at("max_error"));
+  EXPECT_GT(ratio, 8) << ratio;
+  EXPECT_LT(ratio, 32) << ratio;
+}
+
+// A step far too large for the spin-up diverges: kept, marked, no error number, no NaN, and not
+// a candidate for the cheapest table.
+TEST(Sweep, DivergedRunIsMarkedWithoutNaN) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"sweep", "--tau-end", "30", "--steps", "K/2,K/25", "--methods", "rk4",
+                                        "--formulations", "euler", "--repeat", "1", "--no-plot", "--out-dir", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string csv = read_file(dir.path() / "out" / "sweep.csv");
+  expect_no_nan(csv, "sweep.csv");
+  expect_no_nan(read_file(dir.path() / "out" / "cheapest.csv"), "cheapest.csv");
+  expect_no_nan(read_file(dir.path() / "out" / "summary.json"), "summary.json");
+  expect_no_nan(r.out, "stdout");
+  const csv_table t = read_csv(dir.path() / "out" / "sweep.csv");
+  const auto& bad = row_of(t, "euler", "rk4", "K/2");
+  EXPECT_EQ(bad.at("diverged"), "true");
+  EXPECT_TRUE(bad.at("max_error").empty());
+  EXPECT_TRUE(bad.at("final_error").empty());
+  EXPECT_GT(std::stod(bad.at("diverged_at")), 0);
+  EXPECT_NE(r.out.find("DIVERGED at tau="), std::string::npos) << r.out;
+  const json summary = json::parse(read_file(dir.path() / "out" / "summary.json"));
+  for (const json& level : summary.at("cheapest")) {
+    const json& e = level.at("by_formulation").at("euler");
+    if (!e.is_null()) EXPECT_EQ(e.at("step"), "K/25");
+  }
+}
+
+// ---- bad input ------------------------------------------------------------------------------------
+
+struct bad_sweep {
+  const char* label;
+  std::vector<std::string> args;
+  std::string expected;  // must appear in the one-line message
+};
+
+std::vector<bad_sweep> bad_sweeps() {
+  return {
+      {"step K over 0", {"--steps", "K/25,K/0"}, "--steps K/0"},
+      {"step negative", {"--steps", "-1"}, "--steps -1"},
+      {"step text", {"--steps", "K/25,abc"}, "--steps abc"},
+      {"step empty item", {"--steps", "K/25,"}, "--steps K/25,"},
+      {"step twice", {"--steps", "K/25,K/25"}, "K/25 is listed twice"},
+      {"step longer than span", {"--steps", "100"}, "--steps 100"},
+      {"repeat 0", {"--repeat", "0"}, "--repeat 0"},
+      {"jobs 0", {"--jobs", "0"}, "--jobs 0"},
+      {"jobs text", {"--jobs", "two"}, "--jobs two"},
+      {"unknown method", {"--methods", "rk4,euler1"}, "method `euler1` is unknown"},
+      {"unknown formulation", {"--formulations", "euler,lagrange"}, "formulation `lagrange` is unknown"},
+      {"samples 1", {"--samples", "1"}, "--samples 1"},
+      {"precision", {"--precision", "half"}, "--precision half"},
+      {"out dir is a file", {"--out-dir", "scene.toml"}, "--out-dir scene.toml"},
+  };
+}
+
+class BadSweep : public ::testing::TestWithParam<bad_sweep> {};
+
+TEST_P(BadSweep, ExitsTwoWithOneLineAndNoFiles) {
+  const bad_sweep& c = GetParam();
+  temp_dir dir;
+  write_file(dir.path() / "scene.toml", "not a directory\n");
+  std::vector<std::string> args = {"sweep", "--no-plot", "--tau-end", "2"};
+  args.insert(args.end(), c.args.begin(), c.args.end());
+  const run_result r = run(dir.path(), args);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  const auto lines = lines_of(r.err);
+  ASSERT_EQ(lines.size(), 1u) << r.err;
+  EXPECT_TRUE(lines[0].starts_with("eulervop: error: ")) << lines[0];
+  EXPECT_NE(lines[0].find(c.expected), std::string::npos) << "'" << c.expected << "' not in: " << lines[0];
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(dir.path()))
+    if (e.path().filename() != "scene.toml") files.push_back(e.path().filename().string());
+  EXPECT_TRUE(files.empty()) << files.front();  // not even the default ./eulervop-sweep/
+}
+
+INSTANTIATE_TEST_SUITE_P(Table, BadSweep, ::testing::ValuesIn(bad_sweeps()),
+                         [](const ::testing::TestParamInfo<bad_sweep>& info) {
+                           std::string name;
+                           for (char ch : std::string(info.param.label))
+                             name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+                           return name;
+                         });
+
+TEST(Sweep, UnknownCommandListsSweep) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"swep"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("expected: reference, report, sweep"), std::string::npos) << r.err;
+}
+
+// ---- the figure ----------------------------------------------------------------------------------
+
+TEST(Sweep, FigureOrOneLineHowToGetIt) {
+  temp_dir dir;
+  std::vector<std::string> args = tiny;
+  args.erase(std::find(args.begin(), args.end(), "--no-plot"));
+  const run_result r = run(dir.path(), with(args, {"--out-dir", "out"}));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  if (fs::exists(dir.path() / "out" / "work_precision.png")) {
+    EXPECT_TRUE(fs::exists(dir.path() / "out" / "work_precision.svg"));
+    EXPECT_TRUE(r.err.empty()) << r.err;
+  } else {
+    ASSERT_EQ(lines_of(r.err).size(), 1u) << r.err;
+    EXPECT_TRUE(r.err.starts_with("figure skipped: matplotlib not found (apt-get install python3-matplotlib")) << r.err;
+  }
+}
+
+}  // namespace
