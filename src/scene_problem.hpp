@@ -97,7 +97,16 @@ sample_times<T> sample_times_of(const scene& s) {
     x.push_back(end);
   } else {
     x.reserve(s.times.size());
-    for (const auto& t : s.times) x.push_back(t.template to_scalar<T>());
+    // Loading compared the times with the span end as doubles; a time whose decimal lies past
+    // the end but rounds to the same double (1.00000000000000000001 with tau_end = 1) is caught
+    // here, in T, before anything is computed (found by fuzz/fuzz_scene.cpp).
+    const T end = s.span_end.template to_scalar<T>();
+    for (const auto& t : s.times) {
+      x.push_back(t.template to_scalar<T>());
+      if (x.back() > end)
+        throw input_error("sample time " + t.text + " is beyond " + std::string(s.span_key()) + " = " +
+                          s.span_end.text + " (compared exactly, not as doubles)");
+    }
   }
   sample_times<T> out;
   if (!s.is_physical()) {
