@@ -4,6 +4,9 @@
 // line "eulervop: error: <message>" on stderr and no output file; 3 numerical failure, with
 // the tau where it happened and why. 1 is left for what should never happen (a bug), except in
 // `check`, where 1 means "the trajectory is outside the tolerance" (issue 6, section 1).
+// `batch` runs every scene and then exits 2 if any scene had bad input, else 3 if any had a
+// numerical failure (batch_command.hpp).
+#include "batch_command.hpp"
 #include "check_command.hpp"
 #include "input_error.hpp"
 #include "reference_command.hpp"
@@ -46,13 +49,15 @@ int main(int argc, char** argv) {
   CLI::App* sweep_command = eulervop::app::add_sweep_command(app, sweep_opts);
   eulervop::app::check_options check_opts;
   CLI::App* check_command = eulervop::app::add_check_command(app, check_opts);
+  eulervop::app::batch_options batch_opts;
+  CLI::App* batch_command = eulervop::app::add_batch_command(app, batch_opts);
 
   // CLI11 would report a mistyped command as "A subcommand is required"; name it instead.
-  const std::string commands = fmt::format("{}, {}, {}, {}", reference_command->get_name(), report_command->get_name(),
-                                           sweep_command->get_name(), check_command->get_name());
+  const std::string commands = fmt::format("{}, {}, {}, {}, {}", reference_command->get_name(), report_command->get_name(),
+                                           sweep_command->get_name(), check_command->get_name(), batch_command->get_name());
   if (argc >= 2 && argv[1][0] != '-' && std::string_view(argv[1]) != reference_command->get_name() &&
       std::string_view(argv[1]) != report_command->get_name() && std::string_view(argv[1]) != sweep_command->get_name() &&
-      std::string_view(argv[1]) != check_command->get_name())
+      std::string_view(argv[1]) != check_command->get_name() && std::string_view(argv[1]) != batch_command->get_name())
     return report(exit_bad_input, "error: ", fmt::format("unknown command `{}` (expected: {})", argv[1], commands));
 
   try {
@@ -71,10 +76,12 @@ int main(int argc, char** argv) {
   }
 
   try {
+    reference.command = eulervop::app::command_text(argc, argv);
     if (reference_command->parsed()) eulervop::app::run_reference(reference, std::cout);
     if (report_command->parsed()) eulervop::app::run_report(report_opts, std::cout);
     if (sweep_command->parsed()) eulervop::app::run_sweep(sweep_opts, std::cout);
     if (check_command->parsed()) return eulervop::app::run_check(check_opts, std::cout);
+    if (batch_command->parsed()) return eulervop::app::run_batch(batch_opts, std::cout);
     return 0;
   } catch (const eulervop::app::input_error& e) {
     return report(exit_bad_input, "error: ", e.what());

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <atomic>
 #include <cstdio>
 
 #include <unistd.h>
@@ -11,10 +12,13 @@ namespace eulervop::app {
 namespace {
 constexpr auto quiet_period = std::chrono::seconds(1);
 constexpr auto redraw_period = std::chrono::milliseconds(100);
+std::atomic<bool> all_disabled{false};
 }  // namespace
 
+void progress_line::disable_all() { all_disabled = true; }
+
 progress_line::progress_line(std::string label, double total, std::string unit)
-    : label_(std::move(label)), total_(total), unit_(std::move(unit)), enabled_(::isatty(STDERR_FILENO) == 1),
+    : label_(std::move(label)), total_(total), unit_(std::move(unit)), enabled_(!all_disabled && ::isatty(STDERR_FILENO) == 1),
       start_(clock::now()), last_draw_(start_) {}
 
 progress_line::~progress_line() { clear(); }

@@ -24,6 +24,10 @@ class progress_line {
   // Erases the line if one was drawn.
   void clear();
 
+  // Turns every progress line off for the rest of the process (`batch`, where several runs
+  // share one terminal from several threads).
+  static void disable_all();
+
  private:
   using clock = std::chrono::steady_clock;
   std::string label_;

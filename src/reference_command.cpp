@@ -30,6 +30,8 @@ struct reference_job {
   eulervop::precision precision;     // --precision, else [reference] precision
   picard_settings settings;          // --degree/--tolerance, else [reference], else automatic
   bool verify = false;
+  bool omit_timing = false;          // no "# wall_seconds" lines
+  std::string command;               // the "# command:" line, if any
   std::string overrides;             // the flags that changed the scene, for the metadata
 };
 
@@ -40,6 +42,8 @@ reference_job make_job(const reference_options& o) {
   job.precision = applied.precision;
   job.settings = applied.settings;
   job.verify = o.verify;
+  job.omit_timing = o.omit_timing;
+  job.command = o.command;
   job.overrides = applied.text();
   return job;
 }
@@ -66,15 +70,16 @@ std::string run_in(const reference_job& job) {
   line("# eulervop {}", EULERVOP_VERSION);
   line("# scene: {}", s.name);
   line("# scene_source: {}", s.origin);
+  if (!job.command.empty()) line("# command: {}", job.command);
   if (!job.overrides.empty()) line("# overrides: {}", job.overrides);
   line("# precision: {}", precision_text(job.precision));
   line("# method: {}", method_text(job.settings, ref.stats));
-  line("# wall_seconds: {:.3f}", ref.wall_seconds);
+  if (!job.omit_timing) line("# wall_seconds: {:.3f}", ref.wall_seconds);
   if (check) {
     line("# estimated_max_error: {}", check->max_error);
     line("# verify_precision: {}", check->precision);
     line("# verify_method: {}", check->method);
-    line("# wall_seconds_verify: {:.3f}", check->wall_seconds);
+    if (!job.omit_timing) line("# wall_seconds_verify: {:.3f}", check->wall_seconds);
   }
   std::istringstream scene_lines(s.source_text);
   for (std::string l; std::getline(scene_lines, l);) {
@@ -143,6 +148,28 @@ void run_reference(const reference_options& options, std::ostream& standard_outp
   } else {
     standard_output << csv << std::flush;
   }
+}
+
+std::string command_text(int argc, const char* const* argv) {
+  auto quoted = [](const std::string& a) {
+    const bool plain = !a.empty() && a.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                                         "0123456789-_./:=,+@%") == std::string::npos;
+    if (plain) return a;
+    std::string q = "'";
+    for (char c : a) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+  };
+  std::string text = "eulervop";
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--out") {
+      ++i;  // and its value
+      continue;
+    }
+    if (a.starts_with("--out=")) continue;
+    text += " " + quoted(a);
+  }
+  return text;
 }
 
 }  // namespace eulervop::app

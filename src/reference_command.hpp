@@ -19,6 +19,9 @@ struct reference_options {
   scene_override_flags overrides;         // --tau-end, --samples, --precision, ...
   std::optional<std::string> out;         // none: standard output
   bool verify = false;
+  // Not flags: set by main() and by `batch`.
+  std::string command;       // "# command: ..." (the argv that made the file, without --out); none if empty
+  bool omit_timing = false;  // leave out the "# wall_seconds" lines (batch: byte-identical reruns)
 };
 
 // Adds the `reference` subcommand to `app`, binding its flags to `options`.
@@ -28,5 +31,9 @@ CLI::App* add_reference_command(CLI::App& app, reference_options& options);
 // eulervop::numerical_failure (the integrator gave up). Writes the CSV to `--out` atomically,
 // or to `standard_output`.
 void run_reference(const reference_options& options, std::ostream& standard_output);
+
+// The "# command:" text of a run: "eulervop" and the arguments after the program name, each
+// shell-quoted when needed, with `--out FILE` left out (where the CSV went is not what made it).
+std::string command_text(int argc, const char* const* argv);
 
 }  // namespace eulervop::app

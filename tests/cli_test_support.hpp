@@ -2,6 +2,11 @@
 // run the binary (EULERVOP_BINARY) in a fresh directory and capture its exit code and output.
 #pragma once
 
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <string_view>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -82,6 +87,38 @@ inline run_result run(const fs::path& dir, const std::vector<std::string>& args)
   fs::remove(dir / ".stdout");
   fs::remove(dir / ".stderr");
   return r;
+}
+
+// Cells of a CSV line (empty cells kept).
+inline std::vector<std::string> cells_of(const std::string& line) {
+  std::vector<std::string> cells;
+  std::size_t begin = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', begin);
+    cells.push_back(line.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin));
+    if (comma == std::string::npos) break;
+    begin = comma + 1;
+  }
+  return cells;
+}
+
+inline std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// No NaN or infinity in any output, in any spelling (issue 5: never print NaN as a result).
+inline void expect_no_nan(const std::string& text, const std::string& what) {
+  const std::string l = lower(text);
+  EXPECT_EQ(l.find("nan"), std::string::npos) << what << ":\n" << text;
+  EXPECT_EQ(l.find("inf"), std::string::npos) << what << ":\n" << text;
+}
+
+// A GoogleTest parameter name from a case label: letters and digits kept, the rest '_'.
+inline std::string test_name_of(std::string_view label) {
+  std::string name;
+  for (char ch : label) name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+  return name;
 }
 
 }  // namespace eulervop::cli_test

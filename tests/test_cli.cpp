@@ -161,12 +161,7 @@ TEST_P(BadInput, ExitsTwoWithOneLineAndNoFile) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Table, BadInput, ::testing::ValuesIn(bad_inputs()),
-                         [](const ::testing::TestParamInfo<bad_input>& info) {
-                           std::string name;
-                           for (char ch : std::string(info.param.label))
-                             name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
-                           return name;
-                         });
+                         [](const ::testing::TestParamInfo<bad_input>& info) { return test_name_of(info.param.label); });
 
 TEST(BadCommandLine, UnknownCommandAndNoCommand) {
   temp_dir dir;

@@ -23,31 +23,6 @@ namespace fs = std::filesystem;
 using namespace eulervop::cli_test;
 using nlohmann::json;
 
-// Cells of a CSV line (empty cells kept).
-std::vector<std::string> cells_of(const std::string& line) {
-  std::vector<std::string> cells;
-  std::size_t begin = 0;
-  while (true) {
-    const std::size_t comma = line.find(',', begin);
-    cells.push_back(line.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin));
-    if (comma == std::string::npos) break;
-    begin = comma + 1;
-  }
-  return cells;
-}
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-// No NaN or infinity in any output, in any spelling.
-void expect_no_nan(const std::string& text, const std::string& what) {
-  const std::string l = lower(text);
-  EXPECT_EQ(l.find("nan"), std::string::npos) << what << ":\n" << text;
-  EXPECT_EQ(l.find("inf"), std::string::npos) << what << ":\n" << text;
-}
-
 const json& run_of(const json& summary, const std::string& formulation, const std::string& method) {
   for (const json& r : summary.at("runs"))
     if (r.at("formulation") == formulation && r.at("method") == method) return r;
@@ -259,12 +234,7 @@ TEST_P(BadReport, ExitsTwoWithOneLineAndNoFiles) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Table, BadReport, ::testing::ValuesIn(bad_reports()),
-                         [](const ::testing::TestParamInfo<bad_report>& info) {
-                           std::string name;
-                           for (char ch : std::string(info.param.label))
-                             name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
-                           return name;
-                         });
+                         [](const ::testing::TestParamInfo<bad_report>& info) { return test_name_of(info.param.label); });
 
 TEST(Report, SceneFormulationListedTwiceIsBadInput) {
   temp_dir dir;

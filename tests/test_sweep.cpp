@@ -21,29 +21,6 @@ namespace fs = std::filesystem;
 using namespace eulervop::cli_test;
 using nlohmann::json;
 
-std::vector<std::string> cells_of(const std::string& line) {
-  std::vector<std::string> cells;
-  std::size_t begin = 0;
-  while (true) {
-    const std::size_t comma = line.find(',', begin);
-    cells.push_back(line.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin));
-    if (comma == std::string::npos) break;
-    begin = comma + 1;
-  }
-  return cells;
-}
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-void expect_no_nan(const std::string& text, const std::string& what) {
-  const std::string l = lower(text);
-  EXPECT_EQ(l.find("nan"), std::string::npos) << what << ":\n" << text;
-  EXPECT_EQ(l.find("inf"), std::string::npos) << what << ":\n" << text;
-}
-
 // sweep.csv as rows of named cells.
 struct csv_table {
   std::vector<std::string> header;
@@ -232,12 +209,7 @@ TEST_P(BadSweep, ExitsTwoWithOneLineAndNoFiles) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Table, BadSweep, ::testing::ValuesIn(bad_sweeps()),
-                         [](const ::testing::TestParamInfo<bad_sweep>& info) {
-                           std::string name;
-                           for (char ch : std::string(info.param.label))
-                             name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
-                           return name;
-                         });
+                         [](const ::testing::TestParamInfo<bad_sweep>& info) { return test_name_of(info.param.label); });
 
 TEST(Sweep, UnknownCommandListsSweep) {
   temp_dir dir;
