@@ -12,7 +12,7 @@
 // produces the samples in the row's own scalar type: our integrator integrates and evaluates its
 // dense output at the sample times; Boost.Odeint integrates with integrate_times, which steps
 // onto every sample time. Text conversion and error measurement are outside the timing.
-//   - ours, quad: tolerance 1e-20, 1e-24, 1e-28 and the default (epsilon of quad);
+//   - ours, quad: tolerance 1e-20, 1e-24, 1e-28, 1e-30 and the default (epsilon of quad);
 //   - ours, mpfr:256: tolerance 1e-40, 1e-50, 1e-60 and the default (epsilon at 257 bits);
 //   - Boost.Odeint bulirsch_stoer<float128>, abs = rel tol 1e-20, 1e-24, 1e-28, 1e-32;
 //   - Boost.Odeint controlled runge_kutta_fehlberg78<float128>, the same tolerances
@@ -410,7 +410,7 @@ int main(int argc, char** argv) {
     const auto truth = load_or_make_truth(tau_end, opt.recompute_truth);
     std::vector<row> rows;
     const std::vector<double> quad_tols = opt.quick ? std::vector<double>{1e-20, 1e-24}
-                                                    : std::vector<double>{1e-20, 1e-24, 1e-28, 0};
+                                                    : std::vector<double>{1e-20, 1e-24, 1e-28, 1e-30, 0};
     const std::vector<double> odeint_tols =
         opt.quick ? std::vector<double>{1e-20, 1e-24} : std::vector<double>{1e-20, 1e-24, 1e-28, 1e-32};
 
