@@ -97,15 +97,6 @@ struct batch_settings {
   std::string flags_text;  // the flags that shape the outputs, for the hash and the commands
 };
 
-std::string shell_word(const std::string& a) {
-  const bool plain = !a.empty() && a.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                                       "0123456789-_./:=,+@%") == std::string::npos;
-  if (plain) return a;
-  std::string q = "'";
-  for (char c : a) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
 std::string flags_text_of(const batch_options& o) {
   std::string t;
   const auto add = [&](const char* flag, const std::optional<std::string>& v) {

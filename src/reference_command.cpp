@@ -150,15 +150,16 @@ void run_reference(const reference_options& options, std::ostream& standard_outp
   }
 }
 
+std::string shell_word(const std::string& a) {
+  const bool plain = !a.empty() && a.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                                       "0123456789-_./:=,+@%") == std::string::npos;
+  if (plain) return a;
+  std::string q = "'";
+  for (char c : a) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
 std::string command_text(int argc, const char* const* argv) {
-  auto quoted = [](const std::string& a) {
-    const bool plain = !a.empty() && a.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                                         "0123456789-_./:=,+@%") == std::string::npos;
-    if (plain) return a;
-    std::string q = "'";
-    for (char c : a) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-  };
   std::string text = "eulervop";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -167,7 +168,7 @@ std::string command_text(int argc, const char* const* argv) {
       continue;
     }
     if (a.starts_with("--out=")) continue;
-    text += " " + quoted(a);
+    text += " " + shell_word(a);
   }
   return text;
 }

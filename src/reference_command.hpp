@@ -36,4 +36,7 @@ void run_reference(const reference_options& options, std::ostream& standard_outp
 // shell-quoted when needed, with `--out FILE` left out (where the CSV went is not what made it).
 std::string command_text(int argc, const char* const* argv);
 
+// `a` quoted for a POSIX shell when it holds anything beyond plain word characters.
+std::string shell_word(const std::string& a);
+
 }  // namespace eulervop::app

@@ -207,6 +207,24 @@ class vop_domain {
   std::string why_;
 };
 
+// The modulus data (AGM sequence, K, E) of the last k seen: recomputed only when k changes
+// (between the stages of a Runge-Kutta step it does; within a stage it is reused).
+template <class T>
+class cached_modulus {
+ public:
+  const elliptic_modulus<T>& at(const T& k) {
+    if (!(k == k_)) {
+      modulus_.assign(k);
+      k_ = k;
+    }
+    return modulus_;
+  }
+
+ private:
+  T k_ = -1;
+  elliptic_modulus<T> modulus_{T(0)};
+};
+
 }  // namespace detail
 
 // Right-hand side of the elements (c1, c2, u) under the torque G (given in the vop_frame):
@@ -235,13 +253,10 @@ class vop_system : public detail::vop_domain<T> {
       return;
     }
     const T k = c1 / c2;
-    if (!(k == cached_k_)) {
-      modulus_.assign(k);
-      cached_k_ = k;
-    }
+    const elliptic_modulus<T>& mod = modulus_cache_.at(k);
     // kc^2 = (c2 - c1)(c2 + c1) / c2^2 keeps its digits near k = 1, unlike 1 - k^2.
     const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
-    jacobi_eval<T, jacobi_outputs::without_amplitude>(y[2], modulus_, j_);
+    jacobi_eval<T, jacobi_outputs::without_amplitude>(y[2], mod, j_);
     const jacobi_values<T>& j = j_;
     const T& G1 = G_[0];
     const T& G2 = G_[1];
@@ -259,8 +274,7 @@ class vop_system : public detail::vop_domain<T> {
  private:
   vec3<T> G_;
   bool torque_free_;
-  T cached_k_ = -1;
-  elliptic_modulus<T> modulus_{T(0)};
+  detail::cached_modulus<T> modulus_cache_;
   jacobi_values<T> j_;
 };
 
@@ -285,17 +299,14 @@ class vop_theta_system : public detail::vop_domain<T> {
     const T& c2 = y[1];
     if (this->outside(c1, c2, tau, torque_free_, dy)) return;
     const T k = c1 / c2;
-    if (!(k == cached_k_)) {
-      modulus_.assign(k);
-      cached_k_ = k;
-    }
-    const T& rate = pi_over_2K(modulus_);
+    const elliptic_modulus<T>& mod = modulus_cache_.at(k);
+    const T& rate = pi_over_2K(mod);
     if (torque_free_) {
       dy = {T(0), T(0), rate * c2};
       return;
     }
     const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
-    jacobi_eval<T, jacobi_outputs::without_amplitude>(T(y[2] / rate), modulus_, j_);
+    jacobi_eval<T, jacobi_outputs::without_amplitude>(T(y[2] / rate), mod, j_);
     const jacobi_values<T>& j = j_;
     const T& G1 = G_[0];
     const T& G2 = G_[1];
@@ -310,8 +321,7 @@ class vop_theta_system : public detail::vop_domain<T> {
  private:
   vec3<T> G_;
   bool torque_free_;
-  T cached_k_ = -1;
-  elliptic_modulus<T> modulus_{T(0)};
+  detail::cached_modulus<T> modulus_cache_;
   jacobi_values<T> j_;
 };
 
