@@ -121,4 +121,23 @@ inline std::string test_name_of(std::string_view label) {
   return name;
 }
 
+// The bad-input contract (issue 2 section 6): exit code 2, exactly one line on stderr that starts
+// "eulervop: error: " and contains `expected`, nothing on stdout.
+inline void expect_one_line_error(const run_result& r, const std::string& expected) {
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  const auto lines = lines_of(r.err);
+  ASSERT_EQ(lines.size(), 1u) << r.err;
+  EXPECT_TRUE(lines[0].starts_with("eulervop: error: ")) << lines[0];
+  EXPECT_NE(lines[0].find(expected), std::string::npos) << "'" << expected << "' not in: " << lines[0];
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+// Names of the entries of `dir` other than `keep`.
+inline std::vector<std::string> entries_except(const fs::path& dir, const std::string& keep) {
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().filename() != keep) files.push_back(e.path().filename().string());
+  return files;
+}
+
 }  // namespace eulervop::cli_test

@@ -147,12 +147,7 @@ TEST_P(BadInput, ExitsTwoWithOneLineAndNoFile) {
     write_file(dir.path() / "existing.csv", "keep me\n");
 
     const run_result r = run(dir.path(), args);
-    EXPECT_EQ(r.exit_code, 2) << r.err;
-    const auto lines = lines_of(r.err);
-    ASSERT_EQ(lines.size(), 1u) << r.err;
-    EXPECT_TRUE(lines[0].starts_with("eulervop: error: ")) << lines[0];
-    EXPECT_NE(lines[0].find(c.expected), std::string::npos) << "'" << c.expected << "' not in: " << lines[0];
-    EXPECT_TRUE(r.out.empty()) << r.out;
+    expect_one_line_error(r, c.expected);
     EXPECT_EQ(read_file(dir.path() / "existing.csv"), "keep me\n");
     const auto extra = leftovers(dir.path());
     EXPECT_TRUE(extra.empty()) << extra.front();

@@ -196,15 +196,8 @@ TEST_P(BadSweep, ExitsTwoWithOneLineAndNoFiles) {
   std::vector<std::string> args = {"sweep", "--no-plot", "--tau-end", "2"};
   args.insert(args.end(), c.args.begin(), c.args.end());
   const run_result r = run(dir.path(), args);
-  EXPECT_EQ(r.exit_code, 2) << r.err;
-  const auto lines = lines_of(r.err);
-  ASSERT_EQ(lines.size(), 1u) << r.err;
-  EXPECT_TRUE(lines[0].starts_with("eulervop: error: ")) << lines[0];
-  EXPECT_NE(lines[0].find(c.expected), std::string::npos) << "'" << c.expected << "' not in: " << lines[0];
-  EXPECT_TRUE(r.out.empty()) << r.out;
-  std::vector<std::string> files;
-  for (const auto& e : fs::directory_iterator(dir.path()))
-    if (e.path().filename() != "scene.toml") files.push_back(e.path().filename().string());
+  expect_one_line_error(r, c.expected);
+  const std::vector<std::string> files = entries_except(dir.path(), "scene.toml");
   EXPECT_TRUE(files.empty()) << files.front();  // not even the default ./eulervop-sweep/
 }
 
