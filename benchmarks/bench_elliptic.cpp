@@ -1,11 +1,8 @@
 // Nanoseconds per evaluation of sn, cn, dn, am(u), Z(u), E(u) (and K, E when k changes), in
-// double: eulervop's fused AGM (include/eulervop/elliptic.hpp) against Boost.Math computing the
-// same quantities, with double -> long double promotion off and with Boost's default policy.
-//
-//   Boost set: jacobi_elliptic(k, u, &cn, &dn)   -> sn, cn, dn
-//              ellint_1(k), ellint_2(k)          -> K, E
-//              am = n pi + atan2(sn, cn) with n = nearest(u / 2K)
-//              jacobi_zeta(k, am)                -> Z;   E(u) = Z + (E/K) u
+// double: eulervop's fused AGM (include/eulervop/elliptic.hpp) and its theta-function route
+// (include/eulervop/jacobi_theta.hpp: sn, cn, dn, Z, E(u), no am) against Boost.Math computing
+// the same quantities (boost_elliptic_set.hpp), with double -> long double promotion off and
+// with Boost's default policy.
 //
 // Two scenarios:
 //   *_cached_k  the modulus is fixed (K, E and our elliptic_modulus computed once, outside the
@@ -14,15 +11,11 @@
 //               modulus-dependent part is timed too.
 // Inputs cycle through 1024 fixed pseudo-random (u, k) pairs: u in [-4K, 4K], k in [0.05, 0.95]
 // (cached: k = 0.5).
+#include "boost_elliptic_set.hpp"
 #include "eulervop/elliptic.hpp"
+#include "eulervop/jacobi_theta.hpp"
 
 #include <benchmark/benchmark.h>
-
-#include <boost/math/policies/policy.hpp>
-#include <boost/math/special_functions/ellint_1.hpp>
-#include <boost/math/special_functions/ellint_2.hpp>
-#include <boost/math/special_functions/jacobi_elliptic.hpp>
-#include <boost/math/special_functions/jacobi_zeta.hpp>
 
 #include <cmath>
 #include <random>
@@ -30,8 +23,10 @@
 
 namespace {
 
-using no_promote = boost::math::policies::policy<boost::math::policies::promote_double<false>>;
-using default_policy = boost::math::policies::policy<>;
+using bench::boost_set;
+using bench::default_policy;
+using bench::no_promote;
+using bench::six;
 
 constexpr std::size_t n_inputs = 1024;
 constexpr double cached_k = 0.5;
@@ -67,22 +62,6 @@ const inputs& varying_inputs() {
     return r;
   }();
   return in;
-}
-
-struct six {
-  double sn, cn, dn, am, Z, E;
-};
-
-template <class Policy>
-six boost_set(double u, double k, double K, double E, const Policy& pol) {
-  six out;
-  out.sn = boost::math::jacobi_elliptic(k, u, &out.cn, &out.dn, pol);
-  const double n = std::nearbyint(u / (2 * K));
-  out.am = n * M_PI + std::atan2(n == 2 * std::floor(n / 2) ? out.sn : -out.sn,
-                                 n == 2 * std::floor(n / 2) ? out.cn : -out.cn);
-  out.Z = boost::math::jacobi_zeta(k, out.am, pol);
-  out.E = out.Z + (E / K) * u;
-  return out;
 }
 
 void consume(benchmark::State& state, const six& s) {
@@ -162,10 +141,40 @@ void eulervop_modulus_only(benchmark::State& state) {
   }
 }
 
+// The theta route (jacobi_theta.hpp): everything but am, which the VOP right-hand side never uses.
+void theta_cached_k(benchmark::State& state) {
+  const auto& in = cached_inputs();
+  const eulervop::theta_modulus m(cached_k);
+  eulervop::jacobi_values<double> j;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    eulervop::theta_eval(in.u[i], m, j);
+    consume(state, {j.sn, j.cn, j.dn, 0.0, j.Z, j.E});
+    i = (i + 1) % n_inputs;
+  }
+}
+
+void theta_new_k(benchmark::State& state) {
+  const auto& in = varying_inputs();
+  eulervop::theta_modulus m;
+  eulervop::jacobi_values<double> j;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    m.assign(in.k[i]);
+    eulervop::theta_eval(in.u[i], m, j);
+    consume(state, {j.sn, j.cn, j.dn, 0.0, j.Z, j.E});
+    benchmark::DoNotOptimize(m.K());
+    benchmark::DoNotOptimize(m.E());
+    i = (i + 1) % n_inputs;
+  }
+}
+
 BENCHMARK(eulervop_cached_k)->Name("cached_k/eulervop_fused_agm");
+BENCHMARK(theta_cached_k)->Name("cached_k/eulervop_theta_no_am");
 BENCHMARK(boost_cached_k<no_promote>)->Name("cached_k/boost_no_promotion");
 BENCHMARK(boost_cached_k<default_policy>)->Name("cached_k/boost_default_policy");
 BENCHMARK(eulervop_new_k)->Name("new_k/eulervop_fused_agm");
+BENCHMARK(theta_new_k)->Name("new_k/eulervop_theta_no_am");
 BENCHMARK(boost_new_k<no_promote>)->Name("new_k/boost_no_promotion");
 BENCHMARK(boost_new_k<default_policy>)->Name("new_k/boost_default_policy");
 BENCHMARK(eulervop_modulus_only)->Name("new_k/eulervop_modulus_only");

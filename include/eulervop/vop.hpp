@@ -27,6 +27,7 @@
 #pragma once
 
 #include <eulervop/elliptic.hpp>
+#include <eulervop/jacobi_theta.hpp>
 #include <eulervop/model.hpp>
 #include <eulervop/scalar.hpp>
 
@@ -37,6 +38,8 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <utility>
 
 namespace eulervop {
 
@@ -207,22 +210,56 @@ class vop_domain {
   std::string why_;
 };
 
-// The modulus data (AGM sequence, K, E) of the last k seen: recomputed only when k changes
-// (between the stages of a Runge-Kutta step it does; within a stage it is reused).
+// The modulus data of the last k seen, and evaluation of sn, cn, dn, Z, E(u) for it: recomputed
+// only when k changes (between the stages of a Runge-Kutta step it does; within a stage it is
+// reused). In double, for k <= theta_modulus::max_k, through the nome and theta functions
+// (jacobi_theta.hpp: about half the cost of a new AGM sequence and its Gauss ascent, same
+// accuracy bounds); otherwise, and in every other type, through the AGM (elliptic.hpp).
 template <class T>
 class cached_modulus {
+  static constexpr bool has_theta = std::is_same_v<T, double>;
+  struct no_theta {};
+
  public:
-  const elliptic_modulus<T>& at(const T& k) {
-    if (!(k == k_)) {
-      modulus_.assign(k);
-      k_ = k;
+  // k and kc^2 = 1 - k^2 (the caller's, to full relative accuracy; the AGM computes its own).
+  void set(const T& k, const T& kc2) {
+    if (k == k_) return;
+    if constexpr (has_theta) {
+      use_theta_ = theta_modulus::covers(k);
+      if (use_theta_) {
+        theta_.assign(k, kc2);
+        k_ = k;
+        return;
+      }
     }
-    return modulus_;
+    agm_.assign(k);
+    k_ = k;
+  }
+  // pi / (2K), the rate of theta = pi u / (2K) per unit u.
+  const T& pi_over_2K() const {
+    if constexpr (has_theta)
+      if (use_theta_) return theta_.pi_over_2K();
+    return agm_.a(agm_.levels());  // a_N (K = pi / (2 a_N), A&S 17.6.3)
+  }
+  // sn, cn, dn, Z, E(u) at u (not am), valid until the next call. Held here so that MPFR
+  // values are reused rather than allocated per call; the right-hand sides read them only
+  // after their last write to dy, so that in double they stay in registers.
+  const jacobi_values<T>& eval(const T& u) {
+    if constexpr (has_theta)
+      if (use_theta_) {
+        theta_eval(u, theta_, values_);
+        return values_;
+      }
+    jacobi_eval<T, jacobi_outputs::without_amplitude>(u, agm_, values_);
+    return values_;
   }
 
  private:
   T k_ = -1;
-  elliptic_modulus<T> modulus_{T(0)};
+  bool use_theta_ = false;
+  elliptic_modulus<T> agm_{T(0)};
+  [[no_unique_address]] std::conditional_t<has_theta, theta_modulus, no_theta> theta_;
+  jacobi_values<T> values_;
 };
 
 }  // namespace detail
@@ -253,29 +290,30 @@ class vop_system : public detail::vop_domain<T> {
       return;
     }
     const T k = c1 / c2;
-    const elliptic_modulus<T>& mod = modulus_cache_.at(k);
     // kc^2 = (c2 - c1)(c2 + c1) / c2^2 keeps its digits near k = 1, unlike 1 - k^2.
     const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
-    jacobi_eval<T, jacobi_outputs::without_amplitude>(y[2], mod, j_);
-    const jacobi_values<T>& j = j_;
+    modulus_cache_.set(k, kc2);
+    // The divisor of Eq. 16, inverted while the elliptic functions are evaluated (off the path).
+    const T inv_c1_kc2 = 1 / (c1 * kc2);
+    const jacobi_values<T>& j = modulus_cache_.eval(y[2]);
     const T& G1 = G_[0];
     const T& G2 = G_[1];
     const T& G3 = G_[2];
-    dy[0] = j.cn * G1 + j.sn * G2;
-    dy[1] = k * j.sn * G2 + j.dn * G3;
     const T secular = j.E - kc2 * y[2];  // E(u) - kc^2 u
     // The torque-free term k (c2^2 - c1^2) / (c1 kc^2) of Eq. 16 is exactly c2 (k = c1/c2,
     // c2^2 - c1^2 = c2^2 kc^2): written so, torque-free motion advances u by exactly c2 tau.
-    dy[2] = c2 + (-j.sn * j.dn * G1 + kc2 * j.cn * j.dn * G2 + k * k * k * j.sn * j.cn * G3 +
-                  secular * (j.cn * G1 + kc2 * j.sn * G2 - k * j.dn * G3)) /
-                     (c1 * kc2);
+    T du = c2 + (-j.sn * j.dn * G1 + kc2 * j.cn * j.dn * G2 + k * k * k * j.sn * j.cn * G3 +
+                 secular * (j.cn * G1 + kc2 * j.sn * G2 - k * j.dn * G3)) *
+                    inv_c1_kc2;
+    dy[0] = j.cn * G1 + j.sn * G2;
+    dy[1] = k * j.sn * G2 + j.dn * G3;
+    dy[2] = std::move(du);
   }
 
  private:
   vec3<T> G_;
   bool torque_free_;
   detail::cached_modulus<T> modulus_cache_;
-  jacobi_values<T> j_;
 };
 
 // Right-hand side of the secular-free elements (c1, c2, theta), theta = pi u / (2K(k)), under the
@@ -299,30 +337,31 @@ class vop_theta_system : public detail::vop_domain<T> {
     const T& c2 = y[1];
     if (this->outside(c1, c2, tau, torque_free_, dy)) return;
     const T k = c1 / c2;
-    const elliptic_modulus<T>& mod = modulus_cache_.at(k);
-    const T& rate = pi_over_2K(mod);
+    const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
+    modulus_cache_.set(k, kc2);
+    const T& rate = modulus_cache_.pi_over_2K();
     if (torque_free_) {
       dy = {T(0), T(0), rate * c2};
       return;
     }
-    const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
-    jacobi_eval<T, jacobi_outputs::without_amplitude>(T(y[2] / rate), mod, j_);
-    const jacobi_values<T>& j = j_;
+    // The divisor of Eq. 16, inverted while the elliptic functions are evaluated (off the path).
+    const T inv_c1_kc2 = 1 / (c1 * kc2);
+    const jacobi_values<T>& j = modulus_cache_.eval(T(y[2] / rate));
     const T& G1 = G_[0];
     const T& G2 = G_[1];
     const T& G3 = G_[2];
+    T dtheta = rate * c2 + rate * ((-j.sn * j.dn * G1 + kc2 * j.cn * j.dn * G2 + k * k * k * j.sn * j.cn * G3 +
+                                    j.Z * (j.cn * G1 + kc2 * j.sn * G2 - k * j.dn * G3)) *
+                                   inv_c1_kc2);
     dy[0] = j.cn * G1 + j.sn * G2;
     dy[1] = k * j.sn * G2 + j.dn * G3;
-    dy[2] = rate * c2 + rate * ((-j.sn * j.dn * G1 + kc2 * j.cn * j.dn * G2 + k * k * k * j.sn * j.cn * G3 +
-                                 j.Z * (j.cn * G1 + kc2 * j.sn * G2 - k * j.dn * G3)) /
-                                (c1 * kc2));
+    dy[2] = std::move(dtheta);
   }
 
  private:
   vec3<T> G_;
   bool torque_free_;
   detail::cached_modulus<T> modulus_cache_;
-  jacobi_values<T> j_;
 };
 
 }  // namespace eulervop
