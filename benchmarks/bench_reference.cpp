@@ -228,6 +228,16 @@ void print_row_progress(const row& r) {
                  r.tolerance.c_str(), r.status.c_str());
 }
 
+// A completed row: its best time and the error of its samples (converted to text, untimed).
+template <class State>
+void finish_row(row& r, const std::vector<State>& values, double best, const std::vector<text3>& truth) {
+  std::vector<text3> rows;
+  for (const auto& v : values) rows.push_back({text_of(v[0]), text_of(v[1]), text_of(v[2])});
+  r.done = true;
+  r.seconds = best;
+  r.err = eq20_error(rows, truth);
+}
+
 std::string tol_text(double tol) {
   if (tol <= 0) return "default";
   char buf[32];
@@ -260,11 +270,7 @@ row run_ours(const std::string& precision_name, double tol, int tau_end, const o
     for (const T& tau : times) values.push_back(traj(tau));
     best = std::min(best, seconds_since(t0));
   }
-  std::vector<text3> rows;
-  for (const auto& v : values) rows.push_back({text_of(v[0]), text_of(v[1]), text_of(v[2])});
-  r.done = true;
-  r.seconds = best;
-  r.err = eq20_error(rows, truth);
+  finish_row(r, values, best, truth);
   r.notes = "N=" + std::to_string(st.degree) + " segments=" + std::to_string(st.segments) +
             " rejected=" + std::to_string(st.rejected) + " wide_residuals=" + std::to_string(st.wide_residuals) +
             " double_sweeps=" + std::to_string(st.double_sweeps);
@@ -335,11 +341,7 @@ row run_odeint(const std::string& method, const std::string& precision_name, dou
     }
     best = std::min(best, seconds_since(t0));
   }
-  std::vector<text3> rows;
-  for (const auto& v : values) rows.push_back({text_of(v[0]), text_of(v[1]), text_of(v[2])});
-  r.done = true;
-  r.seconds = best;
-  r.err = eq20_error(rows, truth);
+  finish_row(r, values, best, truth);
   r.notes = "steps=" + std::to_string(steps_observed);
   print_row_progress(r);
   return r;

@@ -6,6 +6,8 @@
 #include <eulervop/error_measure.hpp>
 #include <eulervop/vop.hpp>
 
+#include "vop_test_support.hpp"
+
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
 #include <gtest/gtest.h>
 
@@ -37,29 +39,6 @@ std::vector<vec3<quad>> random_states(int n, bool minor) {
   return out;
 }
 
-// d/dtau Omega(elements) along the element right-hand side, by a central difference in quad
-// (step 1e-9: truncation ~1e-18, rounding ~1e-25), against Eq. 5. Any wrong term is O(1).
-template <class System, class ToOmega>
-double chain_rule_mismatch(const vec3<quad>& y, System& sys, ToOmega&& Omega_of, const vec3<quad>& G) {
-  vec3<quad> dy;
-  sys(y, dy, quad(0));
-  const quad eps("1e-9");
-  vec3<quad> yp, ym;
-  for (int i = 0; i < 3; ++i) {
-    yp[i] = y[i] + eps * dy[i];
-    ym[i] = y[i] - eps * dy[i];
-  }
-  const auto Op = Omega_of(yp), Omn = Omega_of(ym);
-  vec3<quad> f;
-  eulervop::euler_rhs(Omega_of(y), G, f);
-  double worst = 0;
-  for (int i = 0; i < 3; ++i) {
-    const quad chain = (Op[i] - Omn[i]) / (2 * eps);
-    worst = std::max(worst, static_cast<double>(fabs(chain - f[i]) / (1 + fabs(f[i]))));
-  }
-  return worst;
-}
-
 // The theta equation (DESIGN.md 1.3, derived in vop.hpp: Eq. 16 with E(u) - kc^2 u -> Z(u),
 // times pi/(2K)) is the exact image of Eq. 5, in both regimes and all four frames.
 TEST(VopThetaRhs, IsEulersEquationsInElements) {
@@ -75,7 +54,7 @@ TEST(VopThetaRhs, IsEulersEquationsInElements) {
       const auto back = frame.Omega_of_theta(y);
       for (int i = 0; i < 3; ++i) ASSERT_LE(static_cast<double>(fabs(back[i] - Om[i])), 1e-30);
       eulervop::vop_theta_system<quad> sys(frame.rotate(G));
-      worst = std::max(worst, chain_rule_mismatch(y, sys, [&](const vec3<quad>& e) { return frame.Omega_of_theta(e); }, G));
+      worst = std::max(worst, vop_test::chain_rule_mismatch(y, sys, [&](const vec3<quad>& e) { return frame.Omega_of_theta(e); }, G));
     }
     EXPECT_LE(worst, 1e-15) << (minor ? "k > 1" : "k < 1");
   }
@@ -94,7 +73,7 @@ TEST(VopMinorAxisRhs, IsEulersEquationsInElements) {
     for (int i = 0; i < 3; ++i) ASSERT_LE(static_cast<double>(fabs(back[i] - Om[i])), 1e-30);
     y[2] += quad(37);
     eulervop::vop_system<quad> sys(frame.rotate(G));
-    worst = std::max(worst, chain_rule_mismatch(y, sys, [&](const vec3<quad>& e) { return frame.Omega_of(e); }, G));
+    worst = std::max(worst, vop_test::chain_rule_mismatch(y, sys, [&](const vec3<quad>& e) { return frame.Omega_of(e); }, G));
   }
   // The difference step is 1e-9 dy, and dy[2] reaches ~1e4 here (d1 down to 0.01 with the
   // secular term at u + 37): truncation up to ~1e-13 (measured 2.3e-14). A wrong term is O(1).

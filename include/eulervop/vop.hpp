@@ -262,6 +262,33 @@ class cached_modulus {
   jacobi_values<T> values_;
 };
 
+// What the two element systems share: the torque (in the vop_frame), the modulus cache, Eq. 13
+// and the torque bracket of Eq. 16.
+template <class T>
+class vop_equations : public vop_domain<T> {
+ protected:
+  explicit vop_equations(const vec3<T>& G) : G_(G), torque_free_(G[0] == 0 && G[1] == 0 && G[2] == 0) {}
+
+  // c1' = cn G1 + sn G2,  c2' = k sn G2 + dn G3                                       (Eq. 13)
+  void element_rates(const jacobi_values<T>& j, const T& k, vec3<T>& dy) const {
+    dy[0] = j.cn * G_[0] + j.sn * G_[1];
+    dy[1] = k * j.sn * G_[1] + j.dn * G_[2];
+  }
+  // - sn dn G1 + kc^2 cn dn G2 + k^3 sn cn G3 + w (cn G1 + kc^2 sn G2 - k dn G3), the torque
+  // part of the bracket of Eq. 16; w = E(u) - kc^2 u for u, Z(u) for theta.
+  T torque_bracket(const jacobi_values<T>& j, const T& k, const T& kc2, const T& w) const {
+    const T& G1 = G_[0];
+    const T& G2 = G_[1];
+    const T& G3 = G_[2];
+    return -j.sn * j.dn * G1 + kc2 * j.cn * j.dn * G2 + k * k * k * j.sn * j.cn * G3 +
+           w * (j.cn * G1 + kc2 * j.sn * G2 - k * j.dn * G3);
+  }
+
+  vec3<T> G_;
+  bool torque_free_;
+  cached_modulus<T> modulus_cache_;
+};
+
 }  // namespace detail
 
 // Right-hand side of the elements (c1, c2, u) under the torque G (given in the vop_frame):
@@ -276,44 +303,32 @@ class cached_modulus {
 // stops the fixed-step driver, and records the first tau where it happened and why. Without
 // torque, c1 = 0 is allowed (u' = c2 exactly).
 template <class T>
-class vop_system : public detail::vop_domain<T> {
+class vop_system : public detail::vop_equations<T> {
  public:
-  explicit vop_system(const vec3<T>& G)
-      : G_(G), torque_free_(G[0] == 0 && G[1] == 0 && G[2] == 0) {}
+  explicit vop_system(const vec3<T>& G) : detail::vop_equations<T>(G) {}
 
   void operator()(const vec3<T>& y, vec3<T>& dy, const T& tau) {
     const T& c1 = y[0];
     const T& c2 = y[1];
-    if (this->outside(c1, c2, tau, torque_free_, dy)) return;
-    if (torque_free_) {  // Eq. 13 and 16 with G = 0, also at c1 = 0
+    if (this->outside(c1, c2, tau, this->torque_free_, dy)) return;
+    if (this->torque_free_) {  // Eq. 13 and 16 with G = 0, also at c1 = 0
       dy = {T(0), T(0), c2};
       return;
     }
     const T k = c1 / c2;
     // kc^2 = (c2 - c1)(c2 + c1) / c2^2 keeps its digits near k = 1, unlike 1 - k^2.
     const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
-    modulus_cache_.set(k, kc2);
+    this->modulus_cache_.set(k, kc2);
     // The divisor of Eq. 16, inverted while the elliptic functions are evaluated (off the path).
     const T inv_c1_kc2 = 1 / (c1 * kc2);
-    const jacobi_values<T>& j = modulus_cache_.eval(y[2]);
-    const T& G1 = G_[0];
-    const T& G2 = G_[1];
-    const T& G3 = G_[2];
+    const jacobi_values<T>& j = this->modulus_cache_.eval(y[2]);
     const T secular = j.E - kc2 * y[2];  // E(u) - kc^2 u
     // The torque-free term k (c2^2 - c1^2) / (c1 kc^2) of Eq. 16 is exactly c2 (k = c1/c2,
     // c2^2 - c1^2 = c2^2 kc^2): written so, torque-free motion advances u by exactly c2 tau.
-    T du = c2 + (-j.sn * j.dn * G1 + kc2 * j.cn * j.dn * G2 + k * k * k * j.sn * j.cn * G3 +
-                 secular * (j.cn * G1 + kc2 * j.sn * G2 - k * j.dn * G3)) *
-                    inv_c1_kc2;
-    dy[0] = j.cn * G1 + j.sn * G2;
-    dy[1] = k * j.sn * G2 + j.dn * G3;
+    T du = c2 + this->torque_bracket(j, k, kc2, secular) * inv_c1_kc2;
+    this->element_rates(j, k, dy);
     dy[2] = std::move(du);
   }
-
- private:
-  vec3<T> G_;
-  bool torque_free_;
-  detail::cached_modulus<T> modulus_cache_;
 };
 
 // Right-hand side of the secular-free elements (c1, c2, theta), theta = pi u / (2K(k)), under the
@@ -327,41 +342,29 @@ class vop_system : public detail::vop_domain<T> {
 // [-pi, pi) and counts whole turns apart (reduce_phase). pi/(2K) is a_N, the AGM mean, and
 // torque-free motion advances theta by exactly a_N c2 per unit tau (c2 in Eq. 16, times a_N).
 template <class T>
-class vop_theta_system : public detail::vop_domain<T> {
+class vop_theta_system : public detail::vop_equations<T> {
  public:
-  explicit vop_theta_system(const vec3<T>& G)
-      : G_(G), torque_free_(G[0] == 0 && G[1] == 0 && G[2] == 0) {}
+  explicit vop_theta_system(const vec3<T>& G) : detail::vop_equations<T>(G) {}
 
   void operator()(const vec3<T>& y, vec3<T>& dy, const T& tau) {
     const T& c1 = y[0];
     const T& c2 = y[1];
-    if (this->outside(c1, c2, tau, torque_free_, dy)) return;
+    if (this->outside(c1, c2, tau, this->torque_free_, dy)) return;
     const T k = c1 / c2;
     const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
-    modulus_cache_.set(k, kc2);
-    const T& rate = modulus_cache_.pi_over_2K();
-    if (torque_free_) {
+    this->modulus_cache_.set(k, kc2);
+    const T& rate = this->modulus_cache_.pi_over_2K();
+    if (this->torque_free_) {
       dy = {T(0), T(0), rate * c2};
       return;
     }
     // The divisor of Eq. 16, inverted while the elliptic functions are evaluated (off the path).
     const T inv_c1_kc2 = 1 / (c1 * kc2);
-    const jacobi_values<T>& j = modulus_cache_.eval(T(y[2] / rate));
-    const T& G1 = G_[0];
-    const T& G2 = G_[1];
-    const T& G3 = G_[2];
-    T dtheta = rate * c2 + rate * ((-j.sn * j.dn * G1 + kc2 * j.cn * j.dn * G2 + k * k * k * j.sn * j.cn * G3 +
-                                    j.Z * (j.cn * G1 + kc2 * j.sn * G2 - k * j.dn * G3)) *
-                                   inv_c1_kc2);
-    dy[0] = j.cn * G1 + j.sn * G2;
-    dy[1] = k * j.sn * G2 + j.dn * G3;
+    const jacobi_values<T>& j = this->modulus_cache_.eval(T(y[2] / rate));
+    T dtheta = rate * c2 + rate * (this->torque_bracket(j, k, kc2, j.Z) * inv_c1_kc2);
+    this->element_rates(j, k, dy);
     dy[2] = std::move(dtheta);
   }
-
- private:
-  vec3<T> G_;
-  bool torque_free_;
-  detail::cached_modulus<T> modulus_cache_;
 };
 
 }  // namespace eulervop
