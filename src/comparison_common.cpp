@@ -115,7 +115,7 @@ std::vector<std::string> available_formulations() {
 
 std::vector<std::string> available_methods() {
   std::vector<std::string> names;
-  for (rk::method m : rk::all_methods) names.emplace_back(rk::method_name(m));
+  for (rk::method m : rk::fixed_step_methods) names.emplace_back(rk::method_name(m));
   return names;
 }
 

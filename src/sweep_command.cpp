@@ -126,7 +126,7 @@ sweep_job make_job(const sweep_options& o) {
   if (o.methods)
     job.methods = methods_of(flag_list("--methods", *o.methods), "--methods " + *o.methods, "");
   else
-    job.methods.assign(rk::all_methods.begin(), rk::all_methods.end());
+    job.methods.assign(rk::fixed_step_methods.begin(), rk::fixed_step_methods.end());
   job.steps = steps_of(s, o.steps, job.samples);
   for (formulation f : job.forms)
     for (rk::method m : job.methods)

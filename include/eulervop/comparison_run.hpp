@@ -111,11 +111,20 @@ void run_with(fixed_run& out, Sys&& sys, vec3<double> x, const normalized_proble
   const std::size_t expected = s.n_steps / std::max<std::size_t>(s.sample_every, 1) + 2;
   out.sample_steps.reserve(expected);
   out.Omega.reserve(expected);
+  // The observer runs after every step and must stay inline (an out-of-line call spills every
+  // register the step keeps): a countdown instead of step % sample_every, and the recording of a
+  // sample out of line.
+  const std::size_t every = std::max<std::size_t>(s.sample_every, 1);
+  std::size_t until_sample = 0;
+  const auto record = [&](std::size_t step, const vec3<double>& y) [[gnu::noinline]] {
+    out.sample_steps.push_back(step);
+    out.Omega.push_back(to_Omega(y));
+    until_sample = every;
+  };
   auto observer = [&](std::size_t step, double, const vec3<double>& y) {
-    if (step % s.sample_every == 0 || step == s.n_steps) {
-      out.sample_steps.push_back(step);
-      out.Omega.push_back(to_Omega(y));
-    }
+    if (until_sample == 0 || step == s.n_steps) [[unlikely]]
+      record(step, y);
+    --until_sample;
   };
   rk::fixed_step_options<double> options;
   options.max_norm = bound;
