@@ -307,7 +307,7 @@ reference_samples<T> compute_reference(const report_job& job) {
 
 // One run's errors at the sample points (nullopt: not reached, or after divergence).
 struct run_errors {
-  fixed_run run;
+  run_result run;
   std::vector<std::optional<double>> error;
   std::optional<double> max_error, final_tau, final_error;
 };
@@ -317,7 +317,7 @@ run_errors measure(const run_spec& spec, const normalized_problem<double>& probl
                    double h) {
   run_errors out;
   out.run = run_fixed(spec.form, spec.method, problem, fixed_run_settings{h, ref.n_steps, ref.sample_every});
-  const fixed_run& r = out.run;
+  const run_result& r = out.run;
   out.error.resize(ref.steps.size());
   std::size_t pos = 0;
   for (std::size_t i = 0; i < ref.steps.size(); ++i) {
@@ -364,7 +364,7 @@ nlohmann::ordered_json bands_json(const std::vector<std::pair<double, double>>& 
 
 // "separatrix band tau 14.19..15.19, small-k bands tau 0..0.52, 3.1..3.4 (120 direct Euler steps,
 // 1 regime change)": one line under the table for a run that left its elements; empty otherwise.
-std::string bands_note(const fixed_run& r) {
+std::string bands_note(const run_result& r) {
   std::vector<std::string> parts;
   auto list = [&](const char* what, const std::vector<std::pair<double, double>>& bands) {
     if (bands.empty()) return;
@@ -397,7 +397,7 @@ nlohmann::ordered_json summary_json(const report_job& job, const reference_sampl
   j["step_rule"] = job.step.rule;
   j["runs"] = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < runs.size(); ++i) {
-    const fixed_run& r = runs[i].run;
+    const run_result& r = runs[i].run;
     j["runs"].push_back({{"formulation", std::string(formulation_name(job.runs[i].form))},
                          {"method", std::string(rk::method_name(job.runs[i].method))},
                          {"step", job.step.h},
@@ -428,7 +428,7 @@ std::string table_text(const report_job& job, const reference_samples<T>& ref, c
       {"formulation", "method", "h", "steps", "rhs evals", "seconds", "max error", "final tau", "final error"}};
   std::vector<std::string> notes = {""};
   for (std::size_t i = 0; i < runs.size(); ++i) {
-    const fixed_run& r = runs[i].run;
+    const run_result& r = runs[i].run;
     rows.push_back({std::string(formulation_name(job.runs[i].form)), std::string(rk::method_name(job.runs[i].method)),
                     fmt::format("{:.6g}", job.step.h), fmt::format("{}", r.steps), fmt::format("{}", r.rhs_evals),
                     fmt::format("{:.3f}", r.seconds), optional_text(runs[i].max_error, "{:.3e}"),

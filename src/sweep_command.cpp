@@ -145,7 +145,7 @@ sweep_job make_job(const sweep_options& o) {
 // A case's outcome: the first of its timed runs (they are identical but for the time) and the
 // minimum time over all of them.
 struct case_result {
-  fixed_run run;
+  run_result run;
   double seconds = 0;
 };
 
@@ -186,7 +186,7 @@ case_result run_case(const sweep_job& job, const sweep_case& c, const normalized
   const fixed_run_settings settings{st.choice.h, st.choice.n_steps, st.sample_every};
   case_result out;
   for (int k = 0; k < job.repeat; ++k) {
-    fixed_run r = run_fixed(c.form, c.method, problem, settings);
+    run_result r = run_fixed(c.form, c.method, problem, settings);
     if (k == 0) {
       out.seconds = r.seconds;
       out.run = std::move(r);
@@ -262,7 +262,7 @@ struct case_errors {
 // Eq. 20 at the run's sample steps (computed in the calling thread: MPFR temporaries take the
 // thread's default precision).
 template <scalar T>
-case_errors errors_of(const sweep_step& st, const std::vector<vec3<T>>& ref, const fixed_run& r) {
+case_errors errors_of(const sweep_step& st, const std::vector<vec3<T>>& ref, const run_result& r) {
   case_errors out;
   if (r.diverged) return out;
   std::size_t pos = 0;
@@ -345,7 +345,7 @@ std::string sweep_csv(const sweep_job& job, const std::vector<case_result>& resu
   put("formulation,method,step,h,steps,rhs_evals,seconds,max_error,final_error,diverged,diverged_at\n");
   for (std::size_t i = 0; i < job.cases.size(); ++i) {
     const sweep_case& c = job.cases[i];
-    const fixed_run& r = results[i].run;
+    const run_result& r = results[i].run;
     put("{},{},{},{},{},{},{:.6g},{},{},{},{}\n", formulation_name(c.form), rk::method_name(c.method),
         job.steps[c.step].text, job.steps[c.step].choice.h, r.steps, r.rhs_evals, results[i].seconds,
         optional_number(errors[i].max_error), optional_number(errors[i].final_error), r.diverged ? "true" : "false",
@@ -416,7 +416,7 @@ nlohmann::ordered_json summary_json(const sweep_job& job, const sweep_reference<
   j["runs"] = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < job.cases.size(); ++i) {
     const sweep_case& c = job.cases[i];
-    const fixed_run& r = results[i].run;
+    const run_result& r = results[i].run;
     j["runs"].push_back({{"formulation", std::string(formulation_name(c.form))},
                          {"method", std::string(rk::method_name(c.method))},
                          {"step", job.steps[c.step].text},
@@ -495,7 +495,7 @@ std::string table_text(const sweep_job& job, const sweep_reference<T>& ref, cons
       {"formulation", "method", "step", "h", "steps", "rhs evals", "seconds", "max error", "final error", ""}};
   for (std::size_t i = 0; i < job.cases.size(); ++i) {
     const sweep_case& c = job.cases[i];
-    const fixed_run& r = results[i].run;
+    const run_result& r = results[i].run;
     auto sci = [](const std::optional<double>& x) { return x ? fmt::format("{:.3e}", *x) : std::string("-"); };
     rows.push_back({std::string(formulation_name(c.form)), std::string(rk::method_name(c.method)),
                     job.steps[c.step].text, fmt::format("{:.6g}", job.steps[c.step].choice.h),

@@ -171,7 +171,7 @@ TEST(VopRegimes, NegativeOmega1MirrorsThePositiveCase) {
 }
 
 // The max Eq. 20 error of a run against a quad reference.
-double max_error(const eulervop::fixed_run& r, const eulervop::dense_trajectory<quad>& ref, double h) {
+double max_error(const eulervop::run_result& r, const eulervop::dense_trajectory<quad>& ref, double h) {
   double worst = 0;
   for (std::size_t i = 0; i < r.Omega.size(); ++i) {
     for (double v : r.Omega[i]) EXPECT_TRUE(std::isfinite(v));

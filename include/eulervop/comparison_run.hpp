@@ -1,11 +1,12 @@
 // The double-precision comparison runs of the paper (Section 3): one formulation of the problem
-// integrated with one explicit Runge-Kutta method at a fixed step, sampled for the Eq. 20 error.
+// integrated with one explicit Runge-Kutta method, at a fixed step or under error control,
+// sampled for the Eq. 20 error.
 //
 // Formulations:
 //   euler      the normalized Euler equations, Eq. 5, integrated directly;
 //   vop        the paper's variation of parameters, elements (c1, c2, u), Eqs. 12-16 (vop.hpp);
 //   vop-theta  the secular-free variant, elements (c1, c2, theta), theta = pi u / (2K) kept in
-//              [-pi, pi) with whole turns counted apart (vop.hpp, DESIGN.md section 1.3).
+//              [-pi, pi) with whole turns counted apart (vop.hpp, docs/vop-strategies.md).
 //
 // Both VOP formulations run in whichever regime the state is in (k < 1 or k > 1, either sign:
 // vop_frame::for_state). Near their singularities, and only when a torque acts (without torque
@@ -17,26 +18,43 @@
 //   small k          |G| / (c1 c2) > small_k_torque_ratio: the torque terms ~ |G| / c1 of
 //                    Eq. 16 dominate the free rate c2 (c1 -> 0 is singular; k itself may be
 //                    small harmlessly, as in the paper's spin-up where c2 grows).
-// Inside, the run takes direct Euler steps with the same method and step, and leaves when the
-// state is outside twice the band (hysteresis), re-deriving the elements, in the other regime if
-// the separatrix was crossed. A VOP step whose stages leave the domain (a stage crossed k = 1 or
-// c1 = 0 within the step) is redone as a direct step from the step's start, opening a band there.
-// Each stretch of direct steps is recorded as (tau entered, tau left) in fixed_run.
+// Inside, the run takes direct Euler steps with the same method (and step, or controller), and
+// leaves when the state is outside twice the band (hysteresis), re-deriving the elements, in the
+// other regime if the separatrix was crossed. A VOP step whose stages leave the domain (a stage
+// crossed k = 1 or c1 = 0 within the step) is redone as a direct step from the step's start,
+// opening a band there. Each stretch of direct steps is recorded as (tau entered, tau left).
+//
+// Adaptive runs (run_adaptive) use the embedded pairs of adaptive_runge_kutta.hpp (rkf45, dp45,
+// dop853) with atol/rtol and a maximum step. Error measure:
+//   euler      Hairer's norm of the Omega estimate, sc_i = atol + rtol max(|Omega_i|) (before
+//              and after the step);
+//   vop        the elements' estimate in scaled elements: (dc1, dc2, c1 du) over (atol + rtol c1,
+//              atol + rtol c2, atol + rtol c1), c1 and c2 at their larger value before and after
+//              the step. c1 du bounds the displacement of Omega that a phase error du causes:
+//              |dOmega/du| = c1 sqrt(1 - k^2 sn^4) lies in [c1 kc, c1] (Eq. 12). So the three
+//              components are in units of Omega, relative to the size of the components they
+//              move (Omega1, Omega2 ~ c1, Omega3 ~ c2), as Hairer's scale is for Eq. 5. For
+//              theta, du = dtheta 2K / pi;
+//   direct stretches of the VOP runs use the Euler measure.
+// Without torque every VOP stage agrees, the estimate is exactly zero, and the run takes its
+// maximum step everywhere, exactly as the fixed-step runs stay exact to rounding.
 #pragma once
 
+#include <eulervop/adaptive_runge_kutta.hpp>
 #include <eulervop/model.hpp>
 #include <eulervop/runge_kutta.hpp>
 #include <eulervop/vop.hpp>
 
 #include <algorithm>
 #include <array>
-#include <utility>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace eulervop {
@@ -61,40 +79,65 @@ constexpr std::optional<formulation> formulation_from_name(std::string_view text
   return std::nullopt;
 }
 
-// Fixed step h, n_steps of it; the state is sampled at every step index that is a multiple of
-// sample_every, and at the last step. The thresholds apply to the VOP formulations only (see
-// the header note; the values are chosen from the measurements in docs/vop-strategies.md).
-struct fixed_run_settings {
-  double h = 0;
-  std::size_t n_steps = 0;
-  std::size_t sample_every = 1;
+// Where the VOP formulations step with Eq. 5 instead (see the header note; the values are chosen
+// from the measurements in docs/vop-strategies.md).
+struct vop_band_thresholds {
   double separatrix_band = 0.05;         // cap of the band in 1 - min(k, 1/k)
   double separatrix_torque_scale = 0.25; // the band is min(cap, this |G| / (c1 c2))
   double small_k_torque_ratio = 10;      // direct steps while |G| / (c1 c2) exceeds this
 };
 
-struct fixed_run {
+// Fixed step h, n_steps of it; the state is sampled at every step index that is a multiple of
+// sample_every, and at the last step.
+struct fixed_run_settings {
+  double h = 0;
+  std::size_t n_steps = 0;
+  std::size_t sample_every = 1;
+  vop_band_thresholds bands{};
+};
+
+// Error control to tau_end: atol, rtol (adaptive_runge_kutta.hpp), steps no longer than h_max.
+// About `samples` states are kept (every m-th accepted step, m doubling as the run grows), and
+// the last one.
+struct adaptive_run_settings {
+  double tau_end = 0;
+  double atol = 0;
+  double rtol = 0;
+  double h_max = 0;
+  std::size_t samples = 200;
+  vop_band_thresholds bands{};
+};
+
+// One run's outcome.
+struct run_result {
   formulation form = formulation::euler;
   rk::method method = rk::method::rk4;
-  std::vector<std::size_t> sample_steps;  // step indices, increasing; only those reached
-  std::vector<vec3<double>> Omega;        // the state there (for vop: converted by Eq. 12)
-  std::size_t steps = 0;                  // steps taken
+  bool adaptive = false;
+  // The samples, in time order: the step index (fixed: tau = tau0 + n h; adaptive: the accepted
+  // step's index), and for adaptive runs the time as an unevaluated sum tau_hi + tau_lo.
+  std::vector<std::size_t> sample_steps;
+  std::vector<double> sample_tau, sample_tau_lo;  // adaptive runs only
+  std::vector<vec3<double>> Omega;                // the state there (for vop: converted by Eq. 12)
+  std::size_t steps = 0;                          // accepted steps
+  std::size_t rejected = 0;                       // rejected steps (adaptive runs)
   std::size_t rhs_evals = 0;
-  double seconds = 0;                     // wall time of the integration itself
+  double seconds = 0;                             // wall time of the integration itself
   bool diverged = false;
-  std::optional<double> diverged_at;      // tau of the first bad step
-  std::string why;                        // why it diverged
+  std::optional<double> diverged_at;              // tau of the first bad step
+  std::string why;                                // why it diverged
   // VOP formulations: the stretches stepped with Eq. 5, (tau entered, tau left); a stretch still
   // open when the run stops ends at the run's last tau. Near the separatrix (min(k, 1/k) > 1/2
   // on entry), and near c1 = 0 (small k).
   std::vector<std::pair<double, double>> separatrix_bands;
   std::vector<std::pair<double, double>> small_k_bands;
-  std::size_t direct_steps = 0;           // steps taken with Eq. 5 inside those stretches
-  std::size_t regime_changes = 0;         // element re-derivations into the other regime (k <-> 1/k)
-  long long phase_turns = 0;              // vop-theta: whole turns of theta at the end
+  std::size_t direct_steps = 0;                   // steps taken with Eq. 5 inside those stretches
+  std::size_t regime_changes = 0;                 // element re-derivations into the other regime (k <-> 1/k)
+  long long phase_turns = 0;                      // vop-theta: whole turns of theta at the end
 };
 
 namespace detail {
+
+using V = vec3<double>;
 
 // Beyond this max-norm a run has "exploded": a thousand times the largest |Omega| a bounded
 // torque can produce over the span, |Omega0| + |G| tau_end (and the VOP phase u up to that times
@@ -105,8 +148,62 @@ inline double explosion_bound(const normalized_problem<double>& p, double tau_en
   return 1e3 * s * (phase ? 1 + tau_end : 1.0);
 }
 
+inline bool finite_within(const V& v, double bound) {
+  for (double c : v)
+    if (!std::isfinite(c) || std::abs(c) > bound) return false;
+  return true;
+}
+
+inline const char* divergence_reason(const V& v) {
+  return std::isfinite(v[0] + v[1] + v[2]) ? "state exploded beyond the bound" : "state became non-finite";
+}
+
+// Keeps about `target` samples of an adaptive run: every m-th accepted step, m doubling (and the
+// kept samples thinned to every other one) whenever twice the target is reached. wants(step) is
+// one comparison, so a run asks it after every step and converts a VOP state to Omega only for
+// the steps it keeps.
+class sample_thinner {
+ public:
+  sample_thinner(run_result& out, std::size_t target) : out_(out), target_(std::max<std::size_t>(target, 2)) {}
+
+  bool wants(std::size_t step) const { return step == next_; }
+
+  void put(std::size_t step, double tau, double tau_lo, const V& Omega) {
+    out_.sample_steps.push_back(step);
+    out_.sample_tau.push_back(tau);
+    out_.sample_tau_lo.push_back(tau_lo);
+    out_.Omega.push_back(Omega);
+    next_ = step + stride_;
+    if (out_.sample_steps.size() < 2 * target_) return;
+    stride_ *= 2;
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < out_.sample_steps.size(); ++i) {
+      if (out_.sample_steps[i] % stride_ != 0) continue;
+      out_.sample_steps[kept] = out_.sample_steps[i];
+      out_.sample_tau[kept] = out_.sample_tau[i];
+      out_.sample_tau_lo[kept] = out_.sample_tau_lo[i];
+      out_.Omega[kept] = out_.Omega[i];
+      ++kept;
+    }
+    out_.sample_steps.resize(kept);
+    out_.sample_tau.resize(kept);
+    out_.sample_tau_lo.resize(kept);
+    out_.Omega.resize(kept);
+    next_ = (step / stride_ + 1) * stride_;
+  }
+  // Whether the run's last state (at `step`) still needs to be put.
+  bool lacks_last(std::size_t step) const { return out_.sample_steps.empty() || out_.sample_steps.back() != step; }
+
+ private:
+  run_result& out_;
+  std::size_t target_;
+  std::size_t stride_ = 1;
+  std::size_t next_ = 0;
+};
+
+// Euler at a fixed step.
 template <class Sys, class ToOmega>
-void run_with(fixed_run& out, Sys&& sys, vec3<double> x, const normalized_problem<double>& p,
+void run_with(run_result& out, Sys&& sys, vec3<double> x, const normalized_problem<double>& p,
               const fixed_run_settings& s, double bound, ToOmega&& to_Omega) {
   const std::size_t expected = s.n_steps / std::max<std::size_t>(s.sample_every, 1) + 2;
   out.sample_steps.reserve(expected);
@@ -136,60 +233,145 @@ void run_with(fixed_run& out, Sys&& sys, vec3<double> x, const normalized_proble
   out.diverged = r.diverged;
   if (r.diverged) {
     out.diverged_at = r.diverged_at;
-    out.why = r.stop == rk::stop_reason::non_finite ? "state became non-finite"
-                                                     : "state exploded beyond the bound";
+    out.why = r.stop == rk::stop_reason::non_finite ? "state became non-finite" : "state exploded beyond the bound";
   }
 }
 
-// The VOP formulations: elements in a vop_frame while the state is away from k = 1 and k = 0,
-// direct Euler steps (Eq. 5) across those bands. One explicit_rk stepper (the same tableau and
-// compensated summation as rk::integrate_fixed) serves both, so the method and step never change.
-template <class Tableau, bool Theta>
-void run_vop(fixed_run& out, const normalized_problem<double>& p, const fixed_run_settings& s,
-             double bound) {
-  using V = vec3<double>;
+// Euler under error control.
+template <class Pair>
+void run_euler_adaptive(run_result& out, const normalized_problem<double>& p, const adaptive_run_settings& s,
+                        double bound) {
+  const V G = p.G;
+  auto sys = [G](const V& x, V& dx, double) { euler_rhs(x, G, dx); };
+  sample_thinner samples(out, s.samples);
+  std::size_t last_step = 0;
+  double last_tau = p.tau0, last_lo = 0;
+  V last_x = p.Omega0;
+  auto observer = [&](std::size_t step, double tau, double lo, const V& x) {
+    if (samples.wants(step)) [[unlikely]]
+      samples.put(step, tau, lo, x);
+    last_step = step;
+    last_tau = tau;
+    last_lo = lo;
+    last_x = x;
+  };
+  rk::adaptive_options<double> o;
+  o.atol = s.atol;
+  o.rtol = s.rtol;
+  o.h_max = s.h_max;
+  o.max_norm = bound;
+  V x = p.Omega0;
+  const auto start = std::chrono::steady_clock::now();
+  const auto r = rk::integrate_adaptive<Pair>(sys, x, p.tau0, s.tau_end, o, observer);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (samples.lacks_last(last_step)) samples.put(last_step, last_tau, last_lo, last_x);
+  out.steps = r.accepted;
+  out.rejected = r.rejected;
+  out.rhs_evals = r.rhs_evals;
+  if (r.stop != rk::adaptive_stop::completed) {
+    out.diverged = true;
+    out.diverged_at = r.failed_at ? static_cast<double>(*r.failed_at) : last_tau;
+    switch (r.stop) {
+      case rk::adaptive_stop::norm_bound: out.why = "state exploded beyond the bound"; break;
+      case rk::adaptive_stop::step_underflow: out.why = "the step size fell below the rounding of tau"; break;
+      default: out.why = "state became non-finite"; break;
+    }
+  }
+}
+
+// The state machine of a VOP run: elements in a vop_frame while the state is away from k = 1 and
+// k = 0, direct Euler steps (Eq. 5) across those bands. The drivers (fixed or adaptive) own the
+// Runge-Kutta stepping; this class owns the representation, the frame and the records.
+template <bool Theta>
+class vop_run_state {
+ public:
   using System = std::conditional_t<Theta, vop_theta_system<double>, vop_system<double>>;
-  const V& G = p.G;
-  const bool torque = G[0] != 0 || G[1] != 0 || G[2] != 0;
-  const std::size_t every = std::max<std::size_t>(s.sample_every, 1);
-  out.sample_steps.reserve(s.n_steps / every + 2);
-  out.Omega.reserve(s.n_steps / every + 2);
 
-  rk::explicit_rk<Tableau, V> stepper;
-  V zero{0, 0, 0};
-  bool elements = false;
-  vop_frame<double> frame;
-  bool have_frame = false;
-  System sys(zero);
-  V y{}, cy{}, yn{}, cyn{};  // elements (and their compensation)
-  V x{}, cx{}, xn{}, cxn{};  // Omega in the direct stretches
-  long long turns = 0;
-  bool open = false;         // a direct stretch is open
-  bool open_separatrix = true;
-  double open_at = 0;
+  vop_run_state(run_result& out, const normalized_problem<double>& p, const vop_band_thresholds& b)
+      : out_(out), b_(b), G_(p.G), sys_(zero_) {
+    torque_ = G_[0] != 0 || G_[1] != 0 || G_[2] != 0;
+    gnorm_ = std::sqrt(G_[0] * G_[0] + G_[1] * G_[1] + G_[2] * G_[2]);
+    x_ = p.Omega0;
+    if (!try_elements(p.Omega0, 1.0)) open_band(p.tau0, ratio(std::hypot(x_[0], x_[1]), std::hypot(x_[1], x_[2])));
+  }
 
-  auto ratio = [](double a, double b) {  // min(k, 1/k) from c1, c2 (or d1, d2)
+  bool in_elements() const { return elements_; }
+  bool torque() const { return torque_; }
+  // The active representation and its compensation: elements (y, cy) or Omega (x, cx).
+  V& state() { return elements_ ? y_ : x_; }
+  V& compensation() { return elements_ ? cy_ : cx_; }
+  System& system() { return sys_; }
+  const V& G() const { return G_; }
+
+  V Omega() const {
+    if (!elements_) return x_;
+    if constexpr (Theta) return frame_.Omega_of_theta(y_);
+    else return frame_.Omega_of(y_);
+  }
+
+  // A finished element step's result (candidate yn): true if it stays in the elements' domain
+  // (0 < c1 < c2, c1 = 0 allowed without torque) and no stage left it.
+  bool element_step_in_domain(const V& yn) const {
+    const bool in_domain = yn[0] < yn[1] && (yn[0] > 0 || (!torque_ && yn[0] == 0));
+    const bool finite = std::isfinite(yn[0] + yn[1] + yn[2]);
+    return !sys_.left_domain() && (!finite || in_domain);
+  }
+  // A stage, or the step's result, crossed k = 1 or c1 = 0: the caller redoes the step from the
+  // step's start at tau with Eq. 5.
+  void leave_elements(double tau) {
+    sys_.reset_domain();
+    to_direct(tau);
+  }
+
+  // After an accepted step ending at tau: phase reduction, band entry or exit. Returns true if
+  // the representation changed (a caller with FSAL must re-prime).
+  bool after_step(double tau) {
+    if (elements_) {
+      if constexpr (Theta) reduce_phase(y_[2], turns_);
+      if (in_band(y_[0], y_[1], 1.0)) {
+        to_direct(tau);
+        return true;
+      }
+      return false;
+    }
+    ++out_.direct_steps;
+    if (try_elements(x_, 2.0)) {
+      close_band(tau);
+      return true;
+    }
+    return false;
+  }
+
+  // The run ended at tau.
+  void finish(double tau) {
+    if (open_) close_band(tau);
+    out_.phase_turns = turns_;
+  }
+
+  // The phase weight of the scaled-element error measure (see the header note): c1 for u,
+  // c1 2K / pi for theta (2K / pi from the modulus the system evaluated last).
+  double phase_weight(double c1) const {
+    if constexpr (Theta) return c1 / sys_.last_pi_over_2K();
+    else return c1;
+  }
+
+ private:
+  static double ratio(double a, double b) {  // min(k, 1/k) from c1, c2 (or d1, d2)
     const double lo = std::min(a, b), hi = std::max(a, b);
     return hi > 0 ? lo / hi : 0.0;
-  };
-  const double gnorm = std::sqrt(G[0] * G[0] + G[1] * G[1] + G[2] * G[2]);
+  }
   // Inside a band (widen = 1 to enter, 2 to stay), from the integrals (either order).
-  auto in_band = [&](double a, double b, double widen) {
-    if (!torque) return false;
+  bool in_band(double a, double b, double widen) const {
+    if (!torque_) return false;
     const double ab = a * b;
     if (!(ab > 0)) return true;
-    const double q = gnorm / ab;  // |G| / (c1 c2)
+    const double q = gnorm_ / ab;  // |G| / (c1 c2)
     const double kw = ratio(a, b);
-    return 1 - kw < widen * std::min(s.separatrix_band, s.separatrix_torque_scale * q) ||
-           q * widen > s.small_k_torque_ratio;
-  };
-  auto Omega_now = [&]() -> V {
-    if (!elements) return x;
-    if constexpr (Theta) return frame.Omega_of_theta(y);
-    else return frame.Omega_of(y);
-  };
+    return 1 - kw < widen * std::min(b_.separatrix_band, b_.separatrix_torque_scale * q) ||
+           q * widen > b_.small_k_torque_ratio;
+  }
   // Into the elements from Omega, if the state is outside the bands (widened by `widen`).
-  auto try_elements = [&](const V& Om, double widen) {
+  bool try_elements(const V& Om, double widen) {
     if (in_band(std::hypot(Om[0], Om[1]), std::hypot(Om[1], Om[2]), widen)) return false;
     vop_frame<double> f;
     try {
@@ -197,122 +379,217 @@ void run_vop(fixed_run& out, const normalized_problem<double>& p, const fixed_ru
     } catch (const std::domain_error&) {
       return false;  // on the separatrix c1 = c2 exactly
     }
-    if (have_frame && f.minor_axis() != frame.minor_axis()) ++out.regime_changes;
-    have_frame = true;
-    frame = f;
-    if constexpr (Theta) y = frame.theta_elements_of(Om);
-    else y = frame.elements_of(Om);
-    cy = zero;
-    sys = System(frame.rotate(G));
-    elements = true;
+    if (have_frame_ && f.minor_axis() != frame_.minor_axis()) ++out_.regime_changes;
+    have_frame_ = true;
+    frame_ = f;
+    if constexpr (Theta) y_ = frame_.theta_elements_of(Om);
+    else y_ = frame_.elements_of(Om);
+    cy_ = zero_;
+    sys_ = System(frame_.rotate(G_));
+    elements_ = true;
     return true;
-  };
-  auto open_band = [&](double tau, double kw) {
-    const auto& list = kw > 0.5 ? out.separatrix_bands : out.small_k_bands;
-    // A stretch that opens where the last one closed continues it.
-    if (!list.empty() && list.back().second == tau && (kw > 0.5) == open_separatrix) {
-      open_at = list.back().first;
-      (kw > 0.5 ? out.separatrix_bands : out.small_k_bands).pop_back();
-    } else {
-      open_at = tau;
-    }
-    open_separatrix = kw > 0.5;
-    open = true;
-  };
-  auto close_band = [&](double tau) {
-    (open_separatrix ? out.separatrix_bands : out.small_k_bands).emplace_back(open_at, tau);
-    open = false;
-  };
-  auto to_direct = [&](double tau) {
-    x = Omega_now();
-    cx = zero;
-    open_band(tau, ratio(y[0], y[1]));
-    elements = false;
-  };
-  auto euler_sys = [&G](const V& Om, V& dOm, double) { euler_rhs(Om, G, dOm); };
-  auto finite_in = [bound](const V& v) {
-    for (double c : v)
-      if (!std::isfinite(c) || std::abs(c) > bound) return false;
-    return true;
-  };
-
-  x = p.Omega0;
-  if (!try_elements(p.Omega0, 1.0)) {
-    open_band(p.tau0, ratio(std::hypot(x[0], x[1]), std::hypot(x[1], x[2])));
   }
+  void open_band(double tau, double kw) {
+    const auto& list = kw > 0.5 ? out_.separatrix_bands : out_.small_k_bands;
+    // A stretch that opens where the last one closed continues it.
+    if (!list.empty() && list.back().second == tau && (kw > 0.5) == open_separatrix_) {
+      open_at_ = list.back().first;
+      (kw > 0.5 ? out_.separatrix_bands : out_.small_k_bands).pop_back();
+    } else {
+      open_at_ = tau;
+    }
+    open_separatrix_ = kw > 0.5;
+    open_ = true;
+  }
+  void close_band(double tau) {
+    (open_separatrix_ ? out_.separatrix_bands : out_.small_k_bands).emplace_back(open_at_, tau);
+    open_ = false;
+  }
+  void to_direct(double tau) {
+    x_ = Omega();
+    cx_ = zero_;
+    open_band(tau, ratio(y_[0], y_[1]));
+    elements_ = false;
+  }
+
+  run_result& out_;
+  vop_band_thresholds b_;
+  V G_;
+  V zero_{0, 0, 0};
+  bool torque_ = false;
+  double gnorm_ = 0;
+  bool elements_ = false;
+  vop_frame<double> frame_;
+  bool have_frame_ = false;
+  System sys_;
+  V y_{}, cy_{};  // elements (and their compensation)
+  V x_{}, cx_{};  // Omega in the direct stretches
+  long long turns_ = 0;
+  bool open_ = false;  // a direct stretch is open
+  bool open_separatrix_ = true;
+  double open_at_ = 0;
+};
+
+// The VOP formulations at a fixed step. One explicit_rk stepper (the same tableau and compensated
+// summation as rk::integrate_fixed) serves both representations, so the method and step never
+// change.
+template <class Tableau, bool Theta>
+void run_vop(run_result& out, const normalized_problem<double>& p, const fixed_run_settings& s, double bound) {
+  const std::size_t every = std::max<std::size_t>(s.sample_every, 1);
+  out.sample_steps.reserve(s.n_steps / every + 2);
+  out.Omega.reserve(s.n_steps / every + 2);
+  vop_run_state<Theta> run(out, p, s.bands);
+  rk::explicit_rk<Tableau, V> stepper;
+  const V G = p.G;
+  auto euler_sys = [G](const V& Om, V& dOm, double) { euler_rhs(Om, G, dOm); };
   out.sample_steps.push_back(0);
-  out.Omega.push_back(Omega_now());
+  out.Omega.push_back(run.Omega());
 
   const auto start = std::chrono::steady_clock::now();
   double t = p.tau0;
   std::size_t n = 0;
+  V next{}, comp_next{};
   while (n < s.n_steps) {
     const double t_next = p.tau0 + s.h * static_cast<double>(n + 1);
-    if (elements) {
-      cyn = cy;
-      stepper.do_step(sys, y, t, s.h, yn, cyn);
-      const bool finite = std::isfinite(yn[0] + yn[1] + yn[2]);
-      const bool in_domain = yn[0] < yn[1] && (yn[0] > 0 || (!torque && yn[0] == 0));
-      if (sys.left_domain() || (finite && !in_domain)) {
-        // A stage, or the step's result, crossed k = 1 or c1 = 0: redo the step directly.
-        sys.reset_domain();
-        to_direct(t);
+    comp_next = run.compensation();
+    if (run.in_elements()) {
+      stepper.do_step(run.system(), run.state(), t, s.h, next, comp_next);
+      if (!run.element_step_in_domain(next)) {
+        run.leave_elements(t);
         continue;
       }
-      if (!finite) {
-        out.diverged = true;
-        out.diverged_at = t_next;
-        out.why = "state became non-finite";
-        break;
-      }
-      if (!finite_in(yn)) {
-        out.diverged = true;
-        out.diverged_at = t_next;
-        out.why = "state exploded beyond the bound";
-        break;
-      }
-      std::swap(y, yn);
-      std::swap(cy, cyn);
-      if constexpr (Theta) reduce_phase(y[2], turns);
-      ++n;
-      t = t_next;
-      out.steps = n;
-      if (in_band(y[0], y[1], 1.0)) to_direct(t);
     } else {
-      cxn = cx;
-      stepper.do_step(euler_sys, x, t, s.h, xn, cxn);
-      if (!finite_in(xn)) {
-        out.diverged = true;
-        out.diverged_at = t_next;
-        out.why = std::isfinite(xn[0] + xn[1] + xn[2]) ? "state exploded beyond the bound"
-                                                        : "state became non-finite";
-        break;
-      }
-      std::swap(x, xn);
-      std::swap(cx, cxn);
-      ++n;
-      t = t_next;
-      out.steps = n;
-      ++out.direct_steps;
-      if (try_elements(x, 2.0)) close_band(t);
+      stepper.do_step(euler_sys, run.state(), t, s.h, next, comp_next);
     }
+    if (!finite_within(next, bound)) {
+      out.diverged = true;
+      out.diverged_at = t_next;
+      out.why = divergence_reason(next);
+      break;
+    }
+    std::swap(run.state(), next);
+    std::swap(run.compensation(), comp_next);
+    ++n;
+    t = t_next;
+    out.steps = n;
+    run.after_step(t);
     if (n % every == 0 || n == s.n_steps) {
       out.sample_steps.push_back(n);
-      out.Omega.push_back(Omega_now());
+      out.Omega.push_back(run.Omega());
     }
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.rhs_evals = stepper.rhs_evaluations();
-  if (open) close_band(t);
-  out.phase_turns = turns;
+  run.finish(t);
+}
+
+// The VOP formulations under error control: the embedded pair and the PI controller carry over
+// between the representations (the derivative is re-evaluated after a change).
+template <class Pair, bool Theta>
+void run_vop_adaptive(run_result& out, const normalized_problem<double>& p, const adaptive_run_settings& s,
+                      double bound) {
+  vop_run_state<Theta> run(out, p, s.bands);
+  rk::embedded_rk<Pair, V> stepper;
+  rk::pi_controller controller(Pair::estimate_order + 1);
+  const V G = p.G;
+  auto euler_sys = [G](const V& Om, V& dOm, double) { euler_rhs(Om, G, dOm); };
+  const rk::hairer_scale<double> omega_scale{s.atol, s.rtol};
+  auto element_scale = [&](const V& y0, const V& y1, V& sc) {
+    const double c1 = std::max(std::abs(y0[0]), std::abs(y1[0]));
+    sc[0] = s.atol + s.rtol * c1;
+    sc[1] = s.atol + s.rtol * std::max(std::abs(y0[1]), std::abs(y1[1]));
+    const double w = run.phase_weight(c1);
+    sc[2] = w > 0 ? sc[0] / w : std::numeric_limits<double>::infinity();
+  };
+  sample_thinner samples(out, s.samples);
+  double t = p.tau0, t_lo = 0;
+  samples.put(0, t, t_lo, run.Omega());
+  const auto prime = [&] {
+    if (run.in_elements()) stepper.prime(run.system(), run.state(), t);
+    else stepper.prime(euler_sys, run.state(), t);
+  };
+
+  const auto start = std::chrono::steady_clock::now();
+  std::size_t n = 0;
+  std::size_t extra = 0;
+  V next{}, comp_next{};
+  const double span = s.tau_end - p.tau0;
+  const double h_max = s.h_max > 0 ? std::min(s.h_max, span) : span;
+  prime();
+  double h = run.in_elements()
+                 ? rk::initial_step<Pair>(run.system(), run.state(), t, stepper.derivative(), h_max, element_scale, extra)
+                 : rk::initial_step<Pair>(euler_sys, run.state(), t, stepper.derivative(), h_max, omega_scale, extra);
+  while (span > 0) {
+    const double left = (s.tau_end - t) - t_lo;
+    if (!(left > 0)) break;
+    const bool last = h >= left;
+    const double h_try = last ? left : h;
+    if (!(h_try > 16 * std::numeric_limits<double>::epsilon() * std::abs(t)) || !std::isfinite(h_try)) {
+      out.diverged = true;
+      out.diverged_at = t;
+      out.why = std::isfinite(h_try) ? "the step size fell below the rounding of tau" : "state became non-finite";
+      break;
+    }
+    comp_next = run.compensation();
+    double err = 0;
+    if (run.in_elements()) {
+      err = stepper.attempt(run.system(), run.state(), t, h_try, next, run.compensation(), comp_next, element_scale);
+      if (!run.element_step_in_domain(next)) {
+        run.leave_elements(t);
+        controller.reset();
+        prime();
+        continue;
+      }
+    } else {
+      err = stepper.attempt(euler_sys, run.state(), t, h_try, next, run.compensation(), comp_next, omega_scale);
+    }
+    const bool finite = std::isfinite(next[0] + next[1] + next[2]);
+    if (!(err <= 1) || !finite) {
+      ++out.rejected;
+      h = h_try * controller.rejected(finite ? err : std::numeric_limits<double>::infinity());
+      continue;
+    }
+    if (!finite_within(next, bound)) {
+      out.diverged = true;
+      out.diverged_at = t + h_try;
+      out.why = divergence_reason(next);
+      break;
+    }
+    std::swap(run.state(), next);
+    std::swap(run.compensation(), comp_next);
+    if (last) {
+      t = s.tau_end;
+      t_lo = 0;
+    } else {
+      rk::detail::advance_time(t, t_lo, h_try);
+    }
+    ++n;
+    out.steps = n;
+    h = std::min(h_try * controller.accepted(err), h_max);
+    const bool was_elements = run.in_elements();
+    if (run.after_step(t)) {
+      controller.reset();
+      prime();
+    } else if (was_elements) {
+      stepper.accept(run.system(), run.state(), t);
+    } else {
+      stepper.accept(euler_sys, run.state(), t);
+    }
+    if (samples.wants(n)) samples.put(n, t, t_lo, run.Omega());
+    if (last) break;
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (samples.lacks_last(n)) samples.put(n, t, t_lo, run.Omega());
+  out.rhs_evals = stepper.rhs_evaluations() + extra;
+  run.finish(t);
 }
 
 }  // namespace detail
 
 // Integrates the problem with formulation `f` and method `m` at fixed step in double.
-inline fixed_run run_fixed(formulation f, rk::method m, const normalized_problem<double>& p,
-                           const fixed_run_settings& s) {
-  fixed_run out;
+inline run_result run_fixed(formulation f, rk::method m, const normalized_problem<double>& p,
+                            const fixed_run_settings& s) {
+  run_result out;
   out.form = f;
   out.method = m;
   const double tau_end = p.tau0 + s.h * static_cast<double>(s.n_steps);
@@ -335,6 +612,26 @@ inline fixed_run run_fixed(formulation f, rk::method m, const normalized_problem
       break;
     }
   }
+  return out;
+}
+
+// Integrates the problem with formulation `f` under error control with the embedded pair of `m`
+// (rkf45, dp45 or dop853; std::invalid_argument otherwise), from tau0 to s.tau_end.
+inline run_result run_adaptive(formulation f, rk::method m, const normalized_problem<double>& p,
+                               const adaptive_run_settings& s) {
+  run_result out;
+  out.form = f;
+  out.method = m;
+  out.adaptive = true;
+  const double bound = detail::explosion_bound(p, s.tau_end, f == formulation::vop);
+  rk::dispatch_pair(m, [&](auto pair) {
+    using Pair = decltype(pair);
+    switch (f) {
+      case formulation::euler: detail::run_euler_adaptive<Pair>(out, p, s, bound); break;
+      case formulation::vop: detail::run_vop_adaptive<Pair, false>(out, p, s, bound); break;
+      case formulation::vop_theta: detail::run_vop_adaptive<Pair, true>(out, p, s, bound); break;
+    }
+  });
   return out;
 }
 

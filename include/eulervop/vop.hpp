@@ -266,6 +266,10 @@ class cached_modulus {
 // and the torque bracket of Eq. 16.
 template <class T>
 class vop_equations : public vop_domain<T> {
+ public:
+  // pi / (2K) of the modulus of the last evaluation (the adaptive runs' error weight).
+  const T& last_pi_over_2K() const { return modulus_cache_.pi_over_2K(); }
+
  protected:
   explicit vop_equations(const vec3<T>& G) : G_(G), torque_free_(G[0] == 0 && G[1] == 0 && G[2] == 0) {}
 
