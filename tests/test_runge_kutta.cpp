@@ -281,6 +281,21 @@ TYPED_TEST(RungeKuttaCoefficients, RowSumsAndWeightSumInEveryPrecision) {
   });
 }
 
+// The non-zero pattern the unrolled stage loop relies on (zeros are skipped at compile time)
+// matches the coefficients, in every precision.
+TYPED_TEST(RungeKuttaCoefficients, SparsityPatternMatchesTheCoefficients) {
+  using Tab = TypeParam;
+  for_each_scalar([](auto zero) {
+    using T = decltype(zero);
+    const auto tab = Tab::template coefficients<T>();
+    for (std::size_t i = 0; i < Tab::stages; ++i) {
+      for (std::size_t j = 0; j < Tab::stages; ++j)
+        EXPECT_EQ(tab.a[i][j] != 0, Tab::nonzero.a[i][j]) << Tab::name << " a(" << i << "," << j << ")";
+      EXPECT_EQ(tab.b[i] != 0, Tab::nonzero.b[i]) << Tab::name << " b" << i;
+    }
+  });
+}
+
 TYPED_TEST(RungeKuttaCoefficients, NameOrderStagesAndDispatch) {
   using Tab = TypeParam;
   EXPECT_EQ(rk::method_from_name(Tab::name), Tab::id);
