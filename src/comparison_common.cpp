@@ -45,9 +45,8 @@ step_spec parse_step_text(const std::string& text, const std::string& flag) {
 
 step_spec parse_step_flag(const std::string& text) { return parse_step_text(text, "--step"); }
 
-fixed_step_choice resolve_step(const scene& s, const step_spec& spec, const std::string& origin) {
+fixed_step_choice step_length(const scene& s, const step_spec& spec, const std::string& origin) {
   fixed_step_choice out;
-  const double tau_span = tau_end_of<double>(s);
   if (spec.K_divisor) {
     const auto N = static_cast<double>(*spec.K_divisor);
     const vec3<double> Om = to_problem<double>(s).Omega0;
@@ -66,7 +65,7 @@ fixed_step_choice resolve_step(const scene& s, const step_spec& spec, const std:
       out.rule = fmt::format("h = K(k0)/({} c2) = {} with k0 = c1/c2 = {}, K = {}, c2 = {}", *spec.K_divisor, out.h,
                              k0, K, c2);
     } else {
-      // Rotation near the minor axis: the period is set by the reciprocal modulus (DESIGN.md 1.2).
+      // Rotation near the minor axis: the period is set by the reciprocal modulus (docs/vop-strategies.md).
       const double k0 = c1 / c2;  // may be inf when c2 = 0
       const double K = elliptic_modulus<double>(c2 / c1).K();
       out.h = K / (N * c1);
@@ -87,6 +86,12 @@ fixed_step_choice resolve_step(const scene& s, const step_spec& spec, const std:
   }
   if (!(out.h > 0) || !std::isfinite(out.h))
     throw input_error(fmt::format("{}: the step h = {} in tau is not a positive finite number", origin, out.h));
+  return out;
+}
+
+fixed_step_choice resolve_step(const scene& s, const step_spec& spec, const std::string& origin) {
+  fixed_step_choice out = step_length(s, spec, origin);
+  const double tau_span = tau_end_of<double>(s);
   const double n = std::floor(tau_span / out.h + 1e-9);
   constexpr double max_steps = 2e9;
   if (n < 1)
@@ -192,6 +197,8 @@ void write_atomically(const fs::path& path, const std::string& text) {
 nlohmann::ordered_json number_or_null(const std::optional<double>& x) {
   return x ? nlohmann::ordered_json(*x) : nlohmann::ordered_json(nullptr);
 }
+
+std::string csv_number(const std::optional<double>& x) { return x ? fmt::format("{}", *x) : std::string(); }
 
 // ---- the figure ------------------------------------------------------------------------------------
 

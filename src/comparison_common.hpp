@@ -34,6 +34,8 @@ struct fixed_step_choice {
 // K(1/k0) / (N c1_0); a number: h in the scene's time variable, converted to tau). `origin`
 // names where the step came from ("--step K/0", "[run] step") in messages.
 fixed_step_choice resolve_step(const scene& s, const step_spec& spec, const std::string& origin);
+// The same length alone (n_steps stays 0): for a maximum step, which may exceed the span.
+fixed_step_choice step_length(const scene& s, const step_spec& spec, const std::string& origin);
 
 // Parses step text: "K/N" (whole N >= 1) or a positive number; input_error "FLAG TEXT: why".
 step_spec parse_step_text(const std::string& text, const std::string& flag);
@@ -89,6 +91,8 @@ class output_dir {
 void write_atomically(const std::filesystem::path& path, const std::string& text);
 
 nlohmann::ordered_json number_or_null(const std::optional<double>& x);
+// A CSV cell: the shortest round-trip text of x, or empty.
+std::string csv_number(const std::optional<double>& x);
 
 // Runs tools/<script> DIR (python3 on PATH, then /usr/bin/python3). Never fails the command: a
 // missing python3 or matplotlib (the script exits with 4) is one line on stderr saying how to

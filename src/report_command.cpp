@@ -6,6 +6,9 @@
 #include "input_error.hpp"
 #include "reference_compute.hpp"
 #include "scene_problem.hpp"
+#include "text_table.hpp"
+#include "with_scalar.hpp"
+#include "work_precision.hpp"
 
 #include <eulervop/chebyshev_picard.hpp>
 #include <eulervop/comparison_run.hpp>
@@ -41,6 +44,7 @@ namespace {
 struct run_spec {
   formulation form;
   rk::method method;
+  std::optional<std::size_t> tol;  // adaptive: index into the job's tolerances
   std::string column() const { return fmt::format("{}_{}", formulation_name(form), rk::method_name(method)); }
 };
 
@@ -57,6 +61,9 @@ struct report_job {
   scene scn;
   std::string overrides;
   fixed_step_choice step;
+  std::vector<ladder_tol> tols;  // adaptive runs (--tols) instead of the fixed step
+  double h_max = 0;
+  std::string h_max_rule;
   std::vector<run_spec> runs;
   std::size_t samples = 0;
   eulervop::precision precision;  // of a computed reference
@@ -69,6 +76,8 @@ struct report_job {
 };
 
 constexpr std::int64_t default_K_divisor = 200;
+// The methods of `report --tols` without --methods: the paper's Fehlberg pair and DOP853.
+const std::vector<rk::method> default_adaptive_methods = {rk::method::rkf45, rk::method::dop853};
 constexpr std::int64_t default_samples = 2000;
 
 std::string read_text_file(const std::string& flag, const std::string& path) {
@@ -145,8 +154,26 @@ report_job make_job(const report_options& o) {
   job.verify = o.verify;
   job.samples = static_cast<std::size_t>(*s.samples);
 
-  // Step: --step, else [run] step, else K/200.
-  if (o.step) {
+  // Fixed step: --step, else [run] step, else K/200. Or error control: --tols (with no step).
+  if (o.tols) {
+    if (o.step)
+      throw input_error(fmt::format("--tols {} and --step {}: a report runs either at one fixed step or under error "
+                                    "control; give one of them",
+                                    *o.tols, *o.step));
+    for (const auto& [flag, given] : {std::pair{"--reference", o.reference_file.has_value()}, std::pair{"--verify", o.verify}})
+      if (given)
+        throw input_error(fmt::format("{}: not used with --tols (the adaptive runs are measured at their own step points "
+                                      "against the reference computed here)",
+                                      flag));
+    job.tols = tol_ladder("--tols", *o.tols);
+    wp_grid bounds;
+    bounds.scn = s;
+    resolve_max_step(bounds, o.max_step);
+    job.h_max = bounds.h_max;
+    job.h_max_rule = bounds.h_max_rule;
+  } else if (o.max_step) {
+    throw input_error(fmt::format("--max-step {}: only for the adaptive runs of --tols", *o.max_step));
+  } else if (o.step) {
     job.step = resolve_step(s, parse_step_flag(*o.step), "--step " + *o.step);
   } else if (s.step) {
     job.step = resolve_step(s, *s.step, "[run] step (override with --step)");
@@ -156,7 +183,7 @@ report_job make_job(const report_options& o) {
     job.step = resolve_step(s, spec, fmt::format("the default step K/{} (give --step)", default_K_divisor));
   }
 
-  // Formulations x methods.
+  // Formulations x methods (x tolerances).
   std::vector<formulation> forms;
   if (o.formulations)
     forms = formulations_of(flag_list("--formulations", *o.formulations), "--formulations " + *o.formulations, "");
@@ -165,16 +192,24 @@ report_job make_job(const report_options& o) {
   else
     forms = {formulation::euler, formulation::vop};
   std::vector<rk::method> methods;
-  if (o.methods)
+  if (o.methods) {
     methods = methods_of(flag_list("--methods", *o.methods), "--methods " + *o.methods, "");
-  else if (!s.methods.empty())
+    check_methods_for_ladders(methods, job.tols.empty(), !job.tols.empty(), "--methods " + *o.methods);
+  } else if (!job.tols.empty()) {
+    methods = default_adaptive_methods;
+  } else if (!s.methods.empty()) {
     methods = methods_of(s.methods, "[run] methods", "; override with --methods");
-  else
+    check_methods_for_ladders(methods, true, false, "[run] methods");
+  } else {
     methods = {rk::method::rk4, rk::method::rkf45};
+  }
   for (formulation f : forms)
-    for (rk::method m : methods) job.runs.push_back({f, m});
+    for (rk::method m : methods) {
+      if (job.tols.empty()) job.runs.push_back({f, m});
+      for (std::size_t t = 0; t < job.tols.size(); ++t) job.runs.push_back({f, m, t});
+    }
 
-  probe_formulations(forms, to_problem<double>(s), job.step.h);
+  probe_formulations(forms, to_problem<double>(s), job.tols.empty() ? job.step.h : std::min(job.h_max, tau_end_of<double>(s)));
 
   if (o.reference_file) job.file = read_reference_metadata(*o.reference_file, s);
 
@@ -189,6 +224,12 @@ report_job make_job(const report_options& o) {
 }
 
 // ---- the computation ---------------------------------------------------------------------------
+
+// What the summary says of a reference computed here.
+struct dense_reference_info {
+  double seconds = 0;
+  std::size_t segments = 0;
+};
 
 // The reference at the error sample points, in T.
 template <scalar T>
@@ -401,7 +442,10 @@ nlohmann::ordered_json summary_json(const report_job& job, const reference_sampl
     j["runs"].push_back({{"formulation", std::string(formulation_name(job.runs[i].form))},
                          {"method", std::string(rk::method_name(job.runs[i].method))},
                          {"step", job.step.h},
+                         {"tol", nullptr},
                          {"steps", r.steps},
+                         {"accepted", nullptr},
+                         {"rejected", nullptr},
                          {"rhs_evals", r.rhs_evals},
                          {"seconds", r.seconds},
                          {"max_error", number_or_null(runs[i].max_error)},
@@ -472,8 +516,147 @@ std::string table_text(const report_job& job, const reference_samples<T>& ref, c
   return fmt::to_string(out);
 }
 
+// ---- the adaptive report (--tols) ------------------------------------------------------------------
+
+struct adaptive_report_run {
+  run_result run;
+  std::vector<std::optional<double>> error;  // per sample of the run
+  std::optional<double> max_error, final_tau, final_error;
+};
+
+std::string run_label(const report_job& job, const run_spec& spec) {
+  return fmt::format("{} {} tol {}", formulation_name(spec.form), rk::method_name(spec.method), job.tols[*spec.tol].text);
+}
+
+nlohmann::ordered_json adaptive_summary(const report_job& job, const dense_reference_info& ref,
+                                        const std::vector<adaptive_report_run>& runs) {
+  nlohmann::ordered_json j;
+  j["scene"] = job.scn.name;
+  j["reference"] = {{"precision", job.precision.name()},
+                    {"estimated_max_error", nullptr},
+                    {"source", "computed"},
+                    {"seconds", ref.seconds},
+                    {"segments", ref.segments}};
+  j["max_step"] = {{"h", job.h_max}, {"rule", job.h_max_rule}};
+  j["runs"] = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const run_result& r = runs[i].run;
+    const run_spec& spec = job.runs[i];
+    j["runs"].push_back({{"formulation", std::string(formulation_name(spec.form))},
+                         {"method", std::string(rk::method_name(spec.method))},
+                         {"step", nullptr},
+                         {"tol", job.tols[*spec.tol].value},
+                         {"steps", r.steps},
+                         {"accepted", r.steps},
+                         {"rejected", r.rejected},
+                         {"rhs_evals", r.rhs_evals},
+                         {"seconds", r.seconds},
+                         {"max_error", number_or_null(runs[i].max_error)},
+                         {"final_tau", number_or_null(runs[i].final_tau)},
+                         {"final_error", number_or_null(runs[i].final_error)},
+                         {"diverged", r.diverged},
+                         {"diverged_at", r.diverged ? number_or_null(r.diverged_at) : nlohmann::ordered_json(nullptr)},
+                         {"why", r.diverged ? nlohmann::ordered_json(r.why) : nlohmann::ordered_json(nullptr)},
+                         {"separatrix_bands", bands_json(r.separatrix_bands)},
+                         {"small_k_bands", bands_json(r.small_k_bands)},
+                         {"direct_steps", r.direct_steps},
+                         {"regime_changes", r.regime_changes}});
+  }
+  return j;
+}
+
+// errors.csv of an adaptive report: one row per sample of each run (the runs' step points differ).
+std::string adaptive_errors_csv(const report_job& job, const std::vector<adaptive_report_run>& runs) {
+  fmt::memory_buffer out;
+  fmt::format_to(std::back_inserter(out), "formulation,method,tol,tau,error\n");
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const run_spec& spec = job.runs[i];
+    const run_result& r = runs[i].run;
+    for (std::size_t k = 0; k < r.Omega.size(); ++k) {
+      if (!runs[i].error[k]) continue;
+      fmt::format_to(std::back_inserter(out), "{},{},{},{},{}\n", formulation_name(spec.form), rk::method_name(spec.method),
+                     job.tols[*spec.tol].value, r.sample_tau[k], *runs[i].error[k]);
+    }
+  }
+  return fmt::to_string(out);
+}
+
+std::string adaptive_table(const report_job& job, const dense_reference_info& ref,
+                           const std::vector<adaptive_report_run>& runs) {
+  std::string out;
+  out += fmt::format("scene {}{}: to tau = {:.6g} under error control (atol = rtol = tol)\n", job.scn.name,
+                     job.overrides.empty() ? "" : " (" + job.overrides + ")", tau_end_of<double>(job.scn));
+  out += fmt::format("maximum step: {}\n", job.h_max_rule);
+  out += fmt::format("reference: {} (computed, {:.1f} s)\n", job.precision.name(), ref.seconds);
+  out += fmt::format("error samples: about {} per run, at its accepted steps\n\n", job.samples);
+  std::vector<std::vector<std::string>> rows = {{"formulation", "method", "tol", "steps", "rejected", "rhs evals",
+                                                 "seconds", "max error", "final tau", "final error", ""}};
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const run_result& r = runs[i].run;
+    const run_spec& spec = job.runs[i];
+    rows.push_back({std::string(formulation_name(spec.form)), std::string(rk::method_name(spec.method)),
+                    job.tols[*spec.tol].text, fmt::format("{}", r.steps), fmt::format("{}", r.rejected),
+                    fmt::format("{}", r.rhs_evals), fmt::format("{:.3f}", r.seconds),
+                    optional_text(runs[i].max_error, "{:.3e}"), optional_text(runs[i].final_tau, "{:.6g}"),
+                    optional_text(runs[i].final_error, "{:.3e}"),
+                    r.diverged ? fmt::format("diverged at tau={} ({})", optional_text(r.diverged_at, "{:.6g}"), r.why)
+                               : ""});
+  }
+  out += aligned_table(rows, 2);
+  bool first_note = true;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const std::string note = bands_note(runs[i].run);
+    if (note.empty()) continue;
+    if (first_note) out += "\n";
+    first_note = false;
+    out += fmt::format("{}: {}\n", run_label(job, job.runs[i]), note);
+  }
+  return out;
+}
+
+template <scalar T>
+void execute_adaptive(const report_job& job, std::ostream& standard_output) {
+  output_dir dir(job.out_dir, "errors.csv");
+  const T tau_end = tau_end_of<T>(job.scn);
+  const dense_reference<T> ref = integrate_dense<T>(to_problem<T>(job.scn), tau_end, job.settings, "reference");
+  const dense_reference_info info{ref.wall_seconds, ref.stats.segments};
+  const normalized_problem<double> problem = to_problem<double>(job.scn);
+  std::vector<adaptive_report_run> runs;
+  for (const run_spec& spec : job.runs) {
+    adaptive_run_settings s;
+    s.tau_end = static_cast<double>(tau_end);
+    s.atol = s.rtol = job.tols[*spec.tol].value;
+    s.h_max = job.h_max;
+    s.samples = job.samples;
+    adaptive_report_run a;
+    a.run = run_adaptive(spec.form, spec.method, problem, s);
+    const run_result& r = a.run;
+    a.error.resize(r.Omega.size());
+    for (std::size_t k = 0; k < r.Omega.size(); ++k) {
+      const double e = static_cast<double>(eq20_error(sample_dense(ref.trajectory, T(r.sample_tau[k]) + T(r.sample_tau_lo[k])), r.Omega[k]));
+      if (!std::isfinite(e)) continue;  // never a NaN as an error value
+      a.error[k] = e;
+      a.max_error = std::max(a.max_error.value_or(0.0), e);
+      a.final_tau = r.sample_tau[k];
+      a.final_error = e;
+    }
+    runs.push_back(std::move(a));
+  }
+  const std::string summary = adaptive_summary(job, info, runs).dump(2) + "\n";
+  write_atomically(dir.path() / "errors.csv", adaptive_errors_csv(job, runs));
+  write_atomically(dir.path() / "summary.json", summary);
+  dir.keep();
+  if (job.json)
+    standard_output << summary;
+  else
+    standard_output << adaptive_table(job, info, runs);
+  standard_output << std::flush;
+  if (job.plot) draw_figure(dir.path(), "plot_fig1.py");
+}
+
 template <scalar T>
 void execute(const report_job& job, std::ostream& standard_output) {
+  if (!job.tols.empty()) return execute_adaptive<T>(job, standard_output);
   // Everything that can be bad input is checked before the directory is touched.
   std::optional<reference_samples<T>> from_file;
   if (job.file) from_file = load_reference_file<T>(job);
@@ -501,7 +684,7 @@ void execute(const report_job& job, std::ostream& standard_output) {
 
 CLI::App* add_report_command(CLI::App& app, report_options& o) {
   CLI::App* sub = app.add_subcommand(
-      "report", "Run Euler and VOP in double at a fixed step; Eq. 20 errors, summary and Fig. 1");
+      "report", "Run Euler and VOP in double at a fixed step or under error control; Eq. 20 errors, summary and Fig. 1");
   auto bind = [&](const std::string& name, std::optional<std::string>& target, const std::string& help) {
     return sub->add_option_function<std::string>(name, [&target](const std::string& v) { target = v; }, help);
   };
@@ -510,7 +693,12 @@ CLI::App* add_report_command(CLI::App& app, report_options& o) {
       ->type_name("FILE");
   bind("--step", o.step, "Fixed step: K/N (K of the initial modulus) or h (default: [run] step, else K/200)")
       ->type_name("S");
-  bind("--methods", o.methods, "Comma-separated: rk4,rkf45,dp45,rk8 (default: [run] methods, else rk4,rkf45)")
+  bind("--tols", o.tols, "Instead of a fixed step: comma-separated tolerances (atol = rtol) of adaptive runs")
+      ->type_name("LIST");
+  bind("--max-step", o.max_step, "Largest step of the adaptive runs: K/N or h (default: K/2)")->type_name("S");
+  bind("--methods", o.methods,
+       "Comma-separated: rk4,rkf45,dp45,rk8; with --tols rkf45,dp45,dop853 (default: [run] methods, else rk4,rkf45; "
+       "with --tols rkf45,dop853)")
       ->type_name("LIST");
   bind("--formulations", o.formulations, "Comma-separated: euler,vop (default: [run] formulations, else euler,vop)")
       ->type_name("LIST");
@@ -527,15 +715,7 @@ CLI::App* add_report_command(CLI::App& app, report_options& o) {
 void run_report(const report_options& options, std::ostream& standard_output) {
   const report_job job = make_job(options);
   const eulervop::precision p = job.file ? job.file->precision : job.precision;
-  switch (p.type) {
-    case eulervop::precision::kind::binary64: return execute<double>(job, standard_output);
-    case eulervop::precision::kind::binary128: return execute<quad>(job, standard_output);
-    case eulervop::precision::kind::mpfr: {
-      const mpfr_precision_scope scope(p.bits);
-      return execute<mpfr_real>(job, standard_output);
-    }
-  }
-  throw std::logic_error("unknown precision kind");
+  with_scalar(p, [&](auto zero) { execute<decltype(zero)>(job, standard_output); });
 }
 
 }  // namespace eulervop::app

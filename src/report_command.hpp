@@ -1,5 +1,6 @@
-// `eulervop report [SCENE] [options]`: the double-precision Euler and VOP runs at a fixed step,
-// their Eq. 20 errors against the reference, and the paper's Fig. 1 (issue 3, section 4).
+// `eulervop report [SCENE] [options]`: the double-precision Euler and VOP runs at a fixed step
+// (or under error control with --tols), their Eq. 20 errors against the reference, and the
+// paper's Fig. 1.
 #pragma once
 
 #include "comparison_common.hpp"
@@ -21,6 +22,8 @@ struct report_options {
   scene_override_flags overrides;             // --tau-end/--t-end, --samples, --precision, --degree, --tolerance
   std::optional<std::string> reference_file;  // --reference FILE (a CSV of `eulervop reference`)
   std::optional<std::string> step;            // "K/N" or a number
+  std::optional<std::string> tols;            // "1e-6,1e-8": adaptive runs instead of the fixed step
+  std::optional<std::string> max_step;        // their largest step
   std::optional<std::string> methods;         // "rk4,rkf45"
   std::optional<std::string> formulations;    // "euler,vop"
   std::optional<std::string> out_dir;         // default ./eulervop-report/

@@ -6,6 +6,7 @@
 #include <fmt/ranges.h>
 
 #include <charconv>
+#include <cmath>
 
 namespace eulervop::app {
 
@@ -41,6 +42,29 @@ std::vector<std::string> flag_list(std::string_view flag, const std::string& tex
     begin = comma + 1;
   }
   return items;
+}
+
+std::vector<decimal> flag_ladder(std::string_view flag, const std::string& text) {
+  std::vector<decimal> out;
+  for (const std::string& item : flag_list(flag, text)) {
+    const auto parsed = parse_decimal(item);
+    if (!parsed.number)
+      throw input_error(fmt::format("{} {}: \"{}\" is {}", flag, text, item,
+                                    parsed.problem == decimal_problem::not_a_number ? "not a number"
+                                                                                    : describe(parsed.problem)));
+    if (!(parsed.number->value > 0) || !std::isfinite(parsed.number->value))
+      throw input_error(fmt::format("{} {}: {} is not a positive finite number", flag, text, item));
+    out.push_back(*parsed.number);
+  }
+  if (out.size() >= 2) {
+    const bool up = out[1].value > out[0].value;
+    for (std::size_t i = 1; i < out.size(); ++i)
+      if (up ? !(out[i].value > out[i - 1].value) : !(out[i].value < out[i - 1].value))
+        throw input_error(fmt::format("{} {}: not sorted at {} (give the values in increasing or decreasing order, "
+                                      "each once)",
+                                      flag, text, out[i].text));
+  }
+  return out;
 }
 
 namespace {

@@ -63,5 +63,8 @@ decimal positive_flag_number(std::string_view flag, const std::string& text);
 std::int64_t flag_integer(std::string_view flag, const std::string& text, std::int64_t lo, std::int64_t hi);
 // "a,b,c": the items, none empty (input_error naming the flag otherwise).
 std::vector<std::string> flag_list(std::string_view flag, const std::string& text);
+// "1e-4,1e-6,1e-8": positive finite numbers, strictly increasing or strictly decreasing (a
+// ladder); input_error naming the flag and the offending item otherwise.
+std::vector<decimal> flag_ladder(std::string_view flag, const std::string& text);
 
 }  // namespace eulervop::app

@@ -1,8 +1,9 @@
-// `eulervop sweep [SCENE] [options]`: work against precision (issue 4, section 1). Every
-// formulation x method x fixed step of a geometric ladder, each run timed (the minimum of
-// --repeat runs) and measured (Eq. 20, max over samples and final) against one reference;
-// sweep.csv, the cheapest configuration per formulation at error levels 1e-4 ... 1e-12
-// (cheapest.csv and a table), summary.json and the work-precision figure.
+// `eulervop sweep [SCENE] [options]`: work against precision. Every formulation x method x fixed
+// step of a geometric ladder, and x tolerance of a ladder for the methods with an embedded pair
+// (work_precision.hpp), each run timed (the minimum of --repeat runs) and measured (Eq. 20, max
+// over samples and final) against one reference; sweep.csv, the cheapest configuration per
+// formulation at error levels 1e-4 ... 1e-12 (cheapest.csv and a table), summary.json and the
+// work-precision figure.
 #pragma once
 
 #include "comparison_common.hpp"
@@ -22,6 +23,8 @@ struct sweep_options {
   std::optional<std::string> scene_path;    // none: the embedded default scene
   scene_override_flags overrides;           // --tau-end/--t-end, --samples, --precision, --degree, --tolerance
   std::optional<std::string> steps;         // "K/25,K/100,0.01"
+  std::optional<std::string> tols;          // "1e-6,1e-8": adaptive runs
+  std::optional<std::string> max_step;      // their largest step, "K/N" or h
   std::optional<std::string> methods;       // "rk4,rk8"
   std::optional<std::string> formulations;  // "euler,vop"
   std::optional<std::string> repeat;        // timed runs per case (the minimum is kept)

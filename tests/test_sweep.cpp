@@ -64,9 +64,9 @@ TEST(Sweep, TinySweepWritesTheGrid) {
   EXPECT_TRUE(r.err.empty()) << r.err;
 
   const csv_table t = read_csv(dir.path() / "out" / "sweep.csv");
-  const std::vector<std::string> columns = {"formulation", "method",    "step",     "h",
-                                            "steps",       "rhs_evals", "seconds",  "max_error",
-                                            "final_error", "diverged",  "diverged_at"};
+  const std::vector<std::string> columns = {"formulation", "method",    "step",      "h",         "tol",
+                                            "steps",       "accepted",  "rejected",  "rhs_evals", "seconds",
+                                            "max_error",   "final_error", "diverged", "diverged_at"};
   EXPECT_EQ(t.header, columns);
   const std::size_t formulations = eulervop::all_formulations.size();
   ASSERT_EQ(t.rows.size(), formulations * 1 * 2);  // formulations x methods x steps
@@ -80,6 +80,10 @@ TEST(Sweep, TinySweepWritesTheGrid) {
       EXPECT_LE(std::stod(row.at("final_error")), std::stod(row.at("max_error")));
       EXPECT_GT(std::stod(row.at("seconds")), 0);
       EXPECT_EQ(std::stoul(row.at("rhs_evals")), 4 * std::stoul(row.at("steps")));  // rk4: 4 stages
+      // Fixed-step rows leave the adaptive columns empty.
+      EXPECT_TRUE(row.at("tol").empty());
+      EXPECT_TRUE(row.at("accepted").empty());
+      EXPECT_TRUE(row.at("rejected").empty());
     }
     // Output order: formulation-major, then method, then the steps as given.
     EXPECT_EQ(t.rows[2 * f].at("formulation"), name);
@@ -119,6 +123,71 @@ TEST(Sweep, ErrorColumnsIdenticalWithTwoJobs) {
       EXPECT_EQ(a.rows[i].at(c), b.rows[i].at(c)) << "row " << i << " column " << c;
   EXPECT_EQ(one.out.find("in parallel"), std::string::npos) << one.out;
   EXPECT_NE(two.out.find("timings were taken in parallel and are less pure"), std::string::npos) << two.out;
+}
+
+// --tols alone: adaptive runs only, with their tolerance, accepted and rejected steps and
+// evaluations; the errors fall with the tolerance; the cheapest table takes them in.
+TEST(Sweep, ToleranceLadderGivesAdaptiveRows) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"sweep", "--tau-end", "20", "--tols", "1e-5,1e-7,1e-9", "--methods",
+                                        "dp45,dop853", "--repeat", "1", "--no-plot", "--out-dir", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const csv_table t = read_csv(dir.path() / "out" / "sweep.csv");
+  ASSERT_EQ(t.rows.size(), eulervop::all_formulations.size() * 2 * 3);
+  for (const auto& form : eulervop::all_formulations) {
+    for (const std::string method : {"dp45", "dop853"}) {
+      double previous = 1e300;
+      for (const std::string tol : {"1e-05", "1e-07", "1e-09"}) {
+        const auto it = std::find_if(t.rows.begin(), t.rows.end(), [&](const auto& row) {
+          return row.at("formulation") == eulervop::formulation_name(form) && row.at("method") == method &&
+                 std::stod(row.at("tol")) == std::stod(tol);
+        });
+        ASSERT_NE(it, t.rows.end()) << method << " " << tol;
+        const auto& row = *it;
+        EXPECT_TRUE(row.at("step").empty());
+        EXPECT_TRUE(row.at("h").empty());
+        EXPECT_EQ(row.at("accepted"), row.at("steps"));
+        EXPECT_GT(std::stoul(row.at("accepted")), 0u);
+        EXPECT_FALSE(row.at("rejected").empty());
+        // dp45: 6 new evaluations per attempted step (FSAL) plus 2 to start.
+        if (method == "dp45")
+          EXPECT_EQ(std::stoul(row.at("rhs_evals")),
+                    2 + 6 * (std::stoul(row.at("accepted")) + std::stoul(row.at("rejected"))));
+        const double e = std::stod(row.at("max_error"));
+        EXPECT_LT(e, previous) << eulervop::formulation_name(form) << " " << method << " " << tol;
+        previous = e;
+      }
+    }
+  }
+  const json summary = json::parse(read_file(dir.path() / "out" / "summary.json"));
+  EXPECT_EQ(summary.at("tols").size(), 3u);
+  EXPECT_TRUE(summary.at("runs").at(0).at("step").is_null());
+  EXPECT_EQ(summary.at("runs").at(0).at("tol"), 1e-5);
+  EXPECT_TRUE(summary.at("runs").at(0).contains("accepted"));
+  EXPECT_TRUE(summary.at("runs").at(0).contains("rejected"));
+  const csv_table cheap = read_csv(dir.path() / "out" / "cheapest.csv");
+  bool adaptive_cheapest = false;
+  for (const auto& row : cheap.rows) adaptive_cheapest = adaptive_cheapest || !row.at("tol").empty();
+  EXPECT_TRUE(adaptive_cheapest);
+  EXPECT_NE(r.out.find("tol 1e-7"), std::string::npos) << r.out;
+}
+
+// --steps and --tols together: both ladders, each method on the ladders it runs on.
+TEST(Sweep, BothLaddersTogether) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"sweep", "--tau-end", "5", "--steps", "K/25", "--tols", "1e-6", "--methods",
+                                        "rk4,dp45,dop853", "--formulations", "euler", "--repeat", "1", "--no-plot",
+                                        "--out-dir", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const csv_table t = read_csv(dir.path() / "out" / "sweep.csv");
+  // rk4 at K/25; dp45 at K/25 and at 1e-6; dop853 at 1e-6.
+  ASSERT_EQ(t.rows.size(), 4u);
+  EXPECT_EQ(t.rows[0].at("method"), "rk4");
+  EXPECT_EQ(t.rows[1].at("method"), "dp45");
+  EXPECT_EQ(t.rows[1].at("step"), "K/25");
+  EXPECT_EQ(t.rows[2].at("method"), "dp45");
+  EXPECT_FALSE(t.rows[2].at("tol").empty());
+  EXPECT_EQ(t.rows[3].at("method"), "dop853");
 }
 
 // Halving the step divides rk4's error by about 2^4 on the direct Euler equations.
@@ -184,6 +253,16 @@ std::vector<bad_sweep> bad_sweeps() {
       {"samples 1", {"--samples", "1"}, "--samples 1"},
       {"precision", {"--precision", "half"}, "--precision half"},
       {"out dir is a file", {"--out-dir", "scene.toml"}, "--out-dir scene.toml"},
+      {"tols negative", {"--tols", "1e-6,-1e-8"}, "--tols 1e-6,-1e-8: -1e-8 is not a positive finite number"},
+      {"tols zero", {"--tols", "0"}, "--tols 0: 0 is not a positive finite number"},
+      {"tols nan", {"--tols", "1e-6,nan"}, "--tols 1e-6,nan"},
+      {"tols unsorted", {"--tols", "1e-6,1e-4,1e-8"}, "--tols 1e-6,1e-4,1e-8: not sorted at 1e-8"},
+      {"tols repeated", {"--tols", "1e-6,1e-6"}, "not sorted"},
+      {"tols not below one", {"--tols", "2,1e-6"}, "--tols 2,1e-6: 2 is not below 1"},
+      {"tols with rk4 only", {"--tols", "1e-6", "--methods", "rk4"}, "rk4 has no embedded error estimate"},
+      {"dop853 without tols", {"--steps", "K/25", "--methods", "dop853"}, "dop853 is run under error control"},
+      {"max step zero", {"--max-step", "0"}, "--max-step 0"},
+      {"max step K/0", {"--max-step", "K/0"}, "--max-step K/0"},
   };
 }
 
