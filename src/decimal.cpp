@@ -1,8 +1,11 @@
 #include "decimal.hpp"
 
+#include <fmt/format.h>
+
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <vector>
 
 namespace eulervop::app {
 
@@ -76,6 +79,64 @@ decimal decimal_from_double(double x) {
 }
 
 decimal decimal_from_integer(long long x) { return {std::to_string(x), static_cast<double>(x)}; }
+
+namespace {
+// A canonical decimal as sign, integer digits M and exponent E: value = sign M 10^E.
+struct scaled_integer {
+  bool negative = false;
+  std::string digits;  // no leading zeros ("" for zero)
+  long long exponent = 0;
+};
+scaled_integer split_decimal(const std::string& text) {
+  scaled_integer out;
+  std::size_t i = 0;
+  if (text[i] == '-') {
+    out.negative = true;
+    ++i;
+  }
+  const std::size_t e = text.find_first_of("eE", i);
+  const std::string mantissa = text.substr(i, e == std::string::npos ? std::string::npos : e - i);
+  if (e != std::string::npos) out.exponent = std::stoll(text.substr(e + 1));
+  const std::size_t dot = mantissa.find('.');
+  std::string digits = mantissa;
+  if (dot != std::string::npos) {
+    digits = mantissa.substr(0, dot) + mantissa.substr(dot + 1);
+    out.exponent -= static_cast<long long>(mantissa.size() - dot - 1);
+  }
+  const std::size_t first = digits.find_first_not_of('0');
+  out.digits = first == std::string::npos ? "" : digits.substr(first);
+  return out;
+}
+}  // namespace
+
+std::optional<decimal> decimal_product(const decimal& a, const decimal& b) {
+  const scaled_integer x = split_decimal(a.text), y = split_decimal(b.text);
+  if (x.digits.empty() || y.digits.empty()) return decimal{"0", 0.0};
+  // Schoolbook product of the digit strings.
+  std::vector<int> prod(x.digits.size() + y.digits.size(), 0);
+  for (std::size_t i = x.digits.size(); i-- > 0;)
+    for (std::size_t j = y.digits.size(); j-- > 0;) {
+      const std::size_t k = i + j + 1;
+      const int v = (x.digits[i] - '0') * (y.digits[j] - '0') + prod[k];
+      prod[k] = v % 10;
+      prod[k - 1] += v / 10;
+    }
+  std::string digits;
+  for (int d : prod)
+    if (!(digits.empty() && d == 0)) digits += static_cast<char>('0' + d);
+  long long exponent = x.exponent + y.exponent;
+  while (digits.size() > 1 && digits.back() == '0') {
+    digits.pop_back();
+    ++exponent;
+  }
+  // Scientific with one leading digit ("1e-4", "2.5e-3"), plain when the exponent is 0.
+  const long long e = exponent + static_cast<long long>(digits.size()) - 1;
+  std::string text = x.negative != y.negative ? "-" : "";
+  text += digits.substr(0, 1);
+  if (digits.size() > 1) text += "." + digits.substr(1);
+  if (e != 0) text += fmt::format("e{}", e);
+  return parse_decimal(text).number;
+}
 
 std::string_view describe(decimal_problem problem) {
   switch (problem) {

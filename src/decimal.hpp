@@ -47,6 +47,10 @@ decimal decimal_from_double(double x);
 // The exact decimal of an integer.
 decimal decimal_from_integer(long long x);
 
+// The exact product a b as a decimal (`eulervop map` scales a scene's torque by the text of
+// --torque-scales); nullopt if it is out of the range of a double.
+std::optional<decimal> decimal_product(const decimal& a, const decimal& b);
+
 // Human-readable reason for a decimal_problem, for error messages.
 std::string_view describe(decimal_problem problem);
 

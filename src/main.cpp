@@ -9,6 +9,7 @@
 #include "batch_command.hpp"
 #include "check_command.hpp"
 #include "input_error.hpp"
+#include "map_command.hpp"
 #include "reference_command.hpp"
 #include "report_command.hpp"
 #include "sweep_command.hpp"
@@ -51,13 +52,17 @@ int main(int argc, char** argv) {
   CLI::App* check_command = eulervop::app::add_check_command(app, check_opts);
   eulervop::app::batch_options batch_opts;
   CLI::App* batch_command = eulervop::app::add_batch_command(app, batch_opts);
+  eulervop::app::map_options map_opts;
+  CLI::App* map_command = eulervop::app::add_map_command(app, map_opts);
 
   // CLI11 would report a mistyped command as "A subcommand is required"; name it instead.
-  const std::string commands = fmt::format("{}, {}, {}, {}, {}", reference_command->get_name(), report_command->get_name(),
-                                           sweep_command->get_name(), check_command->get_name(), batch_command->get_name());
-  if (argc >= 2 && argv[1][0] != '-' && std::string_view(argv[1]) != reference_command->get_name() &&
-      std::string_view(argv[1]) != report_command->get_name() && std::string_view(argv[1]) != sweep_command->get_name() &&
-      std::string_view(argv[1]) != check_command->get_name() && std::string_view(argv[1]) != batch_command->get_name())
+  std::string commands;
+  bool known = false;
+  for (const CLI::App* c : {reference_command, report_command, sweep_command, check_command, batch_command, map_command}) {
+    commands += (commands.empty() ? "" : ", ") + c->get_name();
+    known = known || (argc >= 2 && std::string_view(argv[1]) == c->get_name());
+  }
+  if (argc >= 2 && argv[1][0] != '-' && !known)
     return report(exit_bad_input, "error: ", fmt::format("unknown command `{}` (expected: {})", argv[1], commands));
 
   try {
@@ -82,6 +87,7 @@ int main(int argc, char** argv) {
     if (sweep_command->parsed()) eulervop::app::run_sweep(sweep_opts, std::cout);
     if (check_command->parsed()) return eulervop::app::run_check(check_opts, std::cout);
     if (batch_command->parsed()) return eulervop::app::run_batch(batch_opts, std::cout);
+    if (map_command->parsed()) eulervop::app::run_map(map_opts, std::cout);
     return 0;
   } catch (const eulervop::app::input_error& e) {
     return report(exit_bad_input, "error: ", e.what());

@@ -341,7 +341,11 @@ void run_sweep(const sweep_options& options, std::ostream& standard_output) {
   const sweep_job job = make_job(options);
   const auto start = std::chrono::steady_clock::now();
   output_dir dir(job.out_dir, "sweep.csv");
-  const std::vector<wp_outcome> outcomes = run_grids({job.grid}, job.precision, job.settings, job.repeat, job.jobs, "sweep");
+  wp_run_options run_options;
+  run_options.repeat = job.repeat;
+  run_options.jobs = job.jobs;
+  run_options.progress_label = "sweep";
+  const std::vector<wp_outcome> outcomes = run_grids({job.grid}, job.precision, job.settings, run_options);
   const wp_outcome& o = outcomes.front();
   const std::vector<double> levels(sweep_error_levels.begin(), sweep_error_levels.end());
   const std::vector<level_choice> cheapest = cheapest_per_level(job.grid, o, levels);

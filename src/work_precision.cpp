@@ -227,9 +227,26 @@ void measure(const wp_grid& g, const wp_case& c, const dense_trajectory<T>& ref,
   out.final_error = last;
 }
 
+// The reference of one grid, to the end of its longest run.
 template <scalar T>
-std::vector<wp_outcome> run_grids_in(const std::vector<wp_grid>& grids, const eulervop::precision& p,
-                                     const picard_settings& settings, int repeat, int jobs, const std::string& label) {
+dense_reference<T> grid_reference(const wp_grid& g, const picard_settings& settings, wp_outcome& out) {
+  const normalized_problem<T> problem = to_problem<T>(g.scn);
+  T tau_end = tau_end_of<T>(g.scn);
+  for (const ladder_step& st : g.steps) {  // within the 1e-9 h slack of n_steps
+    const T last = tau_of_step<T>(st.choice.n_steps, st.choice.h);
+    if (last > tau_end) tau_end = last;
+  }
+  dense_reference<T> ref = integrate_dense<T>(problem, tau_end, settings, "");
+  out.reference_seconds = ref.wall_seconds;
+  out.reference_segments = ref.stats.segments;
+  out.reference_tau_end = static_cast<double>(tau_end);
+  return ref;
+}
+
+// Every case is a task; errors after all of them, in the calling thread.
+template <scalar T>
+std::vector<wp_outcome> run_all(const std::vector<wp_grid>& grids, const eulervop::precision& p,
+                                const picard_settings& settings, const wp_run_options& o) {
   std::vector<wp_outcome> out(grids.size());
   std::vector<dense_reference<T>> refs(grids.size());
   std::vector<normalized_problem<double>> problems;
@@ -240,19 +257,7 @@ std::vector<wp_outcome> run_grids_in(const std::vector<wp_grid>& grids, const eu
   for (std::size_t gi = 0; gi < grids.size(); ++gi) {
     out[gi].results.resize(grids[gi].cases.size());
     tasks.emplace_back([&, gi] {
-      mpfr_scope_on_this_thread(p, [&] {
-        const wp_grid& g = grids[gi];
-        const normalized_problem<T> problem = to_problem<T>(g.scn);
-        T tau_end = tau_end_of<T>(g.scn);
-        for (const ladder_step& st : g.steps) {  // within the 1e-9 h slack of n_steps
-          const T last = tau_of_step<T>(st.choice.n_steps, st.choice.h);
-          if (last > tau_end) tau_end = last;
-        }
-        refs[gi] = integrate_dense<T>(problem, tau_end, settings, "");
-        out[gi].reference_seconds = refs[gi].wall_seconds;
-        out[gi].reference_segments = refs[gi].stats.segments;
-        out[gi].reference_tau_end = static_cast<double>(tau_end);
-      });
+      mpfr_scope_on_this_thread(p, [&] { refs[gi] = grid_reference<T>(grids[gi], settings, out[gi]); });
     });
   }
   std::vector<std::pair<std::size_t, std::size_t>> order;
@@ -264,9 +269,9 @@ std::vector<wp_outcome> run_grids_in(const std::vector<wp_grid>& grids, const eu
   });
   for (const auto& [gi, ci] : order)
     tasks.emplace_back([&, gi = gi, ci = ci] {
-      out[gi].results[ci] = run_case(grids[gi], grids[gi].cases[ci], problems[gi], repeat);
+      out[gi].results[ci] = run_case(grids[gi], grids[gi].cases[ci], problems[gi], o.repeat);
     });
-  run_tasks(tasks, jobs, label);
+  run_tasks(tasks, o.jobs, o.progress_label);
 
   // Eq. 20 in the calling thread (MPFR temporaries take its default precision).
   for (std::size_t gi = 0; gi < grids.size(); ++gi)
@@ -275,13 +280,94 @@ std::vector<wp_outcome> run_grids_in(const std::vector<wp_grid>& grids, const eu
   return out;
 }
 
+// Every ladder is a task that waits for its grid's reference, runs its rungs from loose to
+// tight and measures each at once, stopping at the first that reaches o.stop_below. The
+// reference tasks are all taken before any ladder task, so a waiting ladder always waits for a
+// reference that some thread is computing.
+template <scalar T>
+std::vector<wp_outcome> run_ladders(const std::vector<wp_grid>& grids, const eulervop::precision& p,
+                                    const picard_settings& settings, const wp_run_options& o) {
+  std::vector<wp_outcome> out(grids.size());
+  std::vector<dense_reference<T>> refs(grids.size());
+  std::vector<normalized_problem<double>> problems;
+  for (const wp_grid& g : grids) problems.push_back(to_problem<double>(g.scn));
+  std::mutex mutex;
+  std::condition_variable ready_changed;
+  std::vector<char> ready(grids.size(), 0);
+  std::exception_ptr reference_error;
+
+  struct ladder {
+    std::size_t grid;
+    std::vector<std::size_t> cases;  // loose to tight
+    double cost = 0;
+  };
+  std::vector<ladder> ladders;
+  for (std::size_t gi = 0; gi < grids.size(); ++gi) {
+    const wp_grid& g = grids[gi];
+    out[gi].results.resize(g.cases.size());
+    for (std::size_t ci = 0; ci < g.cases.size(); ++ci) {
+      const wp_case& c = g.cases[ci];
+      bool same = !ladders.empty() && ladders.back().grid == gi;
+      if (same) {
+        const wp_case& prev = g.cases[ladders.back().cases.back()];
+        same = prev.form == c.form && prev.method == c.method && prev.adaptive == c.adaptive;
+      }
+      if (!same) ladders.push_back({gi, {}, 0});
+      ladders.back().cases.push_back(ci);
+      ladders.back().cost += estimated_cost(g, c);
+    }
+  }
+  std::stable_sort(ladders.begin(), ladders.end(), [](const ladder& a, const ladder& b) { return a.cost > b.cost; });
+
+  std::vector<std::function<void()>> tasks;
+  for (std::size_t gi = 0; gi < grids.size(); ++gi)
+    tasks.emplace_back([&, gi] {
+      try {
+        mpfr_scope_on_this_thread(p, [&] { refs[gi] = grid_reference<T>(grids[gi], settings, out[gi]); });
+      } catch (...) {
+        const std::lock_guard lock(mutex);
+        if (!reference_error) reference_error = std::current_exception();
+      }
+      {
+        const std::lock_guard lock(mutex);
+        ready[gi] = 1;
+      }
+      ready_changed.notify_all();
+    });
+  for (const ladder& l : ladders)
+    tasks.emplace_back([&, l] {
+      {
+        std::unique_lock lock(mutex);
+        ready_changed.wait(lock, [&] { return ready[l.grid] != 0; });
+        if (reference_error) std::rethrow_exception(reference_error);
+      }
+      const wp_grid& g = grids[l.grid];
+      bool reached = false;
+      for (std::size_t ci : l.cases) {
+        wp_result& r = out[l.grid].results[ci];
+        if (reached) {
+          r.skipped = true;
+          r.run.form = g.cases[ci].form;
+          r.run.method = g.cases[ci].method;
+          continue;
+        }
+        r = run_case(g, g.cases[ci], problems[l.grid], o.repeat);
+        mpfr_scope_on_this_thread(p, [&] { measure<T>(g, g.cases[ci], refs[l.grid].trajectory, r); });
+        reached = r.max_error && *r.max_error <= *o.stop_below;
+      }
+    });
+  run_tasks(tasks, o.jobs, o.progress_label);
+  if (reference_error) std::rethrow_exception(reference_error);
+  return out;
+}
+
 }  // namespace
 
 std::vector<wp_outcome> run_grids(const std::vector<wp_grid>& grids, const eulervop::precision& p,
-                                  const picard_settings& settings, int repeat, int jobs, const std::string& label) {
+                                  const picard_settings& settings, const wp_run_options& options) {
   return with_scalar(p, [&](auto zero) {
     using T = decltype(zero);
-    return run_grids_in<T>(grids, p, settings, repeat, jobs, label);
+    return options.stop_below ? run_ladders<T>(grids, p, settings, options) : run_all<T>(grids, p, settings, options);
   });
 }
 
@@ -297,7 +383,7 @@ std::vector<level_choice> cheapest_per_level(const wp_grid& g, const wp_outcome&
       for (std::size_t i = 0; i < g.cases.size(); ++i) {
         if (g.cases[i].form != g.forms[f]) continue;
         const wp_result& r = o.results[i];
-        if (r.run.diverged || !r.max_error || !(*r.max_error <= level)) continue;
+        if (r.skipped || r.run.diverged || !r.max_error || !(*r.max_error <= level)) continue;
         if (!lc.best[f] || r.seconds < o.results[*lc.best[f]].seconds) lc.best[f] = i;
       }
       if (lc.best[f] && (!lc.winner || o.results[*lc.best[f]].seconds < o.results[*lc.best[*lc.winner]].seconds))

@@ -281,32 +281,36 @@ void run_euler_adaptive(run_result& out, const normalized_problem<double>& p, co
 
 // The state machine of a VOP run: elements in a vop_frame while the state is away from k = 1 and
 // k = 0, direct Euler steps (Eq. 5) across those bands. The drivers (fixed or adaptive) own the
-// Runge-Kutta stepping; this class owns the representation, the frame and the records.
+// Runge-Kutta stepping and keep the state (elements or Omega) and its compensation in locals:
+// this class owns the representation, the frame and the records. The state passes by value into
+// the functions that change the representation (out of line; they run once per band): a local
+// whose address escaped would live in memory, and every step would reload it.
 template <bool Theta>
 class vop_run_state {
  public:
   using System = std::conditional_t<Theta, vop_theta_system<double>, vop_system<double>>;
 
-  vop_run_state(run_result& out, const normalized_problem<double>& p, const vop_band_thresholds& b)
+  // Starts at Omega0 (p.tau0): `state` becomes its elements, or Omega0 inside a band.
+  vop_run_state(run_result& out, const normalized_problem<double>& p, const vop_band_thresholds& b, V& state)
       : out_(out), b_(b), G_(p.G), sys_(zero_) {
     torque_ = G_[0] != 0 || G_[1] != 0 || G_[2] != 0;
     gnorm_ = std::sqrt(G_[0] * G_[0] + G_[1] * G_[1] + G_[2] * G_[2]);
-    x_ = p.Omega0;
-    if (!try_elements(p.Omega0, 1.0)) open_band(p.tau0, ratio(std::hypot(x_[0], x_[1]), std::hypot(x_[1], x_[2])));
+    if (const auto y = try_elements(p.Omega0, 1.0)) {
+      state = *y;
+    } else {
+      state = p.Omega0;
+      open_band(p.tau0, ratio(std::hypot(state[0], state[1]), std::hypot(state[1], state[2])));
+    }
   }
 
   bool in_elements() const { return elements_; }
-  bool torque() const { return torque_; }
-  // The active representation and its compensation: elements (y, cy) or Omega (x, cx).
-  V& state() { return elements_ ? y_ : x_; }
-  V& compensation() { return elements_ ? cy_ : cx_; }
   System& system() { return sys_; }
-  const V& G() const { return G_; }
 
-  V Omega() const {
-    if (!elements_) return x_;
-    if constexpr (Theta) return frame_.Omega_of_theta(y_);
-    else return frame_.Omega_of(y_);
+  // Omega of the state (for vop: converted by Eq. 12).
+  [[gnu::noinline]] V Omega(V state) const {
+    if (!elements_) return state;
+    if constexpr (Theta) return frame_.Omega_of_theta(state);
+    else return frame_.Omega_of(state);
   }
 
   // A finished element step's result (candidate yn): true if it stays in the elements' domain
@@ -317,26 +321,28 @@ class vop_run_state {
     return !sys_.left_domain() && (!finite || in_domain);
   }
   // A stage, or the step's result, crossed k = 1 or c1 = 0: the caller redoes the step from the
-  // step's start at tau with Eq. 5.
-  void leave_elements(double tau) {
+  // step's start (elements y at tau) with Eq. 5, from the returned Omega (compensation zero).
+  [[gnu::noinline]] V leave_elements(double tau, V y) {
     sys_.reset_domain();
-    to_direct(tau);
+    return to_direct(tau, y);
   }
 
   // After an accepted step ending at tau: phase reduction, band entry or exit. Returns true if
-  // the representation changed (a caller with FSAL must re-prime).
-  bool after_step(double tau) {
+  // the representation changed (state and comp are then the new one's; a caller with FSAL must
+  // re-prime).
+  [[gnu::always_inline]] bool after_step(double tau, V& state, V& comp) {
     if (elements_) {
-      if constexpr (Theta) reduce_phase(y_[2], turns_);
-      if (in_band(y_[0], y_[1], 1.0)) {
-        to_direct(tau);
-        return true;
-      }
-      return false;
+      if constexpr (Theta) reduce_phase(state[2], turns_);
+      if (!in_band(state[0], state[1], 1.0)) [[likely]]
+        return false;
+      state = to_direct(tau, state);
+      comp = zero_;
+      return true;
     }
     ++out_.direct_steps;
-    if (try_elements(x_, 2.0)) {
-      close_band(tau);
+    if (const auto y = try_elements_at(tau, state)) {
+      state = *y;
+      comp = zero_;
       return true;
     }
     return false;
@@ -370,24 +376,29 @@ class vop_run_state {
     return 1 - kw < widen * std::min(b_.separatrix_band, b_.separatrix_torque_scale * q) ||
            q * widen > b_.small_k_torque_ratio;
   }
-  // Into the elements from Omega, if the state is outside the bands (widened by `widen`).
-  bool try_elements(const V& Om, double widen) {
-    if (in_band(std::hypot(Om[0], Om[1]), std::hypot(Om[1], Om[2]), widen)) return false;
+  // The elements of Omega, if the state is outside the bands (widened by `widen`); switches the
+  // frame and the system to them.
+  std::optional<V> try_elements(const V& Om, double widen) {
+    if (in_band(std::hypot(Om[0], Om[1]), std::hypot(Om[1], Om[2]), widen)) return std::nullopt;
     vop_frame<double> f;
     try {
       f = vop_frame<double>::for_state(Om);
     } catch (const std::domain_error&) {
-      return false;  // on the separatrix c1 = c2 exactly
+      return std::nullopt;  // on the separatrix c1 = c2 exactly
     }
     if (have_frame_ && f.minor_axis() != frame_.minor_axis()) ++out_.regime_changes;
     have_frame_ = true;
     frame_ = f;
-    if constexpr (Theta) y_ = frame_.theta_elements_of(Om);
-    else y_ = frame_.elements_of(Om);
-    cy_ = zero_;
     sys_ = System(frame_.rotate(G_));
     elements_ = true;
-    return true;
+    if constexpr (Theta) return frame_.theta_elements_of(Om);
+    else return frame_.elements_of(Om);
+  }
+  // Back into the elements from a direct step's Omega at tau (hysteresis: twice the band).
+  [[gnu::noinline]] std::optional<V> try_elements_at(double tau, V Om) {
+    auto y = try_elements(Om, 2.0);
+    if (y) close_band(tau);
+    return y;
   }
   void open_band(double tau, double kw) {
     const auto& list = kw > 0.5 ? out_.separatrix_bands : out_.small_k_bands;
@@ -405,11 +416,12 @@ class vop_run_state {
     (open_separatrix_ ? out_.separatrix_bands : out_.small_k_bands).emplace_back(open_at_, tau);
     open_ = false;
   }
-  void to_direct(double tau) {
-    x_ = Omega();
-    cx_ = zero_;
-    open_band(tau, ratio(y_[0], y_[1]));
+  // Omega of the elements y; opens a band at tau.
+  [[gnu::noinline]] V to_direct(double tau, V y) {
+    const V x = Omega(y);
+    open_band(tau, ratio(y[0], y[1]));
     elements_ = false;
+    return x;
   }
 
   run_result& out_;
@@ -422,8 +434,6 @@ class vop_run_state {
   vop_frame<double> frame_;
   bool have_frame_ = false;
   System sys_;
-  V y_{}, cy_{};  // elements (and their compensation)
-  V x_{}, cx_{};  // Omega in the direct stretches
   long long turns_ = 0;
   bool open_ = false;  // a direct stretch is open
   bool open_separatrix_ = true;
@@ -438,12 +448,13 @@ void run_vop(run_result& out, const normalized_problem<double>& p, const fixed_r
   const std::size_t every = std::max<std::size_t>(s.sample_every, 1);
   out.sample_steps.reserve(s.n_steps / every + 2);
   out.Omega.reserve(s.n_steps / every + 2);
-  vop_run_state<Theta> run(out, p, s.bands);
+  V state{}, comp{0, 0, 0};
+  vop_run_state<Theta> run(out, p, s.bands, state);
   rk::explicit_rk<Tableau, V> stepper;
   const V G = p.G;
   auto euler_sys = [G](const V& Om, V& dOm, double) { euler_rhs(Om, G, dOm); };
   out.sample_steps.push_back(0);
-  out.Omega.push_back(run.Omega());
+  out.Omega.push_back(run.Omega(state));
 
   const auto start = std::chrono::steady_clock::now();
   double t = p.tau0;
@@ -451,33 +462,34 @@ void run_vop(run_result& out, const normalized_problem<double>& p, const fixed_r
   V next{}, comp_next{};
   while (n < s.n_steps) {
     const double t_next = p.tau0 + s.h * static_cast<double>(n + 1);
-    comp_next = run.compensation();
+    comp_next = comp;
     if (run.in_elements()) {
-      stepper.do_step(run.system(), run.state(), t, s.h, next, comp_next);
-      if (!run.element_step_in_domain(next)) {
-        run.leave_elements(t);
+      stepper.do_step(run.system(), state, t, s.h, next, comp_next);
+      if (!run.element_step_in_domain(next)) [[unlikely]] {
+        state = run.leave_elements(t, state);
+        comp = V{0, 0, 0};
         continue;
       }
     } else {
-      stepper.do_step(euler_sys, run.state(), t, s.h, next, comp_next);
+      stepper.do_step(euler_sys, state, t, s.h, next, comp_next);
     }
-    if (!finite_within(next, bound)) {
+    if (!finite_within(next, bound)) [[unlikely]] {
       out.diverged = true;
       out.diverged_at = t_next;
       out.why = divergence_reason(next);
       break;
     }
-    std::swap(run.state(), next);
-    std::swap(run.compensation(), comp_next);
+    state = next;
+    comp = comp_next;
     ++n;
     t = t_next;
-    out.steps = n;
-    run.after_step(t);
-    if (n % every == 0 || n == s.n_steps) {
+    run.after_step(t, state, comp);
+    if (n % every == 0 || n == s.n_steps) [[unlikely]] {
       out.sample_steps.push_back(n);
-      out.Omega.push_back(run.Omega());
+      out.Omega.push_back(run.Omega(state));
     }
   }
+  out.steps = n;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.rhs_evals = stepper.rhs_evaluations();
   run.finish(t);
@@ -488,7 +500,8 @@ void run_vop(run_result& out, const normalized_problem<double>& p, const fixed_r
 template <class Pair, bool Theta>
 void run_vop_adaptive(run_result& out, const normalized_problem<double>& p, const adaptive_run_settings& s,
                       double bound) {
-  vop_run_state<Theta> run(out, p, s.bands);
+  V state{}, comp{0, 0, 0};
+  vop_run_state<Theta> run(out, p, s.bands, state);
   rk::embedded_rk<Pair, V> stepper;
   rk::pi_controller controller(Pair::estimate_order + 1);
   const V G = p.G;
@@ -503,10 +516,10 @@ void run_vop_adaptive(run_result& out, const normalized_problem<double>& p, cons
   };
   sample_thinner samples(out, s.samples);
   double t = p.tau0, t_lo = 0;
-  samples.put(0, t, t_lo, run.Omega());
+  samples.put(0, t, t_lo, run.Omega(state));
   const auto prime = [&] {
-    if (run.in_elements()) stepper.prime(run.system(), run.state(), t);
-    else stepper.prime(euler_sys, run.state(), t);
+    if (run.in_elements()) stepper.prime(run.system(), state, t);
+    else stepper.prime(euler_sys, state, t);
   };
 
   const auto start = std::chrono::steady_clock::now();
@@ -517,8 +530,8 @@ void run_vop_adaptive(run_result& out, const normalized_problem<double>& p, cons
   const double h_max = s.h_max > 0 ? std::min(s.h_max, span) : span;
   prime();
   double h = run.in_elements()
-                 ? rk::initial_step<Pair>(run.system(), run.state(), t, stepper.derivative(), h_max, element_scale, extra)
-                 : rk::initial_step<Pair>(euler_sys, run.state(), t, stepper.derivative(), h_max, omega_scale, extra);
+                 ? rk::initial_step<Pair>(run.system(), state, t, stepper.derivative(), h_max, element_scale, extra)
+                 : rk::initial_step<Pair>(euler_sys, state, t, stepper.derivative(), h_max, omega_scale, extra);
   while (span > 0) {
     const double left = (s.tau_end - t) - t_lo;
     if (!(left > 0)) break;
@@ -530,33 +543,34 @@ void run_vop_adaptive(run_result& out, const normalized_problem<double>& p, cons
       out.why = std::isfinite(h_try) ? "the step size fell below the rounding of tau" : "state became non-finite";
       break;
     }
-    comp_next = run.compensation();
+    comp_next = comp;
     double err = 0;
     if (run.in_elements()) {
-      err = stepper.attempt(run.system(), run.state(), t, h_try, next, run.compensation(), comp_next, element_scale);
-      if (!run.element_step_in_domain(next)) {
-        run.leave_elements(t);
+      err = stepper.attempt(run.system(), state, t, h_try, next, comp, comp_next, element_scale);
+      if (!run.element_step_in_domain(next)) [[unlikely]] {
+        state = run.leave_elements(t, state);
+        comp = V{0, 0, 0};
         controller.reset();
         prime();
         continue;
       }
     } else {
-      err = stepper.attempt(euler_sys, run.state(), t, h_try, next, run.compensation(), comp_next, omega_scale);
+      err = stepper.attempt(euler_sys, state, t, h_try, next, comp, comp_next, omega_scale);
     }
     const bool finite = std::isfinite(next[0] + next[1] + next[2]);
-    if (!(err <= 1) || !finite) {
+    if (!(err <= 1) || !finite) [[unlikely]] {
       ++out.rejected;
       h = h_try * controller.rejected(finite ? err : std::numeric_limits<double>::infinity());
       continue;
     }
-    if (!finite_within(next, bound)) {
+    if (!finite_within(next, bound)) [[unlikely]] {
       out.diverged = true;
       out.diverged_at = t + h_try;
       out.why = divergence_reason(next);
       break;
     }
-    std::swap(run.state(), next);
-    std::swap(run.compensation(), comp_next);
+    state = next;
+    comp = comp_next;
     if (last) {
       t = s.tau_end;
       t_lo = 0;
@@ -564,22 +578,23 @@ void run_vop_adaptive(run_result& out, const normalized_problem<double>& p, cons
       rk::detail::advance_time(t, t_lo, h_try);
     }
     ++n;
-    out.steps = n;
     h = std::min(h_try * controller.accepted(err), h_max);
     const bool was_elements = run.in_elements();
-    if (run.after_step(t)) {
+    if (run.after_step(t, state, comp)) [[unlikely]] {
       controller.reset();
       prime();
     } else if (was_elements) {
-      stepper.accept(run.system(), run.state(), t);
+      stepper.accept(run.system(), state, t);
     } else {
-      stepper.accept(euler_sys, run.state(), t);
+      stepper.accept(euler_sys, state, t);
     }
-    if (samples.wants(n)) samples.put(n, t, t_lo, run.Omega());
+    if (samples.wants(n)) [[unlikely]]
+      samples.put(n, t, t_lo, run.Omega(state));
     if (last) break;
   }
+  out.steps = n;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (samples.lacks_last(n)) samples.put(n, t, t_lo, run.Omega());
+  if (samples.lacks_last(n)) samples.put(n, t, t_lo, run.Omega(state));
   out.rhs_evals = stepper.rhs_evaluations() + extra;
   run.finish(t);
 }

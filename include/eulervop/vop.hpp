@@ -210,68 +210,76 @@ class vop_domain {
   std::string why_;
 };
 
-// The modulus data of the last k seen, and evaluation of sn, cn, dn, Z, E(u) for it: recomputed
-// only when k changes (between the stages of a Runge-Kutta step it does; within a stage it is
-// reused). In double, for k <= theta_modulus::max_k, through the nome and theta functions
-// (jacobi_theta.hpp: about half the cost of a new AGM sequence and its Gauss ascent, same
-// accuracy bounds); otherwise, and in every other type, through the AGM (elliptic.hpp).
+// The AGM modulus data of the last k seen, and evaluation of sn, cn, dn, Z, E(u) for it:
+// recomputed only when k changes (between the stages of a Runge-Kutta step it does; within a
+// stage it is reused). Values are held here so that MPFR values are reused rather than
+// allocated per call.
 template <class T>
-class cached_modulus {
-  static constexpr bool has_theta = std::is_same_v<T, double>;
-  struct no_theta {};
-
+class agm_cache {
  public:
-  // k and kc^2 = 1 - k^2 (the caller's, to full relative accuracy; the AGM computes its own).
-  void set(const T& k, const T& kc2) {
+  void set(const T& k) {
     if (k == k_) return;
-    if constexpr (has_theta) {
-      use_theta_ = theta_modulus::covers(k);
-      if (use_theta_) {
-        theta_.assign(k, kc2);
-        k_ = k;
-        return;
-      }
-    }
     agm_.assign(k);
     k_ = k;
   }
-  // pi / (2K), the rate of theta = pi u / (2K) per unit u.
-  const T& pi_over_2K() const {
-    if constexpr (has_theta)
-      if (use_theta_) return theta_.pi_over_2K();
-    return agm_.a(agm_.levels());  // a_N (K = pi / (2 a_N), A&S 17.6.3)
-  }
-  // sn, cn, dn, Z, E(u) at u (not am), valid until the next call. Held here so that MPFR
-  // values are reused rather than allocated per call; the right-hand sides read them only
-  // after their last write to dy, so that in double they stay in registers.
+  // pi / (2K) = a_N, the AGM mean (K = pi / (2 a_N), A&S 17.6.3).
+  const T& pi_over_2K() const { return agm_.a(agm_.levels()); }
+  // sn, cn, dn, Z, E(u) at u (not am), valid until the next call.
   const jacobi_values<T>& eval(const T& u) {
-    if constexpr (has_theta)
-      if (use_theta_) {
-        theta_eval(u, theta_, values_);
-        return values_;
-      }
     jacobi_eval<T, jacobi_outputs::without_amplitude>(u, agm_, values_);
     return values_;
   }
 
  private:
   T k_ = -1;
-  bool use_theta_ = false;
   elliptic_modulus<T> agm_{T(0)};
-  [[no_unique_address]] std::conditional_t<has_theta, theta_modulus, no_theta> theta_;
   jacobi_values<T> values_;
 };
 
-// What the two element systems share: the torque (in the vop_frame), the modulus cache, Eq. 13
-// and the torque bracket of Eq. 16.
+// What the two element systems share: the torque (in the vop_frame), the elliptic functions of
+// Eqs. 13-16 at the current modulus, Eq. 13 and the torque bracket of Eq. 16.
 template <class T>
 class vop_equations : public vop_domain<T> {
  public:
   // pi / (2K) of the modulus of the last evaluation (the adaptive runs' error weight).
-  const T& last_pi_over_2K() const { return modulus_cache_.pi_over_2K(); }
+  const T& last_pi_over_2K() const { return last_rate_; }
 
  protected:
   explicit vop_equations(const vec3<T>& G) : G_(G), torque_free_(G[0] == 0 && G[1] == 0 && G[2] == 0) {}
+
+  // Calls tail(j, rate) with sn, cn, dn, Z (and E(u) for Theta = false) at the modulus k
+  // (kc2 = 1 - k^2 to full relative accuracy) and rate = pi/(2K). The argument is u, or with
+  // Theta the phase theta = pi u / (2K) itself. In double, for k <= theta_max_k, through the nome
+  // and theta functions with every constant in a local (jacobi_theta.hpp: the modulus and the
+  // evaluation fused, so nothing goes through memory between them); otherwise, and in every
+  // other type, through the AGM (elliptic.hpp), cached per modulus.
+  template <bool Theta, class Tail>
+  [[gnu::always_inline]] void with_functions(const T& k, const T& kc2, const T& arg, Tail&& tail) {
+    if constexpr (std::is_same_v<T, double>) {
+      if (k >= 0 && k <= theta_max_k) [[likely]] {
+        const theta_constants m = theta_constants_of(k, kc2);
+        jacobi_values<double> j;
+        if constexpr (Theta) theta_values_at_phase(arg, m, j);
+        else theta_values_at_u(arg, m, j);
+        last_rate_ = m.rate;
+        tail(static_cast<const jacobi_values<double>&>(j), m.rate);
+        return;
+      }
+    }
+    agm_.set(k);
+    const T& rate = agm_.pi_over_2K();
+    last_rate_ = rate;
+    if constexpr (Theta) tail(agm_.eval(T(arg / rate)), rate);
+    else tail(agm_.eval(arg), rate);
+  }
+
+  // pi / (2K) alone (torque-free motion needs no more).
+  T rate_of(const T& k, const T& kc2) {
+    if constexpr (std::is_same_v<T, double>)
+      if (k >= 0 && k <= theta_max_k) return last_rate_ = theta_constants_of(k, kc2).rate;
+    agm_.set(k);
+    return last_rate_ = agm_.pi_over_2K();
+  }
 
   // c1' = cn G1 + sn G2,  c2' = k sn G2 + dn G3                                       (Eq. 13)
   void element_rates(const jacobi_values<T>& j, const T& k, vec3<T>& dy) const {
@@ -290,7 +298,8 @@ class vop_equations : public vop_domain<T> {
 
   vec3<T> G_;
   bool torque_free_;
-  cached_modulus<T> modulus_cache_;
+  agm_cache<T> agm_;
+  T last_rate_ = T(1);
 };
 
 }  // namespace detail
@@ -311,7 +320,7 @@ class vop_system : public detail::vop_equations<T> {
  public:
   explicit vop_system(const vec3<T>& G) : detail::vop_equations<T>(G) {}
 
-  void operator()(const vec3<T>& y, vec3<T>& dy, const T& tau) {
+  [[gnu::always_inline]] void operator()(const vec3<T>& y, vec3<T>& dy, const T& tau) {
     const T& c1 = y[0];
     const T& c2 = y[1];
     if (this->outside(c1, c2, tau, this->torque_free_, dy)) return;
@@ -322,16 +331,16 @@ class vop_system : public detail::vop_equations<T> {
     const T k = c1 / c2;
     // kc^2 = (c2 - c1)(c2 + c1) / c2^2 keeps its digits near k = 1, unlike 1 - k^2.
     const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
-    this->modulus_cache_.set(k, kc2);
     // The divisor of Eq. 16, inverted while the elliptic functions are evaluated (off the path).
     const T inv_c1_kc2 = 1 / (c1 * kc2);
-    const jacobi_values<T>& j = this->modulus_cache_.eval(y[2]);
-    const T secular = j.E - kc2 * y[2];  // E(u) - kc^2 u
-    // The torque-free term k (c2^2 - c1^2) / (c1 kc^2) of Eq. 16 is exactly c2 (k = c1/c2,
-    // c2^2 - c1^2 = c2^2 kc^2): written so, torque-free motion advances u by exactly c2 tau.
-    T du = c2 + this->torque_bracket(j, k, kc2, secular) * inv_c1_kc2;
-    this->element_rates(j, k, dy);
-    dy[2] = std::move(du);
+    this->template with_functions<false>(k, kc2, y[2], [&](const jacobi_values<T>& j, const T&) {
+      const T secular = j.E - kc2 * y[2];  // E(u) - kc^2 u
+      // The torque-free term k (c2^2 - c1^2) / (c1 kc^2) of Eq. 16 is exactly c2 (k = c1/c2,
+      // c2^2 - c1^2 = c2^2 kc^2): written so, torque-free motion advances u by exactly c2 tau.
+      T du = c2 + this->torque_bracket(j, k, kc2, secular) * inv_c1_kc2;
+      this->element_rates(j, k, dy);
+      dy[2] = std::move(du);
+    });
   }
 };
 
@@ -350,24 +359,23 @@ class vop_theta_system : public detail::vop_equations<T> {
  public:
   explicit vop_theta_system(const vec3<T>& G) : detail::vop_equations<T>(G) {}
 
-  void operator()(const vec3<T>& y, vec3<T>& dy, const T& tau) {
+  [[gnu::always_inline]] void operator()(const vec3<T>& y, vec3<T>& dy, const T& tau) {
     const T& c1 = y[0];
     const T& c2 = y[1];
     if (this->outside(c1, c2, tau, this->torque_free_, dy)) return;
     const T k = c1 / c2;
     const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
-    this->modulus_cache_.set(k, kc2);
-    const T& rate = this->modulus_cache_.pi_over_2K();
     if (this->torque_free_) {
-      dy = {T(0), T(0), rate * c2};
+      dy = {T(0), T(0), this->rate_of(k, kc2) * c2};
       return;
     }
     // The divisor of Eq. 16, inverted while the elliptic functions are evaluated (off the path).
     const T inv_c1_kc2 = 1 / (c1 * kc2);
-    const jacobi_values<T>& j = this->modulus_cache_.eval(T(y[2] / rate));
-    T dtheta = rate * c2 + rate * (this->torque_bracket(j, k, kc2, j.Z) * inv_c1_kc2);
-    this->element_rates(j, k, dy);
-    dy[2] = std::move(dtheta);
+    this->template with_functions<true>(k, kc2, y[2], [&](const jacobi_values<T>& j, const T& rate) {
+      T dtheta = rate * c2 + rate * (this->torque_bracket(j, k, kc2, j.Z) * inv_c1_kc2);
+      this->element_rates(j, k, dy);
+      dy[2] = std::move(dtheta);
+    });
   }
 };
 
