@@ -190,7 +190,7 @@ struct hairer_scale {
   void operator()(const State& x0, const State& x1, State& sc) const {
     using std::abs;
     using std::max;
-    state_traits<State>::for_each_index(x0, [&](auto i) {
+    state_traits<State>::for_each_index(x0, [&](auto i) __attribute__((always_inline)) {
       auto& s = state_traits<State>::get(sc, i);
       s = max(abs(state_traits<State>::get(x0, i)), abs(state_traits<State>::get(x1, i)));
       s *= rtol;
@@ -204,7 +204,7 @@ template <class State>
 double rms_norm(const State& e, const State& sc) {
   double sum = 0;
   std::size_t n = 0;
-  state_traits<State>::for_each_index(e, [&](auto i) {
+  state_traits<State>::for_each_index(e, [&](auto i) __attribute__((always_inline)) {
     const double r = static_cast<double>(state_traits<State>::get(e, i)) /
                      static_cast<double>(state_traits<State>::get(sc, i));
     sum += r * r;
@@ -351,7 +351,7 @@ class embedded_rk {
     detail::compute_stages<stages, Pair::nonzero, 1>(sys, tab_, x, t, h, w);
     evals_ += stages - 1;
     if constexpr (Pair::fsal && stages == 7) k_last_ = w.k[stages - 1];
-    traits::for_each_index(x, [&](auto i) {
+    traits::for_each_index(x, [&](auto i) __attribute__((always_inline)) {
       detail::weighted_increment<stages, Pair::nonzero>(tab_.b, i, h, w, w.inc);
       w.inc += traits::get(comp, i);
       auto& y = traits::get(out, i);
@@ -383,7 +383,7 @@ class embedded_rk {
     using traits = state_traits<State>;
     const T& k1 = traits::get(w.k[0], i);
     y = T(0);
-    detail::static_for<1, stages>([&](auto j) {
+    detail::static_for<1, stages>([&](auto j) __attribute__((always_inline)) {
       if constexpr (Pair::error_nonzero[j]) {
         w.dk = traits::get(w.k[j], i);
         w.dk -= k1;

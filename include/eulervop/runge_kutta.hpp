@@ -342,7 +342,7 @@ bool is_finite_value(const T& v) {
 template <class State>
 bool all_finite(const State& x) {
   bool ok = true;
-  state_traits<State>::for_each_index(x, [&](auto i) {
+  state_traits<State>::for_each_index(x, [&](auto i) __attribute__((always_inline)) {
     ok = ok && is_finite_value(state_traits<State>::get(x, i));
   });
   return ok;
@@ -353,7 +353,7 @@ namespace detail {
 template <class State, class T>
 bool outside_band(const State& x, const T& lo, const T& hi) {
   bool out = false;
-  state_traits<State>::for_each_index(x, [&](auto i) {
+  state_traits<State>::for_each_index(x, [&](auto i) __attribute__((always_inline)) {
     const auto& v = state_traits<State>::get(x, i);
     out = out || v > hi || v < lo;
   });
@@ -414,15 +414,15 @@ template <std::size_t S, const sparsity<S>& nz, std::size_t From = 0, class Syst
                     stage_work<State, T, S>& w) {
   using traits = state_traits<State>;
   if constexpr (From == 0) sys(x, w.k[0], t);
-  static_for<(From > 1 ? From : 1), S>([&](auto s) {
+  static_for<(From > 1 ? From : 1), S>([&](auto s) __attribute__((always_inline)) {
     constexpr std::size_t first = first_set<S>(nz.a[s], 0, s);
-    traits::for_each_index(x, [&](auto i) {
+    traits::for_each_index(x, [&](auto i) __attribute__((always_inline)) {
       auto& y = traits::get(w.tmp, i);
       if constexpr (first == s) {
         y = traits::get(x, i);
       } else {
         y = tab.a[s][first] * traits::get(w.k[first], i);
-        static_for<first + 1, s>([&](auto j) {
+        static_for<first + 1, s>([&](auto j) __attribute__((always_inline)) {
           if constexpr (nz.a[s][j]) y += tab.a[s][j] * traits::get(w.k[j], i);
         });
         y *= h;
@@ -450,7 +450,7 @@ template <std::size_t S, const sparsity<S>& nz, class State, class T, class Inde
     w.dk = traits::get(w.k[first], i);
     w.dk -= k1;
     y = b[first] * w.dk;
-    static_for<first + 1, S>([&](auto j) {
+    static_for<first + 1, S>([&](auto j) __attribute__((always_inline)) {
       if constexpr (nz.b[j]) {
         w.dk = traits::get(w.k[j], i);
         w.dk -= k1;
@@ -533,7 +533,7 @@ class explicit_rk {
     using traits = state_traits<State>;
     detail::compute_stages<stages, Tableau::nonzero>(sys, tab_, x, t, h, w);
     evals_ += stages;
-    traits::for_each_index(x, [&](auto idx) {
+    traits::for_each_index(x, [&](auto idx) __attribute__((always_inline)) {
       auto& y = traits::get(out, idx);
       if (comp) {
         detail::weighted_increment<stages, Tableau::nonzero>(tab_.b, idx, h, w, w.inc);

@@ -192,16 +192,21 @@ class vop_domain {
  protected:
   static T nan_() { return std::numeric_limits<T>::quiet_NaN(); }
   // True (and NaN derivatives) outside 0 < d1 < d2; d1 = 0 is allowed without torque.
-  bool outside(const T& c1, const T& c2, const T& tau, bool torque_free, vec3<T>& dy) {
-    if (c1 < c2 && (c1 > 0 || (torque_free && c1 == 0))) return false;
-    if (!left_) {
-      left_ = true;
-      left_at_ = static_cast<double>(tau);
-      why_ = !(c1 > 0) ? "c1 reached 0 (k = 0): Eq. 16 divides by c1"
-                       : "k = c1/c2 reached 1 (the separatrix): Eq. 16 divides by kc^2";
-    }
+  [[gnu::always_inline]] bool outside(const T& c1, const T& c2, const T& tau, bool torque_free, vec3<T>& dy) {
+    if (c1 < c2 && (c1 > 0 || (torque_free && c1 == 0))) [[likely]]
+      return false;
+    record_exit(!(c1 > 0), static_cast<double>(tau));
     dy = {nan_(), nan_(), nan_()};
     return true;
+  }
+
+  // Out of line and by value: nothing of the stage's state escapes through it.
+  [[gnu::noinline, gnu::cold]] void record_exit(bool at_zero, double tau) {
+    if (left_) return;
+    left_ = true;
+    left_at_ = tau;
+    why_ = at_zero ? "c1 reached 0 (k = 0): Eq. 16 divides by c1"
+                   : "k = c1/c2 reached 1 (the separatrix): Eq. 16 divides by kc^2";
   }
 
  private:
@@ -282,13 +287,13 @@ class vop_equations : public vop_domain<T> {
   }
 
   // c1' = cn G1 + sn G2,  c2' = k sn G2 + dn G3                                       (Eq. 13)
-  void element_rates(const jacobi_values<T>& j, const T& k, vec3<T>& dy) const {
+  [[gnu::always_inline]] void element_rates(const jacobi_values<T>& j, const T& k, vec3<T>& dy) const {
     dy[0] = j.cn * G_[0] + j.sn * G_[1];
     dy[1] = k * j.sn * G_[1] + j.dn * G_[2];
   }
   // - sn dn G1 + kc^2 cn dn G2 + k^3 sn cn G3 + w (cn G1 + kc^2 sn G2 - k dn G3), the torque
   // part of the bracket of Eq. 16; w = E(u) - kc^2 u for u, Z(u) for theta.
-  T torque_bracket(const jacobi_values<T>& j, const T& k, const T& kc2, const T& w) const {
+  [[gnu::always_inline]] T torque_bracket(const jacobi_values<T>& j, const T& k, const T& kc2, const T& w) const {
     const T& G1 = G_[0];
     const T& G2 = G_[1];
     const T& G3 = G_[2];
@@ -333,7 +338,7 @@ class vop_system : public detail::vop_equations<T> {
     const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
     // The divisor of Eq. 16, inverted while the elliptic functions are evaluated (off the path).
     const T inv_c1_kc2 = 1 / (c1 * kc2);
-    this->template with_functions<false>(k, kc2, y[2], [&](const jacobi_values<T>& j, const T&) {
+    this->template with_functions<false>(k, kc2, y[2], [&](const jacobi_values<T>& j, const T&) __attribute__((always_inline)) {
       const T secular = j.E - kc2 * y[2];  // E(u) - kc^2 u
       // The torque-free term k (c2^2 - c1^2) / (c1 kc^2) of Eq. 16 is exactly c2 (k = c1/c2,
       // c2^2 - c1^2 = c2^2 kc^2): written so, torque-free motion advances u by exactly c2 tau.
@@ -371,7 +376,7 @@ class vop_theta_system : public detail::vop_equations<T> {
     }
     // The divisor of Eq. 16, inverted while the elliptic functions are evaluated (off the path).
     const T inv_c1_kc2 = 1 / (c1 * kc2);
-    this->template with_functions<true>(k, kc2, y[2], [&](const jacobi_values<T>& j, const T& rate) {
+    this->template with_functions<true>(k, kc2, y[2], [&](const jacobi_values<T>& j, const T& rate) __attribute__((always_inline)) {
       T dtheta = rate * c2 + rate * (this->torque_bracket(j, k, kc2, j.Z) * inv_c1_kc2);
       this->element_rates(j, k, dy);
       dy[2] = std::move(dtheta);

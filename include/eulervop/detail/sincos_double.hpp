@@ -22,7 +22,7 @@
 namespace eulervop::detail {
 
 // sin r and cos r for |r| <= pi/4 (1 + 5e-5).
-inline void sincos_kernel(double r, double& s, double& c) {
+[[gnu::always_inline]] inline void sincos_kernel(double r, double& s, double& c) {
   const double z = r * r, z2 = z * z, z4 = z2 * z2;
   // sin r = r + r z S(z), cos r = 1 + z C(z): S and C interpolate (sin(sqrt z)/sqrt z - 1)/z and
   // (cos(sqrt z) - 1)/z at Chebyshev points (theta_tables.hpp), side by side in one register.
@@ -36,7 +36,7 @@ inline void sincos_kernel(double r, double& s, double& c) {
 }
 
 // sin x and cos x for any finite x.
-inline void sincos_double(double x, double& s, double& c) {
+[[gnu::always_inline]] inline void sincos_double(double x, double& s, double& c) {
   constexpr double two_over_pi = 0x1.45f306dc9c883p-1;
   constexpr double p1 = 0x1.921fb54p+0, p2 = 0x1.10b4611a62633p-30;  // pi/2 = p1 + p2 + O(2^-84)
   const double t = x * two_over_pi;
