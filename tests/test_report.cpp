@@ -1,6 +1,6 @@
-// `eulervop report` (issue 3, section 4): the output files and their layout, the paper's claim
-// on a short span, divergence without NaN, bad flags, and the --reference round trip. Also the
-// step rule in process (resolve_step).
+// `eulervop report`: the output files and their layout, the paper's claim on a short span,
+// divergence without NaN, bad flags, the --reference round trip and the adaptive runs of --tols.
+// Also the step rule in process (resolve_step).
 #include "cli_test_support.hpp"
 
 #include "report_command.hpp"
@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -209,6 +210,17 @@ std::vector<bad_report> bad_reports() {
       {"samples 1", {"--samples", "1"}, "--samples 1"},
       {"reference missing", {"--reference", "missing.csv"}, "--reference missing.csv"},
       {"reference and precision", {"--reference", "scene.toml", "--precision", "double"}, "--precision"},
+      {"tols with a step", {"--tols", "1e-6", "--step", "K/100"}, "--tols 1e-6 and --step K/100"},
+      {"tols with a reference file", {"--tols", "1e-6", "--reference", "scene.toml"}, "--reference: not used with --tols"},
+      {"tols with verify", {"--tols", "1e-6", "--verify"}, "--verify: not used with --tols"},
+      {"tols negative", {"--tols", "-1e-6"}, "--tols -1e-6"},
+      {"tols nan", {"--tols", "nan"}, "--tols nan"},
+      {"tols unsorted", {"--tols", "1e-6,1e-8,1e-7"}, "not sorted at 1e-7"},
+      {"tols with rk4", {"--tols", "1e-6", "--methods", "rk4,dp45"}, "rk4 has no embedded error estimate"},
+      {"tols with rk8", {"--tols", "1e-6", "--methods", "rk8"}, "rk8 has no embedded error estimate"},
+      {"dop853 at a step", {"--methods", "dop853"}, "dop853 is run under error control"},
+      {"max step without tols", {"--max-step", "K/4"}, "--max-step K/4: only for the adaptive runs of --tols"},
+      {"max step negative", {"--tols", "1e-6", "--max-step", "-2"}, "--max-step -2"},
   };
 }
 
@@ -239,6 +251,72 @@ TEST(Report, SceneFormulationListedTwiceIsBadInput) {
   EXPECT_NE(r.err.find("formulations"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("euler"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir.path() / "eulervop-report"));
+}
+
+// ---- --tols: adaptive runs ------------------------------------------------------------------------
+
+// Each run under error control is measured at its own accepted steps: errors.csv has a row per
+// sample with the run's formulation, method and tolerance; the summary carries tol, accepted,
+// rejected and rhs_evals; a tighter tolerance gives a smaller error.
+TEST(Report, ToleranceLadderRunsAdaptively) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"report", "--tau-end", "10", "--tols", "1e-6,1e-9", "--methods", "dp45,dop853",
+                                        "--formulations", "euler,vop-theta", "--samples", "50", "--no-plot",
+                                        "--out-dir", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  const auto lines = lines_of(read_file(dir.path() / "out" / "errors.csv"));
+  ASSERT_FALSE(lines.empty());
+  EXPECT_EQ(lines[0], "formulation,method,tol,tau,error");
+  std::map<std::string, std::size_t> rows;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const auto c = cells_of(lines[i]);
+    ASSERT_EQ(c.size(), 5u) << lines[i];
+    ++rows[c[0] + " " + c[1] + " " + c[2]];
+    EXPECT_GE(std::stod(c[3]), 0);
+    EXPECT_LE(std::stod(c[3]), 10);
+    EXPECT_GE(std::stod(c[4]), 0);
+  }
+  EXPECT_EQ(rows.size(), 2u * 2u * 2u);
+  for (const auto& [run_name, n] : rows) {
+    EXPECT_GE(n, 50u) << run_name;   // about --samples, between it and twice it, and the last step
+    EXPECT_LE(n, 101u) << run_name;
+  }
+  const json summary = json::parse(read_file(dir.path() / "out" / "summary.json"));
+  ASSERT_EQ(summary.at("runs").size(), 8u);
+  for (const json& run : summary.at("runs")) {
+    EXPECT_TRUE(run.at("step").is_null());
+    EXPECT_GT(run.at("tol").get<double>(), 0);
+    EXPECT_EQ(run.at("accepted"), run.at("steps"));
+    EXPECT_GE(run.at("rejected").get<int>(), 0);
+    EXPECT_GT(run.at("rhs_evals").get<int>(), 0);
+    EXPECT_FALSE(run.at("diverged").get<bool>());
+    EXPECT_EQ(run.at("final_tau"), 10.0);  // the last step lands on the span end
+  }
+  for (const char* f : {"euler", "vop-theta"})
+    for (const char* m : {"dp45", "dop853"}) {
+      double loose = 0, tight = 0;
+      for (const json& run : summary.at("runs"))
+        if (run.at("formulation") == f && run.at("method") == m)
+          (run.at("tol") == 1e-6 ? loose : tight) = run.at("max_error").get<double>();
+      EXPECT_LT(tight, loose) << f << " " << m;
+    }
+  EXPECT_TRUE(summary.at("max_step").at("rule").get<std::string>().starts_with("K/2")) << summary.at("max_step");
+  EXPECT_NE(r.out.find("under error control"), std::string::npos) << r.out;
+}
+
+// The fixed-step summary carries the same keys, empty for what only adaptive runs have.
+TEST(Report, FixedStepSummaryHasTheAdaptiveKeysEmpty) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"report", "--tau-end", "2", "--format", "json", "--no-plot", "--out-dir", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json summary = json::parse(r.out);
+  for (const json& run : summary.at("runs")) {
+    EXPECT_TRUE(run.at("tol").is_null());
+    EXPECT_TRUE(run.at("accepted").is_null());
+    EXPECT_TRUE(run.at("rejected").is_null());
+    EXPECT_GT(run.at("rhs_evals").get<int>(), 0);
+  }
 }
 
 // ---- --reference FILE ---------------------------------------------------------------------------
