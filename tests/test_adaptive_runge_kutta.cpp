@@ -139,7 +139,8 @@ TYPED_TEST(EmbeddedPair, EstimateHasItsDeclaredOrder) {
 // ---- the controller -----------------------------------------------------------------------------
 
 // The fast log2/exp2 of the controller against libm, over the range a controller sees.
-TEST(PiController, FastLogAndExpAreAccurateToFewDigitsBeyondWhatStepsNeed) {
+// A step factor needs two or three digits; the controller's log2 and 2^x give six.
+TEST(PiController, FastLogAndExpAreAccurateToSixDigits) {
   double worst_log = 0, worst_exp = 0;
   for (double x = 1e-30; x < 1e30; x *= 1.37) {
     worst_log = std::max(worst_log, std::abs(rk::detail::approx_log2(x) - std::log2(x)));
@@ -148,8 +149,8 @@ TEST(PiController, FastLogAndExpAreAccurateToFewDigitsBeyondWhatStepsNeed) {
     worst_exp = std::max(worst_exp, std::abs(rk::detail::approx_exp2(y) / std::exp2(y) - 1));
   }
   std::printf("  log2 absolute error %.2e, exp2 relative error %.2e\n", worst_log, worst_exp);
-  EXPECT_LE(worst_log, 1e-7);
-  EXPECT_LE(worst_exp, 1e-7);
+  EXPECT_LE(worst_log, 3e-6);
+  EXPECT_LE(worst_exp, 1e-6);
 }
 
 TEST(PiController, FactorsStayInTheirBoundsAndDoNotGrowAfterARejection) {
