@@ -27,9 +27,10 @@ constexpr std::int64_t max_repeat = 1000;
 constexpr std::int64_t max_jobs = 256;
 const std::string default_scales = "1e-6,1e-4,1e-2,1";
 const std::string default_levels = "1e-6,1e-8,1e-10,1e-12";
-// From a third of K (where VOP's elements still see their forcing a dozen times a period) to
-// K/6400, doubling.
-const std::string default_map_steps = "K/3,K/6,K/12,K/25,K/50,K/100,K/200,K/400,K/800,K/1600,K/3200,K/6400";
+// From K (four steps a period of the initial motion: on a small torque the VOP elements barely
+// move, and their cheapest step is as long as the forcing allows) to K/6400, about doubling.
+const std::string default_map_steps =
+    "K/1,K/2,K/3,K/6,K/12,K/25,K/50,K/100,K/200,K/400,K/800,K/1600,K/3200,K/6400";
 
 struct map_job {
   std::vector<decimal> scales;

@@ -312,7 +312,7 @@ class embedded_rk {
   std::size_t rhs_evaluations() const { return evals_; }
 
   template <class System>
-  void prime(System& sys, const State& x, const T& t) {
+  [[gnu::always_inline]] void prime(System& sys, const State& x, const T& t) {
     sys(x, k1_, t);
     ++evals_;
   }
@@ -330,7 +330,7 @@ class embedded_rk {
   }
 
   template <class System>
-  void accept(System& sys, const State& out, const T& t_new) {
+  [[gnu::always_inline]] void accept(System& sys, const State& out, const T& t_new) {
     if constexpr (Pair::fsal && stages == 7) {
       // dp45: the 7th stage was f at x + h sum b_j k_j, the new state before compensation.
       k1_ = k_last_;
