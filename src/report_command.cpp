@@ -396,7 +396,7 @@ std::string errors_csv(const report_job& job, const reference_samples<T>& ref, c
   return fmt::to_string(out);
 }
 
-// The VOP fallback stretches (issue 5 section 2): [[tau_in, tau_out], ...].
+// The VOP fallback stretches (docs/vop-strategies.md): [[tau_in, tau_out], ...].
 nlohmann::ordered_json bands_json(const std::vector<std::pair<double, double>>& bands) {
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (const auto& [in, out_tau] : bands) out.push_back({in, out_tau});

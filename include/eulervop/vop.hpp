@@ -1,8 +1,8 @@
 // Variation of parameters for Euler's equations (Eq. 5): the paper's elements (c1, c2, u)
-// (Eqs. 12-16), the secular-free elements (c1, c2, theta) (DESIGN.md section 1.3), their
+// (Eqs. 12-16), the secular-free elements (c1, c2, theta) (docs/vop-strategies.md), their
 // conversions to and from Omega, and their equations of motion under torque.
 //
-// Regimes (DESIGN.md section 1.2). Every regime is reduced to the paper's one, 0 <= k < 1 with
+// Regimes (docs/vop-strategies.md). Every regime is reduced to the paper's one, 0 <= k < 1 with
 // Omega3 > 0, by a signed permutation W = P Omega that is a symmetry of Eq. 5 (G maps the same way):
 //   major axis, k < 1, Omega3 > 0:  W = ( Omega1,  Omega2,  Omega3)  (the paper)
 //   major axis, k < 1, Omega3 < 0:  W = ( Omega1, -Omega2, -Omega3)  (rotation by pi about axis 1)
@@ -13,7 +13,7 @@
 // the integrals are d1 = |(W1, W2)| = c2 and d2 = |(W2, W3)| = c1, the modulus is d1/d2 = 1/k < 1,
 // and the paper's solution W = (d1 cn v, d1 sn v, d2 dn v), v = d2 (tau - tau0), reads
 //   Omega1 = c1 dn(v | 1/k), Omega2 = c2 sn(v | 1/k), Omega3 = c2 cn(v | 1/k),  v = c1 (tau - tau0),
-// the reciprocal-modulus form of DESIGN.md 1.2. The element equations of the minor-axis regime
+// the reciprocal-modulus form of the solution. The element equations of the minor-axis regime
 // are therefore Eqs. 13 and 16 in the W frame:
 //   c1' = dn G1 + l sn G2,  c2' = cn G3 + sn G2 (l = 1/k; Eq. 13 in terms of Omega unchanged),
 //   v'  = [l (c1^2 - c2^2) - sn dn G3 + lc^2 cn dn G2 + l^3 sn cn G1
@@ -314,8 +314,9 @@ class vop_equations : public vop_domain<T> {
 //   c2' = k sn G2 + dn G3                                                           (Eq. 13)
 //   u'  = [k (c2^2 - c1^2) - sn dn G1 + kc^2 cn dn G2 + k^3 sn cn G3
 //          + (E(u) - kc^2 u)(cn G1 + kc^2 sn G2 - k dn G3)] / (c1 kc^2)             (Eq. 16)
-// with E(u) Jacobi's epsilon function (DESIGN.md section 1.3). The modulus data (K, E, the AGM
-// sequence) is recomputed only when k changes.
+// with E(u) = integral_0^u dn^2 Jacobi's epsilon function (E(am u | k)). In double the
+// functions come from the theta route with every constant in registers; otherwise from the AGM,
+// whose modulus data (K, E, the sequence) is recomputed only when k changes.
 //
 // Outside 0 < k < 1 the equations are singular. The system then returns NaN derivatives, which
 // stops the fixed-step driver, and records the first tau where it happened and why. Without
