@@ -557,7 +557,7 @@ CLI::App* add_check_command(CLI::App& app, check_options& o) {
       ->required()
       ->type_name("TRAJECTORY");
   auto bind = [&](const std::string& name, std::optional<std::string>& target, const std::string& help) {
-    return sub->add_option_function<std::string>(name, [&target](const std::string& v) { target = v; }, help);
+    return add_text_option(*sub, name, target, help);
   };
   bind("--columns", o.columns, "Column names of the file: tau=time,Omega1=w1,... (default: the canonical names)")
       ->type_name("MAP");

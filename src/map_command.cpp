@@ -1,6 +1,7 @@
 #include "map_command.hpp"
 
 #include "comparison_common.hpp"
+#include "grid_flags.hpp"
 #include "input_error.hpp"
 #include "scene_problem.hpp"
 #include "text_table.hpp"
@@ -23,14 +24,13 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr std::int64_t default_samples = 200;
-constexpr std::int64_t max_repeat = 1000;
-constexpr std::int64_t max_jobs = 256;
 const std::string default_scales = "1e-6,1e-4,1e-2,1";
 const std::string default_levels = "1e-6,1e-8,1e-10,1e-12";
 // From K (four steps a period of the initial motion: on a small torque the VOP elements barely
 // move, and their cheapest step is as long as the forcing allows) to K/6400, about doubling.
 const std::string default_map_steps =
     "K/1,K/2,K/3,K/6,K/12,K/25,K/50,K/100,K/200,K/400,K/800,K/1600,K/3200,K/6400";
+const grid_flag_defaults defaults{default_map_steps, 1};
 
 struct map_job {
   std::vector<decimal> scales;
@@ -38,8 +38,7 @@ struct map_job {
   std::vector<wp_grid> grids;  // one per scale
   std::string scene_name;
   std::string overrides;
-  int repeat = 1;
-  int jobs = 1;
+  wp_run_options run;
   eulervop::precision precision;
   picard_settings settings;
   fs::path out_dir;
@@ -67,49 +66,25 @@ map_job make_job(const map_options& o) {
   }
   if (!base.torque || std::all_of(base.torque->begin(), base.torque->end(), [](const decimal& g) { return g.value == 0; }))
     throw input_error(fmt::format("scene `{}` has no torque to scale (give a scene with [torque] G or M)", base.name));
-  job.repeat = o.repeat ? static_cast<int>(flag_integer("--repeat", *o.repeat, 1, max_repeat)) : 1;
-  job.jobs = o.jobs ? static_cast<int>(flag_integer("--jobs", *o.jobs, 1, max_jobs)) : 1;
-
-  wp_grid proto;
-  proto.scn = base;
-  proto.samples = static_cast<std::size_t>(*base.samples);
-  const bool steps = o.steps || !o.tols;
-  const bool tols = o.tols || !o.steps;
-  if (tols) proto.tols = tol_ladder("--tols", o.tols.value_or(default_tol_ladder));
-  if (o.formulations)
-    proto.forms = formulations_of(flag_list("--formulations", *o.formulations), "--formulations " + *o.formulations, "");
-  else
-    proto.forms.assign(all_formulations.begin(), all_formulations.end());
-  if (std::none_of(proto.forms.begin(), proto.forms.end(), is_vop) ||
-      std::find(proto.forms.begin(), proto.forms.end(), formulation::euler) == proto.forms.end())
-    throw input_error(fmt::format("--formulations {}: the map compares euler with vop or vop-theta; give both kinds",
-                                  o.formulations.value_or("")));
-  if (o.methods) {
-    proto.methods = methods_of(flag_list("--methods", *o.methods), "--methods " + *o.methods, "");
-    check_methods_for_ladders(proto.methods, steps, tols, "--methods " + *o.methods);
-  } else {
-    proto.methods.assign(rk::all_methods.begin(), rk::all_methods.end());
-  }
+  job.run = run_options_of(o.grid, defaults, "map");
+  job.run.stop_below = *std::min_element(job.levels.begin(), job.levels.end());
 
   for (const decimal& scale : job.scales) {
-    wp_grid g = proto;
-    for (decimal& gi : *g.scn.torque) {
+    scene scaled = base;
+    for (decimal& gi : *scaled.torque) {
       const auto product = decimal_product(gi, scale);
       if (!product)
         throw input_error(fmt::format("--torque-scales {}: {} times the torque {} is out of the range of a double",
                                       o.torque_scales.value_or(default_scales), scale.text, gi.text));
       gi = *product;
     }
-    if (steps) {
-      const std::vector<std::string> texts = flag_list("--steps", o.steps.value_or(default_map_steps));
-      g.steps = step_ladder(g.scn, texts, "--steps", !o.steps, g.samples);
-    }
-    resolve_max_step(g, o.max_step);
-    g.make_cases();
-    probe_formulations(g.forms, to_problem<double>(g.scn),
-                       steps ? g.steps.front().choice.h : std::min(g.h_max, tau_end_of<double>(g.scn)));
-    job.grids.push_back(std::move(g));
+    job.grids.push_back(grid_of(scaled, static_cast<std::size_t>(*base.samples), o.grid, defaults));
   }
+  const std::vector<formulation>& forms = job.grids.front().forms;  // the same at every scale
+  if (std::none_of(forms.begin(), forms.end(), is_vop) ||
+      std::find(forms.begin(), forms.end(), formulation::euler) == forms.end())
+    throw input_error(fmt::format("--formulations {}: the map compares euler with vop or vop-theta; give both kinds",
+                                  o.grid.formulations.value_or("")));
 
   if (o.out_dir && o.out_dir->empty()) throw input_error("--out-dir: empty path");
   job.out_dir = o.out_dir ? fs::path(*o.out_dir) : fs::path("eulervop-map");
@@ -150,19 +125,16 @@ std::vector<std::vector<map_cell>> cells_of(const map_job& job, const std::vecto
   return out;
 }
 
-std::string level_text(double level) { return fmt::format("{:.0e}", level); }
-
 std::string torque_text(const wp_grid& g) {
   const auto& G = *g.scn.torque;
   return fmt::format("({}, {}, {})", G[0].text, G[1].text, G[2].text);
 }
 
-std::string verdict(const wp_grid& g, const wp_outcome& o, const map_cell& c) {
+std::string verdict(const wp_grid& g, const map_cell& c) {
   if (!c.euler && !c.best_vop) return "not reached";
   if (!c.best_vop) return "only euler reaches it";
   if (!c.euler) return fmt::format("only {} reaches it", formulation_name(g.forms[*c.best_vop]));
   const std::string vop(formulation_name(g.forms[*c.best_vop]));
-  (void)o;
   return *c.speedup >= 1 ? fmt::format("{} {:.2f}x faster", vop, *c.speedup)
                          : fmt::format("euler {:.2f}x faster", 1 / *c.speedup);
 }
@@ -227,11 +199,6 @@ std::string runs_csv(const map_job& job, const std::vector<wp_outcome>& outcomes
   return fmt::to_string(out);
 }
 
-std::string timing_note(const map_job& job) {
-  return fmt::format("each time is the minimum of {} run(s){}", job.repeat,
-                     job.jobs > 1 ? fmt::format("; --jobs {}: runs were timed in parallel", job.jobs) : "");
-}
-
 nlohmann::ordered_json summary_json(const map_job& job, const std::vector<wp_outcome>& outcomes,
                                     const std::vector<std::vector<map_cell>>& cells, double wall) {
   const wp_grid& first = job.grids.front();
@@ -248,9 +215,9 @@ nlohmann::ordered_json summary_json(const map_job& job, const std::vector<wp_out
   j["tols"] = tols;
   j["max_step_rule"] = first.h_max_rule;
   j["samples"] = first.samples;
-  j["repeat"] = job.repeat;
-  j["jobs"] = job.jobs;
-  j["timing"] = timing_note(job);
+  j["repeat"] = job.run.repeat;
+  j["jobs"] = job.run.jobs;
+  j["timing"] = timing_text(job.run);
   j["pruning"] = "each ladder (formulation, method, fixed or adaptive) stops at the first rung that reaches the "
                  "smallest level: tighter rungs cost more";
   j["wall_seconds"] = wall;
@@ -292,7 +259,7 @@ nlohmann::ordered_json summary_json(const map_job& job, const std::vector<wp_out
            {"best_vop", c.best_vop ? nlohmann::ordered_json(std::string(formulation_name(g.forms[*c.best_vop])))
                                    : nlohmann::ordered_json(nullptr)},
            {"speedup", number_or_null(c.speedup)},
-           {"verdict", verdict(g, outcomes[s], c)}});
+           {"verdict", verdict(g, c)}});
     }
     j["scales"].push_back(std::move(scale));
   }
@@ -318,7 +285,7 @@ std::string table_text(const map_job& job, const std::vector<wp_outcome>& outcom
   for (std::size_t s = 0; s < job.grids.size(); ++s)
     out += fmt::format(" {} {:.1f} s{}", job.scales[s].text, outcomes[s].reference_seconds,
                        s + 1 < job.grids.size() ? "," : "\n");
-  out += fmt::format("timing: {}; wall time {:.1f} s\n\n", timing_note(job), wall);
+  out += fmt::format("timing: {}; wall time {:.1f} s\n\n", timing_text(job.run), wall);
 
   out += "speed-up of the cheapest VOP configuration over the cheapest Euler one (max error over the span <= level):\n";
   std::vector<std::vector<std::string>> table;
@@ -348,7 +315,7 @@ std::string table_text(const map_job& job, const std::vector<wp_outcome>& outcom
                            outcomes[s].results[i].seconds);
       };
       detail.push_back({job.scales[s].text, level_text(c.choice.level), config(c.euler), config(c.best_vop),
-                        verdict(g, outcomes[s], c)});
+                        verdict(g, c)});
     }
   }
   out += aligned_table(detail, 5);
@@ -362,23 +329,13 @@ CLI::App* add_map_command(CLI::App& app, map_options& o) {
       "map", "Where VOP pays: the scene's torque scaled, every formulation x method x step and tolerance, the cheapest "
              "per error level and VOP's speed-up over Euler");
   auto bind = [&](const std::string& name, std::optional<std::string>& target, const std::string& help) {
-    return sub->add_option_function<std::string>(name, [&target](const std::string& v) { target = v; }, help);
+    return add_text_option(*sub, name, target, help);
   };
   bind("scene", o.scene_path, "Scene file (TOML) with a torque; default: the embedded paper scene")->type_name("SCENE");
   bind("--torque-scales", o.torque_scales, "Comma-separated factors of the scene's torque (default: " + default_scales + ")")
       ->type_name("LIST");
   bind("--levels", o.levels, "Comma-separated max-error levels (default: " + default_levels + ")")->type_name("LIST");
-  bind("--steps", o.steps, "Comma-separated fixed steps: K/N or h (default: " + default_map_steps + ")")
-      ->type_name("LIST");
-  bind("--tols", o.tols, "Comma-separated tolerances of the adaptive runs (default: " + default_tol_ladder + ")")
-      ->type_name("LIST");
-  bind("--max-step", o.max_step, "Largest step of the adaptive runs: K/N or h (default: K/2)")->type_name("S");
-  bind("--methods", o.methods, "Comma-separated methods (default: all: rk4,rkf45,dp45,rk8 fixed; rkf45,dp45,dop853 adaptive)")
-      ->type_name("LIST");
-  bind("--formulations", o.formulations, "Comma-separated: " + joined(available_formulations()) + " (default: all)")
-      ->type_name("LIST");
-  bind("--repeat", o.repeat, "Timed runs per case; the minimum time is kept (default: 1)")->type_name("N");
-  bind("--jobs", o.jobs, "Runs in parallel (default: 1)")->type_name("N");
+  add_grid_flags(*sub, o.grid, defaults);
   scene_override_set which;
   which.times = false;
   add_scene_override_options(*sub, o.overrides, which, "About this many error samples per run (default: 200)");
@@ -391,12 +348,7 @@ void run_map(const map_options& options, std::ostream& standard_output) {
   const map_job job = make_job(options);
   const auto start = std::chrono::steady_clock::now();
   output_dir dir(job.out_dir, "map.csv");
-  wp_run_options run_options;
-  run_options.repeat = job.repeat;
-  run_options.jobs = job.jobs;
-  run_options.progress_label = "map";
-  run_options.stop_below = *std::min_element(job.levels.begin(), job.levels.end());
-  const std::vector<wp_outcome> outcomes = run_grids(job.grids, job.precision, job.settings, run_options);
+  const std::vector<wp_outcome> outcomes = run_grids(job.grids, job.precision, job.settings, job.run);
   const auto cells = cells_of(job, outcomes);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

@@ -5,6 +5,7 @@
 // the direct Euler equations. map.csv, runs.csv, summary.json and regime_map.png/.svg.
 #pragma once
 
+#include "grid_flags.hpp"
 #include "scene_overrides.hpp"
 
 #include <CLI/CLI.hpp>
@@ -21,13 +22,7 @@ struct map_options {
   scene_override_flags overrides;            // --tau-end/--t-end, --samples, --precision, --degree, --tolerance
   std::optional<std::string> torque_scales;  // "1e-6,1e-4,1e-2,1"
   std::optional<std::string> levels;         // "1e-6,1e-8,1e-10,1e-12"
-  std::optional<std::string> steps;          // the fixed-step ladder
-  std::optional<std::string> tols;           // the tolerance ladder
-  std::optional<std::string> max_step;
-  std::optional<std::string> methods;
-  std::optional<std::string> formulations;
-  std::optional<std::string> repeat;
-  std::optional<std::string> jobs;
+  grid_flags grid;                           // --steps, --tols, --max-step, --methods, --formulations, --repeat, --jobs
   std::optional<std::string> out_dir;        // default ./eulervop-map/
   bool no_plot = false;
 };

@@ -347,6 +347,8 @@ reference_samples<T> compute_reference(const report_job& job) {
 }
 
 // One run's errors at the sample points (nullopt: not reached, or after divergence).
+// A run and its Eq. 20 error at each sample (the reference's samples for fixed steps, the run's
+// own step points for adaptive ones).
 struct run_errors {
   run_result run;
   std::vector<std::optional<double>> error;
@@ -403,6 +405,35 @@ nlohmann::ordered_json bands_json(const std::vector<std::pair<double, double>>& 
   return out;
 }
 
+// One entry of summary.json's "runs": a fixed run has a step and no tolerance (and no
+// accepted/rejected counts), an adaptive run the reverse.
+nlohmann::ordered_json run_json(const run_spec& spec, const run_errors& e, nlohmann::ordered_json step,
+                                nlohmann::ordered_json tol) {
+  const run_result& r = e.run;
+  const bool adaptive = spec.tol.has_value();
+  auto if_adaptive = [&](auto v) { return adaptive ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
+  auto if_diverged = [&](auto v) { return r.diverged ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
+  return {{"formulation", std::string(formulation_name(spec.form))},
+          {"method", std::string(rk::method_name(spec.method))},
+          {"step", std::move(step)},
+          {"tol", std::move(tol)},
+          {"steps", r.steps},
+          {"accepted", if_adaptive(r.steps)},
+          {"rejected", if_adaptive(r.rejected)},
+          {"rhs_evals", r.rhs_evals},
+          {"seconds", r.seconds},
+          {"max_error", number_or_null(e.max_error)},
+          {"final_tau", number_or_null(e.final_tau)},
+          {"final_error", number_or_null(e.final_error)},
+          {"diverged", r.diverged},
+          {"diverged_at", r.diverged ? number_or_null(r.diverged_at) : nlohmann::ordered_json(nullptr)},
+          {"why", if_diverged(r.why)},
+          {"separatrix_bands", bands_json(r.separatrix_bands)},
+          {"small_k_bands", bands_json(r.small_k_bands)},
+          {"direct_steps", r.direct_steps},
+          {"regime_changes", r.regime_changes}};
+}
+
 // "separatrix band tau 14.19..15.19, small-k bands tau 0..0.52, 3.1..3.4 (120 direct Euler steps,
 // 1 regime change)": one line under the table for a run that left its elements; empty otherwise.
 std::string bands_note(const run_result& r) {
@@ -438,26 +469,7 @@ nlohmann::ordered_json summary_json(const report_job& job, const reference_sampl
   j["step_rule"] = job.step.rule;
   j["runs"] = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < runs.size(); ++i) {
-    const run_result& r = runs[i].run;
-    j["runs"].push_back({{"formulation", std::string(formulation_name(job.runs[i].form))},
-                         {"method", std::string(rk::method_name(job.runs[i].method))},
-                         {"step", job.step.h},
-                         {"tol", nullptr},
-                         {"steps", r.steps},
-                         {"accepted", nullptr},
-                         {"rejected", nullptr},
-                         {"rhs_evals", r.rhs_evals},
-                         {"seconds", r.seconds},
-                         {"max_error", number_or_null(runs[i].max_error)},
-                         {"final_tau", number_or_null(runs[i].final_tau)},
-                         {"final_error", number_or_null(runs[i].final_error)},
-                         {"diverged", r.diverged},
-                         {"diverged_at", r.diverged ? number_or_null(r.diverged_at) : nlohmann::ordered_json(nullptr)},
-                         {"why", r.diverged ? nlohmann::ordered_json(r.why) : nlohmann::ordered_json(nullptr)},
-                         {"separatrix_bands", bands_json(r.separatrix_bands)},
-                         {"small_k_bands", bands_json(r.small_k_bands)},
-                         {"direct_steps", r.direct_steps},
-                         {"regime_changes", r.regime_changes}});
+    j["runs"].push_back(run_json(job.runs[i], runs[i], job.step.h, nullptr));
   }
   return j;
 }
@@ -518,18 +530,12 @@ std::string table_text(const report_job& job, const reference_samples<T>& ref, c
 
 // ---- the adaptive report (--tols) ------------------------------------------------------------------
 
-struct adaptive_report_run {
-  run_result run;
-  std::vector<std::optional<double>> error;  // per sample of the run
-  std::optional<double> max_error, final_tau, final_error;
-};
-
 std::string run_label(const report_job& job, const run_spec& spec) {
   return fmt::format("{} {} tol {}", formulation_name(spec.form), rk::method_name(spec.method), job.tols[*spec.tol].text);
 }
 
 nlohmann::ordered_json adaptive_summary(const report_job& job, const dense_reference_info& ref,
-                                        const std::vector<adaptive_report_run>& runs) {
+                                        const std::vector<run_errors>& runs) {
   nlohmann::ordered_json j;
   j["scene"] = job.scn.name;
   j["reference"] = {{"precision", job.precision.name()},
@@ -540,33 +546,13 @@ nlohmann::ordered_json adaptive_summary(const report_job& job, const dense_refer
   j["max_step"] = {{"h", job.h_max}, {"rule", job.h_max_rule}};
   j["runs"] = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < runs.size(); ++i) {
-    const run_result& r = runs[i].run;
-    const run_spec& spec = job.runs[i];
-    j["runs"].push_back({{"formulation", std::string(formulation_name(spec.form))},
-                         {"method", std::string(rk::method_name(spec.method))},
-                         {"step", nullptr},
-                         {"tol", job.tols[*spec.tol].value},
-                         {"steps", r.steps},
-                         {"accepted", r.steps},
-                         {"rejected", r.rejected},
-                         {"rhs_evals", r.rhs_evals},
-                         {"seconds", r.seconds},
-                         {"max_error", number_or_null(runs[i].max_error)},
-                         {"final_tau", number_or_null(runs[i].final_tau)},
-                         {"final_error", number_or_null(runs[i].final_error)},
-                         {"diverged", r.diverged},
-                         {"diverged_at", r.diverged ? number_or_null(r.diverged_at) : nlohmann::ordered_json(nullptr)},
-                         {"why", r.diverged ? nlohmann::ordered_json(r.why) : nlohmann::ordered_json(nullptr)},
-                         {"separatrix_bands", bands_json(r.separatrix_bands)},
-                         {"small_k_bands", bands_json(r.small_k_bands)},
-                         {"direct_steps", r.direct_steps},
-                         {"regime_changes", r.regime_changes}});
+    j["runs"].push_back(run_json(job.runs[i], runs[i], nullptr, job.tols[*job.runs[i].tol].value));
   }
   return j;
 }
 
 // errors.csv of an adaptive report: one row per sample of each run (the runs' step points differ).
-std::string adaptive_errors_csv(const report_job& job, const std::vector<adaptive_report_run>& runs) {
+std::string adaptive_errors_csv(const report_job& job, const std::vector<run_errors>& runs) {
   fmt::memory_buffer out;
   fmt::format_to(std::back_inserter(out), "formulation,method,tol,tau,error\n");
   for (std::size_t i = 0; i < runs.size(); ++i) {
@@ -582,7 +568,7 @@ std::string adaptive_errors_csv(const report_job& job, const std::vector<adaptiv
 }
 
 std::string adaptive_table(const report_job& job, const dense_reference_info& ref,
-                           const std::vector<adaptive_report_run>& runs) {
+                           const std::vector<run_errors>& runs) {
   std::string out;
   out += fmt::format("scene {}{}: to tau = {:.6g} under error control (atol = rtol = tol)\n", job.scn.name,
                      job.overrides.empty() ? "" : " (" + job.overrides + ")", tau_end_of<double>(job.scn));
@@ -621,14 +607,14 @@ void execute_adaptive(const report_job& job, std::ostream& standard_output) {
   const dense_reference<T> ref = integrate_dense<T>(to_problem<T>(job.scn), tau_end, job.settings, "reference");
   const dense_reference_info info{ref.wall_seconds, ref.stats.segments};
   const normalized_problem<double> problem = to_problem<double>(job.scn);
-  std::vector<adaptive_report_run> runs;
+  std::vector<run_errors> runs;
   for (const run_spec& spec : job.runs) {
     adaptive_run_settings s;
     s.tau_end = static_cast<double>(tau_end);
     s.atol = s.rtol = job.tols[*spec.tol].value;
     s.h_max = job.h_max;
     s.samples = job.samples;
-    adaptive_report_run a;
+    run_errors a;
     a.run = run_adaptive(spec.form, spec.method, problem, s);
     const run_result& r = a.run;
     a.error.resize(r.Omega.size());
@@ -686,7 +672,7 @@ CLI::App* add_report_command(CLI::App& app, report_options& o) {
   CLI::App* sub = app.add_subcommand(
       "report", "Run Euler and VOP in double at a fixed step or under error control; Eq. 20 errors, summary and Fig. 1");
   auto bind = [&](const std::string& name, std::optional<std::string>& target, const std::string& help) {
-    return sub->add_option_function<std::string>(name, [&target](const std::string& v) { target = v; }, help);
+    return add_text_option(*sub, name, target, help);
   };
   bind("scene", o.scene_path, "Scene file (TOML); default: the embedded paper scene")->type_name("SCENE");
   bind("--reference", o.reference_file, "Reference CSV written by `eulervop reference` (default: computed here)")

@@ -99,10 +99,15 @@ std::vector<decimal> flag_times(const std::string& text, const decimal& span_end
 
 std::string applied_overrides::text() const { return fmt::format("{}", fmt::join(flags, " ")); }
 
+CLI::Option* add_text_option(CLI::App& sub, const std::string& name, std::optional<std::string>& target,
+                             const std::string& help) {
+  return sub.add_option_function<std::string>(name, [&target](const std::string& v) { target = v; }, help);
+}
+
 void add_scene_override_options(CLI::App& sub, scene_override_flags& o, scene_override_set which,
                                 const std::string& samples_help) {
   auto bind = [&](const std::string& name, std::optional<std::string>& target, const std::string& help) {
-    return sub.add_option_function<std::string>(name, [&target](const std::string& v) { target = v; }, help);
+    return add_text_option(sub, name, target, help);
   };
   if (which.reference)
     bind("--precision", o.precision, "double | quad | mpfr:BITS (overrides [reference] precision)")->type_name("P");

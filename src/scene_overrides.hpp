@@ -39,6 +39,11 @@ struct scene_override_set {
   bool reference = true;  // --precision, --degree, --tolerance
 };
 
+// Registers an option whose value is kept as the text the user typed: flags are parsed when the
+// scene they modify is known, so that errors can name the flag, the value and the scene.
+CLI::Option* add_text_option(CLI::App& sub, const std::string& name, std::optional<std::string>& target,
+                             const std::string& help);
+
 // Registers the flags of `which` on `sub`, binding them to `flags`. `samples_help` describes
 // --samples in the subcommand's own terms.
 void add_scene_override_options(CLI::App& sub, scene_override_flags& flags, scene_override_set which,

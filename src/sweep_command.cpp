@@ -1,5 +1,6 @@
 #include "sweep_command.hpp"
 
+#include "grid_flags.hpp"
 #include "input_error.hpp"
 #include "scene_problem.hpp"
 #include "text_table.hpp"
@@ -23,17 +24,14 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr std::int64_t default_samples = 200;
-constexpr std::int64_t default_repeat = 3;
-constexpr std::int64_t max_repeat = 1000;
-constexpr std::int64_t max_jobs = 256;
+const grid_flag_defaults defaults{default_step_ladder, 3};
 
 // ---- flags -> a job ----------------------------------------------------------------------------
 
 struct sweep_job {
   wp_grid grid;
   std::string overrides;
-  int repeat = 1;
-  int jobs = 1;
+  wp_run_options run;
   eulervop::precision precision;
   picard_settings settings;
   fs::path out_dir;
@@ -42,8 +40,7 @@ struct sweep_job {
 
 sweep_job make_job(const sweep_options& o) {
   sweep_job job;
-  job.grid.scn = o.scene_path ? load_scene_file(*o.scene_path) : load_default_scene();
-  scene& s = job.grid.scn;
+  scene s = o.scene_path ? load_scene_file(*o.scene_path) : load_default_scene();
 
   // Error samples are step points of each run, about --samples of them; the scene's own sample
   // times and count are for `reference` and do not apply.
@@ -53,39 +50,8 @@ sweep_job make_job(const sweep_options& o) {
   job.overrides = applied.text();
   job.precision = applied.precision;
   job.settings = applied.settings;
-  job.grid.samples = static_cast<std::size_t>(*s.samples);
-
-  job.repeat = o.repeat ? static_cast<int>(flag_integer("--repeat", *o.repeat, 1, max_repeat)) : default_repeat;
-  job.jobs = o.jobs ? static_cast<int>(flag_integer("--jobs", *o.jobs, 1, max_jobs)) : 1;
-
-  // The ladders: both by default; either alone when only it is given.
-  const bool steps = o.steps || !o.tols;
-  const bool tols = o.tols || !o.steps;
-  if (steps) {
-    std::vector<std::string> texts;
-    if (o.steps) texts = flag_list("--steps", *o.steps);
-    else texts = default_step_ladder();
-    job.grid.steps = step_ladder(s, texts, "--steps", !o.steps, job.grid.samples);
-  }
-  if (tols) job.grid.tols = tol_ladder("--tols", o.tols.value_or(default_tol_ladder));
-  resolve_max_step(job.grid, o.max_step);
-
-  // The whole grid by default: the scene's [run] methods and formulations choose the runs of
-  // `report`, not the sweep's.
-  if (o.formulations)
-    job.grid.forms = formulations_of(flag_list("--formulations", *o.formulations), "--formulations " + *o.formulations, "");
-  else
-    job.grid.forms.assign(all_formulations.begin(), all_formulations.end());
-  if (o.methods) {
-    job.grid.methods = methods_of(flag_list("--methods", *o.methods), "--methods " + *o.methods, "");
-    check_methods_for_ladders(job.grid.methods, steps, tols, "--methods " + *o.methods);
-  } else {
-    job.grid.methods.assign(rk::all_methods.begin(), rk::all_methods.end());
-  }
-  job.grid.make_cases();
-
-  probe_formulations(job.grid.forms, to_problem<double>(s),
-                     steps ? job.grid.steps.front().choice.h : std::min(job.grid.h_max, tau_end_of<double>(s)));
+  job.run = run_options_of(o.grid, defaults, "sweep");
+  job.grid = grid_of(s, static_cast<std::size_t>(*s.samples), o.grid, defaults);
 
   if (o.out_dir && o.out_dir->empty()) throw input_error("--out-dir: empty path");
   job.out_dir = o.out_dir ? fs::path(*o.out_dir) : fs::path("eulervop-sweep");
@@ -94,8 +60,6 @@ sweep_job make_job(const sweep_options& o) {
 }
 
 // ---- output ---------------------------------------------------------------------------------------
-
-std::string level_text(double level) { return fmt::format("{:.0e}", level); }
 
 // "vop, 2.60x faster than euler, 1.10x faster than vop-theta" (and which reach nothing).
 std::string verdict(const wp_grid& g, const wp_outcome& o, const level_choice& lc) {
@@ -164,14 +128,6 @@ std::string cheapest_csv(const wp_grid& g, const wp_outcome& o, const std::vecto
   return fmt::to_string(out);
 }
 
-std::string timing_note(const sweep_job& job) {
-  if (job.jobs == 1)
-    return fmt::format("each time is the minimum of {} run(s), one case at a time", job.repeat);
-  return fmt::format("each time is the minimum of {} run(s); --jobs {}: cases ran in parallel, so the timings were "
-                     "taken in parallel and are less pure than with --jobs 1",
-                     job.repeat, job.jobs);
-}
-
 nlohmann::ordered_json summary_json(const sweep_job& job, const wp_outcome& o, const std::vector<level_choice>& levels,
                                     double wall_seconds) {
   const wp_grid& g = job.grid;
@@ -183,9 +139,9 @@ nlohmann::ordered_json summary_json(const sweep_job& job, const wp_outcome& o, c
                     {"seconds", o.reference_seconds},
                     {"segments", o.reference_segments}};
   j["samples"] = g.samples;
-  j["repeat"] = job.repeat;
-  j["jobs"] = job.jobs;
-  j["timing"] = timing_note(job);
+  j["repeat"] = job.run.repeat;
+  j["jobs"] = job.run.jobs;
+  j["timing"] = timing_text(job.run);
   j["wall_seconds"] = wall_seconds;
   nlohmann::ordered_json steps = nlohmann::ordered_json::array();
   for (const ladder_step& st : g.steps)
@@ -259,7 +215,7 @@ std::string table_text(const sweep_job& job, const wp_outcome& o, const std::vec
   out += fmt::format("reference: {} ({:.1f} s, {} segments); errors (Eq. 20) at about {} samples per run\n",
                      job.precision.name(), o.reference_seconds, o.reference_segments, g.samples);
   if (!g.tols.empty()) out += fmt::format("adaptive runs: atol = rtol = tol, maximum step {}\n", g.h_max_rule);
-  out += fmt::format("timing: {}\n", timing_note(job));
+  out += fmt::format("timing: {}\n", timing_text(job.run));
   out += fmt::format("wall time of the sweep: {:.1f} s\n\n", wall_seconds);
 
   std::vector<std::vector<std::string>> rows = {{"formulation", "method", "step", "h", "steps", "rejected", "rhs evals",
@@ -310,24 +266,10 @@ CLI::App* add_sweep_command(CLI::App& app, sweep_options& o) {
       "sweep", "Work against precision: every formulation x method x fixed step and tolerance, timed and measured "
                "against one reference");
   auto bind = [&](const std::string& name, std::optional<std::string>& target, const std::string& help) {
-    return sub->add_option_function<std::string>(name, [&target](const std::string& v) { target = v; }, help);
+    return add_text_option(*sub, name, target, help);
   };
   bind("scene", o.scene_path, "Scene file (TOML); default: the embedded paper scene")->type_name("SCENE");
-  bind("--steps", o.steps, fmt::format("Comma-separated fixed steps: K/N (K of the initial modulus) or h (default: {})",
-                                       joined(default_step_ladder())))
-      ->type_name("LIST");
-  bind("--tols", o.tols, fmt::format("Comma-separated tolerances of the adaptive runs, atol = rtol (default: {}; "
-                                     "with --steps alone: none)",
-                                     default_tol_ladder))
-      ->type_name("LIST");
-  bind("--max-step", o.max_step, "Largest step of the adaptive runs: K/N or h (default: K/2)")->type_name("S");
-  bind("--methods", o.methods,
-       "Comma-separated: rk4,rkf45,dp45,rk8 at the fixed steps, rkf45,dp45,dop853 at the tolerances (default: all)")
-      ->type_name("LIST");
-  bind("--formulations", o.formulations, "Comma-separated: " + joined(available_formulations()) + " (default: all)")
-      ->type_name("LIST");
-  bind("--repeat", o.repeat, "Timed runs per case; the minimum time is kept (default: 3)")->type_name("N");
-  bind("--jobs", o.jobs, "Cases run in parallel (default: 1; above 1 the timings are less pure)")->type_name("N");
+  add_grid_flags(*sub, o.grid, defaults);
   scene_override_set which;
   which.times = false;
   add_scene_override_options(*sub, o.overrides, which,
@@ -341,11 +283,7 @@ void run_sweep(const sweep_options& options, std::ostream& standard_output) {
   const sweep_job job = make_job(options);
   const auto start = std::chrono::steady_clock::now();
   output_dir dir(job.out_dir, "sweep.csv");
-  wp_run_options run_options;
-  run_options.repeat = job.repeat;
-  run_options.jobs = job.jobs;
-  run_options.progress_label = "sweep";
-  const std::vector<wp_outcome> outcomes = run_grids({job.grid}, job.precision, job.settings, run_options);
+  const std::vector<wp_outcome> outcomes = run_grids({job.grid}, job.precision, job.settings, job.run);
   const wp_outcome& o = outcomes.front();
   const std::vector<double> levels(sweep_error_levels.begin(), sweep_error_levels.end());
   const std::vector<level_choice> cheapest = cheapest_per_level(job.grid, o, levels);

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "comparison_common.hpp"
+#include "grid_flags.hpp"
 #include "scene_overrides.hpp"
 
 #include <CLI/CLI.hpp>
@@ -22,13 +23,7 @@ namespace eulervop::app {
 struct sweep_options {
   std::optional<std::string> scene_path;    // none: the embedded default scene
   scene_override_flags overrides;           // --tau-end/--t-end, --samples, --precision, --degree, --tolerance
-  std::optional<std::string> steps;         // "K/25,K/100,0.01"
-  std::optional<std::string> tols;          // "1e-6,1e-8": adaptive runs
-  std::optional<std::string> max_step;      // their largest step, "K/N" or h
-  std::optional<std::string> methods;       // "rk4,rk8"
-  std::optional<std::string> formulations;  // "euler,vop"
-  std::optional<std::string> repeat;        // timed runs per case (the minimum is kept)
-  std::optional<std::string> jobs;          // cases run in parallel
+  grid_flags grid;                          // --steps, --tols, --max-step, --methods, --formulations, --repeat, --jobs
   std::optional<std::string> out_dir;       // default ./eulervop-sweep/
   bool no_plot = false;
 };

@@ -81,12 +81,6 @@ fixed_step_choice max_step_of(const scene& s, const std::string& text, const std
   return step_length(s, parse_step_text(text, origin), origin);
 }
 
-std::vector<std::string> default_step_ladder() {
-  std::vector<std::string> texts;
-  for (int n = 25; n <= 6400; n *= 2) texts.push_back(fmt::format("K/{}", n));
-  return texts;
-}
-
 void resolve_max_step(wp_grid& g, const std::optional<std::string>& flag) {
   if (flag) {
     const fixed_step_choice c = max_step_of(g.scn, *flag, "--max-step " + *flag);
@@ -372,6 +366,8 @@ std::vector<wp_outcome> run_grids(const std::vector<wp_grid>& grids, const euler
 }
 
 // ---- the cheapest configurations ------------------------------------------------------------------
+
+std::string level_text(double level) { return fmt::format("{:.0e}", level); }
 
 std::vector<level_choice> cheapest_per_level(const wp_grid& g, const wp_outcome& o, const std::vector<double>& levels) {
   std::vector<level_choice> out;

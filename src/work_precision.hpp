@@ -97,13 +97,15 @@ struct level_choice {
 };
 std::vector<level_choice> cheapest_per_level(const wp_grid& grid, const wp_outcome& outcome,
                                              const std::vector<double>& levels);
+// An error level as tables print it: "1e-08".
+std::string level_text(double level);
 
 // ---- ladders from flags ---------------------------------------------------------------------------
 
 // The default fixed steps K/25, K/50, ..., K/6400 (doubling) and tolerances 1e-3 ... 1e-15 (a
 // factor 100 apart; 1e-15, next to the rounding of double, is where DOP853 reaches 1e-12 on
 // the paper scene).
-std::vector<std::string> default_step_ladder();
+inline const std::string default_step_ladder = "K/25,K/50,K/100,K/200,K/400,K/800,K/1600,K/3200,K/6400";
 inline const std::string default_tol_ladder = "1e-3,1e-5,1e-7,1e-9,1e-11,1e-13,1e-15";
 // The adaptive runs' default maximum step: a half of K, the quarter period of the initial
 // motion (the VOP elements' forcing then gets at least 8 steps per period).

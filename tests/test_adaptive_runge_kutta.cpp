@@ -13,6 +13,8 @@
 // global error of a pair whose estimate is O(h^(q+1)) and which advances with the higher order
 // scales like tol^1 (error per step controlled, local extrapolation; HNW I, II.4), so the fitted
 // slope of log(error) against log(tol) must lie in [0.8, 1.2].
+#include "slope_test_support.hpp"
+
 #include <eulervop/adaptive_runge_kutta.hpp>
 #include <eulervop/model.hpp>
 #include <eulervop/oracle.hpp>
@@ -92,14 +94,15 @@ TYPED_TEST(EmbeddedPair, ErrorWeightsSumToZeroInEveryPrecision) {
   check(mpfr_real{});
 }
 
-// The non-zero pattern the stage loop relies on matches the coefficients.
-TYPED_TEST(EmbeddedPair, SparsityPatternMatchesTheCoefficients) {
-  using Pair = TypeParam;
-  const auto tab = Pair::template coefficients<double>();
+// The non-zero pattern the stage loop relies on matches the coefficients. rkf45 and dop853 reuse
+// the patterns of their tableaux (checked in test_runge_kutta.cpp); dp45's seven-stage pattern
+// with the FSAL row is its own.
+TEST(EmbeddedPair, Dp45SparsityPatternMatchesTheCoefficients) {
+  using Pair = rk::dp45_pair;
+  const auto tab = Pair::coefficients<double>();
   for (std::size_t i = 0; i < Pair::stages; ++i) {
-    for (std::size_t j = 0; j < Pair::stages; ++j)
-      EXPECT_EQ(tab.a[i][j] != 0, Pair::nonzero.a[i][j]) << Pair::name << " a(" << i << "," << j << ")";
-    EXPECT_EQ(tab.b[i] != 0, Pair::nonzero.b[i]) << Pair::name << " b" << i;
+    for (std::size_t j = 0; j < Pair::stages; ++j) EXPECT_EQ(tab.a[i][j] != 0, Pair::nonzero.a[i][j]) << i << "," << j;
+    EXPECT_EQ(tab.b[i] != 0, Pair::nonzero.b[i]) << i;
   }
 }
 
@@ -242,19 +245,7 @@ TYPED_TEST(AdaptiveDriver, GlobalErrorIsProportionalToTheTolerance) {
     log_tol.push_back(std::log10(tol));
     log_err.push_back(std::log10(worst));
   }
-  // Least-squares slope.
-  const double n = static_cast<double>(log_tol.size());
-  double mx = 0, my = 0;
-  for (std::size_t i = 0; i < log_tol.size(); ++i) {
-    mx += log_tol[i] / n;
-    my += log_err[i] / n;
-  }
-  double sxy = 0, sxx = 0;
-  for (std::size_t i = 0; i < log_tol.size(); ++i) {
-    sxy += (log_tol[i] - mx) * (log_err[i] - my);
-    sxx += (log_tol[i] - mx) * (log_tol[i] - mx);
-  }
-  const double slope = sxy / sxx;
+  const double slope = slope_test::least_squares_slope(log_tol, log_err);
   std::printf("  %-6s slope of log(error) on log(tol): %.3f\n", std::string(Pair::name).c_str(), slope);
   EXPECT_GE(slope, 0.8);
   EXPECT_LE(slope, 1.2);

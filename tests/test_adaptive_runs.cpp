@@ -11,6 +11,8 @@
 // Bounds: rounding-level results in multiples of eps times the size of the numbers involved;
 // tolerance proportionality: slope in [0.75, 1.25] (see test_adaptive_runge_kutta.cpp; the
 // VOP estimate is the same kind of estimate, on other variables).
+#include "slope_test_support.hpp"
+
 #include <eulervop/chebyshev_picard.hpp>
 #include <eulervop/comparison_run.hpp>
 #include <eulervop/error_measure.hpp>
@@ -46,21 +48,6 @@ double max_error(const eulervop::run_result& r, const eulervop::dense_trajectory
   for (std::size_t i = 0; i < r.Omega.size(); ++i)
     worst = std::max(worst, static_cast<double>(eulervop::eq20_error(ref(quad(r.sample_tau[i]) + quad(r.sample_tau_lo[i])), r.Omega[i])));
   return worst;
-}
-
-double slope(const std::vector<double>& x, const std::vector<double>& y) {
-  const double n = static_cast<double>(x.size());
-  double mx = 0, my = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    mx += x[i] / n;
-    my += y[i] / n;
-  }
-  double sxy = 0, sxx = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    sxy += (x[i] - mx) * (y[i] - my);
-    sxx += (x[i] - mx) * (x[i] - mx);
-  }
-  return sxy / sxx;
 }
 
 // ---- the error measure ----------------------------------------------------------------------------
@@ -185,7 +172,7 @@ TEST(AdaptiveSmallTorque, VopErrorIsProportionalToTheTolerance) {
         lt.push_back(std::log10(tol));
         le.push_back(std::log10(e));
       }
-      const double sl = slope(lt, le);
+      const double sl = slope_test::least_squares_slope(lt, le);
       std::printf("  %-9s %-6s slope %.3f\n", std::string(eulervop::formulation_name(f)).c_str(),
                   std::string(rk::method_name(m)).c_str(), sl);
       EXPECT_GE(sl, 0.75);

@@ -10,22 +10,12 @@ import csv
 import json
 import math
 import os
-import sys
+
+import plot_common
 
 
 def main() -> int:
-    if len(sys.argv) != 2:
-        print("usage: plot_fig1.py REPORT_DIR", file=sys.stderr)
-        return 2
-    out_dir = sys.argv[1]
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("plot_fig1: matplotlib is not installed (apt-get install python3-matplotlib)",
-              file=sys.stderr)
-        return 4
+    out_dir, plt = plot_common.setup("plot_fig1", "REPORT_DIR")
     with open(os.path.join(out_dir, "errors.csv"), newline="") as f:
         rows = [r for r in csv.reader(f) if r and not r[0].startswith("#")]
     header, data = rows[0], rows[1:]
@@ -65,13 +55,9 @@ def main() -> int:
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7 if len(ax.get_lines()) > 8 else 10)
     fig.tight_layout()
-    for ext in ("png", "svg"):
-        path = os.path.join(out_dir, f"fig1.{ext}")
-        tmp = path + ".tmp"
-        fig.savefig(tmp, format=ext, dpi=120)
-        os.replace(tmp, path)
+    plot_common.save(fig, out_dir, "fig1")
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    plot_common.run(main)

@@ -10,7 +10,8 @@ Needs matplotlib (Debian: apt-get install python3-matplotlib)."""
 import json
 import math
 import os
-import sys
+
+import plot_common
 
 
 def short(config):
@@ -19,19 +20,8 @@ def short(config):
 
 
 def main() -> int:
-    if len(sys.argv) != 2:
-        print("usage: plot_regime_map.py MAP_DIR", file=sys.stderr)
-        return 2
-    out_dir = sys.argv[1]
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        from matplotlib.colors import TwoSlopeNorm
-    except ImportError:
-        print("plot_regime_map: matplotlib is not installed (apt-get install python3-matplotlib)",
-              file=sys.stderr)
-        return 4
+    out_dir, plt = plot_common.setup("plot_regime_map", "MAP_DIR")
+    from matplotlib.colors import TwoSlopeNorm
     with open(os.path.join(out_dir, "summary.json")) as f:
         s = json.load(f)
     scales = s["scales"]
@@ -80,13 +70,9 @@ def main() -> int:
                  f"cheapest of fixed steps and tolerances, all methods; reference {s['precision']}\n"
                  f"{s['timing']}", fontsize=9)
     fig.tight_layout()
-    for ext in ("png", "svg"):
-        path = os.path.join(out_dir, f"regime_map.{ext}")
-        tmp = path + ".tmp"
-        fig.savefig(tmp, format=ext, dpi=120)
-        os.replace(tmp, path)
+    plot_common.save(fig, out_dir, "regime_map")
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    plot_common.run(main)

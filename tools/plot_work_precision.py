@@ -11,25 +11,15 @@ import csv
 import json
 import math
 import os
-import sys
+
+import plot_common
 
 LEVELS = (1e-4, 1e-6, 1e-8, 1e-10, 1e-12)
 MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*")
 
 
 def main() -> int:
-    if len(sys.argv) != 2:
-        print("usage: plot_work_precision.py SWEEP_DIR", file=sys.stderr)
-        return 2
-    out_dir = sys.argv[1]
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("plot_work_precision: matplotlib is not installed (apt-get install python3-matplotlib)",
-              file=sys.stderr)
-        return 4
+    out_dir, plt = plot_common.setup("plot_work_precision", "SWEEP_DIR")
     with open(os.path.join(out_dir, "sweep.csv"), newline="") as f:
         rows = list(csv.DictReader(f))
     title = "Work-precision"
@@ -80,13 +70,9 @@ def main() -> int:
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7, ncol=max(1, len(formulations)), loc="best")
     fig.tight_layout()
-    for ext in ("png", "svg"):
-        path = os.path.join(out_dir, f"work_precision.{ext}")
-        tmp = path + ".tmp"
-        fig.savefig(tmp, format=ext, dpi=120)
-        os.replace(tmp, path)
+    plot_common.save(fig, out_dir, "work_precision")
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    plot_common.run(main)
