@@ -142,7 +142,7 @@ std::string_view describe(decimal_problem problem) {
   switch (problem) {
     case decimal_problem::none: return "ok";
     case decimal_problem::not_a_number: return "not a decimal number";
-    case decimal_problem::not_finite: return "must be finite";
+    case decimal_problem::not_finite: return "not finite";
     case decimal_problem::out_of_range: return "out of the range of a double";
   }
   return "invalid";
