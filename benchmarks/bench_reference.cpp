@@ -1,5 +1,5 @@
-// Work-precision of reference generation on the paper scene (issue 4, section 2; issue 2,
-// "Benchmark, not a timed test").
+// Work-precision of reference generation on the paper scene (docs/benchmarks.md). A benchmark,
+// not a timed test: speed is measured here and never asserted by the test suite.
 //
 // Scene (paper Section 3): G = (1, 1, 1), Omega(0) = (0.5, 0, 1), tau in [0, 136], Eq. 5.
 // Samples: tau = i/16, i = 0..2176 (exact in every scalar type).
@@ -57,7 +57,7 @@ namespace odeint = boost::numeric::odeint;
 using odeint_mpfr = mp::number<mp::mpfr_float_backend<0>, mp::et_off>;
 
 // odeint's extract_value_type recurses into number::value_type, which for a real number is the
-// number itself: it never ends (DESIGN.md section 2). Stop the recursion at the scalar.
+// number itself: it never ends (docs/design.md section 2). Stop the recursion at the scalar.
 namespace boost::numeric::odeint::detail {
 template <>
 struct extract_value_type<eulervop::quad, void> {

@@ -1,4 +1,4 @@
-// Nanoseconds per right-hand-side evaluation in double (issue 4 acceptance): Euler's equations
+// Nanoseconds per right-hand-side evaluation in double (docs/benchmarks.md): Euler's equations
 // (Eq. 5) against the paper's VOP (Eqs. 13, 16), where k = c1/c2 changes at every call as it
 // does between Runge-Kutta stages, so the modulus part is paid every time.
 //

@@ -1,6 +1,6 @@
 #include "atomic_file.hpp"
 
-#include "input_error.hpp"
+#include "scene_library.hpp"
 
 #include <fmt/format.h>
 

@@ -1,10 +1,10 @@
 // An output file that appears complete or not at all.
 //
-// Issue 2 section 6: bad input or a failure leaves no output file behind, and an existing file
-// is never half-overwritten. The content goes to a temporary file in the target's directory
-// (so the final rename(2) is atomic on the same file system), is fsync'ed, and is renamed over
-// the target only on commit(). The temporary is created in the constructor, so an unwritable
-// path is reported before any computation starts.
+// Bad input or a failure leaves no output file behind (docs/design.md section 5.3), and an
+// existing file is never half-overwritten. The content goes to a temporary file in the target's
+// directory (so the final rename(2) is atomic on the same file system), is fsync'ed, and is
+// renamed over the target only on commit(). The temporary is created in the constructor, so an
+// unwritable path is reported before any computation starts.
 #pragma once
 
 #include <filesystem>

@@ -1,11 +1,13 @@
 #include "batch_command.hpp"
 
 #include "atomic_file.hpp"
-#include "input_error.hpp"
+#include "exit_codes.hpp"
+#include "output_dir.hpp"
 #include "progress_line.hpp"
 #include "reference_command.hpp"
 #include "report_command.hpp"
-#include "scene.hpp"
+#include "scene_library.hpp"
+#include "shell_word.hpp"
 
 #include <eulervop/chebyshev_picard.hpp>
 
@@ -68,12 +70,6 @@ std::optional<std::string> read_all(const fs::path& p) {
   return s.str();
 }
 
-void write_atomically_text(const fs::path& path, const std::string& text) {
-  atomic_file f(path);
-  f.write(text);
-  f.commit();
-}
-
 // One scene of the batch.
 struct scene_task {
   std::string path;  // as given
@@ -82,7 +78,7 @@ struct scene_task {
 
 struct scene_outcome {
   std::string status = "failed";
-  int exit_code = 1;
+  int exit_code = exit_internal_error;
   std::string message;
   std::vector<std::string> outputs;  // relative to the output directory
   std::string hash;
@@ -145,7 +141,7 @@ scene_outcome run_one(const batch_settings& s, const scene_task& t) {
     if (const auto old = read_all(stamp); old && *old == r.hash + "\n" &&
         std::all_of(outputs.begin(), outputs.end(), [&](const std::string& o) { return fs::is_regular_file(s.out_dir / o); })) {
       r.status = "skipped-up-to-date";
-      r.exit_code = 0;
+      r.exit_code = exit_success;
       r.outputs = outputs;
       return finish();
     }
@@ -178,21 +174,107 @@ scene_outcome run_one(const batch_settings& s, const scene_task& t) {
       run_report(rep, sink);
     }
 
-    write_atomically_text(stamp, r.hash + "\n");
+    write_atomically(stamp, r.hash + "\n");
     r.status = "ok";
-    r.exit_code = 0;
+    r.exit_code = exit_success;
     r.outputs = outputs;
   } catch (const input_error& e) {
-    r.exit_code = 2;
+    r.exit_code = exit_bad_input;
     r.message = e.what();
   } catch (const numerical_failure& e) {
-    r.exit_code = 3;
+    r.exit_code = exit_numerical_failure;
     r.message = e.what();
   } catch (const std::exception& e) {
-    r.exit_code = 1;
+    r.exit_code = exit_internal_error;
     r.message = fmt::format("internal error: {}", e.what());
   }
   return finish();
+}
+
+// The scenes of the batch (sorted, duplicates removed, this shard's only); input_error for two
+// scenes that would write the same directory.
+std::vector<scene_task> tasks_of(const batch_options& o, const std::optional<shard_spec>& shard) {
+  std::vector<std::string> paths = o.scenes;
+  std::sort(paths.begin(), paths.end());
+  paths.erase(std::unique(paths.begin(), paths.end()), paths.end());
+  std::map<std::string, std::string> by_name;
+  std::vector<scene_task> tasks;
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    const std::string name = fs::path(paths[i]).stem().string();
+    if (name.empty() || name == "." || name == "..") throw input_error(fmt::format("batch: `{}` is not a scene file", paths[i]));
+    if (auto [it, fresh] = by_name.emplace(name, paths[i]); !fresh)
+      throw input_error(fmt::format("batch: scenes `{}` and `{}` would both write {}/ (rename one)", it->second, paths[i], name));
+    if (shard && static_cast<std::int64_t>(i % static_cast<std::size_t>(shard->count)) != shard->index - 1) continue;
+    tasks.push_back({paths[i], name});
+  }
+  return tasks;
+}
+
+// Runs every task on up to `jobs` threads, one status line per scene on stderr.
+std::vector<scene_outcome> run_tasks(const batch_settings& s, const std::vector<scene_task>& tasks, std::int64_t jobs) {
+  progress_line::disable_all();  // several runs share the terminal
+  std::vector<scene_outcome> results(tasks.size());
+  std::atomic<std::size_t> next{0};
+  std::mutex print_mutex;
+  const auto worker = [&] {
+    for (std::size_t i; (i = next++) < tasks.size();) {
+      results[i] = run_one(s, tasks[i]);
+      const std::lock_guard lock(print_mutex);
+      const scene_outcome& r = results[i];
+      fmt::print(stderr, "batch: {} {} ({:.2f} s){}\n", tasks[i].name, r.status, r.seconds,
+                 r.message.empty() ? "" : ": " + input_error::one_line(r.message));
+    }
+  };
+  const std::size_t n_threads = std::min<std::size_t>(static_cast<std::size_t>(jobs), std::max<std::size_t>(tasks.size(), 1));
+  if (n_threads <= 1) {
+    worker();
+  } else {
+    std::vector<std::jthread> threads;
+    for (std::size_t t = 0; t < n_threads; ++t) threads.emplace_back(worker);
+  }
+
+  return results;
+}
+
+// Writes the manifest (no timings: they are on stderr, so reruns give identical files) and the
+// summary line; returns the batch's exit code, the gravest of the scenes'.
+int write_manifest(const batch_settings& s, const std::optional<shard_spec>& shard, const std::vector<scene_task>& tasks,
+                   const std::vector<scene_outcome>& results, std::ostream& standard_output) {
+  const std::string suffix = shard ? fmt::format("-{}-of-{}", shard->index, shard->count) : "";
+  nlohmann::ordered_json manifest;
+  manifest["eulervop"] = EULERVOP_VERSION;
+  manifest["shard"] = shard ? nlohmann::ordered_json(fmt::format("{}/{}", shard->index, shard->count)) : nullptr;
+  manifest["flags"] = s.flags_text.empty() ? "" : s.flags_text.substr(1);
+  manifest["report"] = s.report;
+  manifest["scenes"] = nlohmann::ordered_json::array();
+  bool any_bad_input = false, any_numerical = false, any_internal = false;
+  std::size_t n_ok = 0, n_skipped = 0, n_failed = 0;
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    const scene_outcome& r = results[i];
+    manifest["scenes"].push_back({{"path", tasks[i].path},
+                                  {"name", tasks[i].name},
+                                  {"status", r.status},
+                                  {"exit_code", r.exit_code},
+                                  {"message", r.message},
+                                  {"outputs", r.outputs},
+                                  {"hash", r.hash}});
+    if (r.status == "ok") ++n_ok;
+    else if (r.status == "skipped-up-to-date") ++n_skipped;
+    else ++n_failed;
+    any_bad_input |= r.exit_code == exit_bad_input;
+    any_numerical |= r.exit_code == exit_numerical_failure;
+    any_internal |= r.exit_code == exit_internal_error;
+  }
+  const fs::path manifest_path = s.out_dir / ("manifest" + suffix + ".json");
+  write_atomically(manifest_path, manifest.dump(2) + "\n");
+  standard_output << fmt::format("batch: {} scene{}: {} ok, {} skipped (up to date), {} failed; manifest {}\n",
+                                 tasks.size(), tasks.size() == 1 ? "" : "s", n_ok, n_skipped, n_failed,
+                                 manifest_path.string())
+                  << std::flush;
+  if (any_bad_input) return exit_bad_input;
+  if (any_numerical) return exit_numerical_failure;
+  if (any_internal) return exit_internal_error;
+  return exit_success;
 }
 
 }  // namespace
@@ -230,19 +312,7 @@ int run_batch(const batch_options& o, std::ostream& standard_output) {
     apply_scene_overrides(probe, o.overrides);
   }
 
-  std::vector<std::string> paths = o.scenes;
-  std::sort(paths.begin(), paths.end());
-  paths.erase(std::unique(paths.begin(), paths.end()), paths.end());
-  std::map<std::string, std::string> by_name;
-  std::vector<scene_task> tasks;
-  for (std::size_t i = 0; i < paths.size(); ++i) {
-    const std::string name = fs::path(paths[i]).stem().string();
-    if (name.empty() || name == "." || name == "..") throw input_error(fmt::format("batch: `{}` is not a scene file", paths[i]));
-    if (auto [it, fresh] = by_name.emplace(name, paths[i]); !fresh)
-      throw input_error(fmt::format("batch: scenes `{}` and `{}` would both write {}/ (rename one)", it->second, paths[i], name));
-    if (shard && static_cast<std::int64_t>(i % static_cast<std::size_t>(shard->count)) != shard->index - 1) continue;
-    tasks.push_back({paths[i], name});
-  }
+  const std::vector<scene_task> tasks = tasks_of(o, shard);
 
   batch_settings s;
   s.out_dir = *o.out_dir;
@@ -256,64 +326,8 @@ int run_batch(const batch_options& o, std::ostream& standard_output) {
     if (ec || !fs::is_directory(s.out_dir)) throw input_error(fmt::format("--out-dir: cannot create `{}`", s.out_dir.string()));
   }
 
-  // ---- the scenes, on `jobs` threads ----
-  progress_line::disable_all();  // several runs share the terminal
-  std::vector<scene_outcome> results(tasks.size());
-  std::atomic<std::size_t> next{0};
-  std::mutex print_mutex;
-  const auto worker = [&] {
-    for (std::size_t i; (i = next++) < tasks.size();) {
-      results[i] = run_one(s, tasks[i]);
-      const std::lock_guard lock(print_mutex);
-      const scene_outcome& r = results[i];
-      fmt::print(stderr, "batch: {} {} ({:.2f} s){}\n", tasks[i].name, r.status, r.seconds,
-                 r.message.empty() ? "" : ": " + input_error::one_line(r.message));
-    }
-  };
-  const std::size_t n_threads = std::min<std::size_t>(static_cast<std::size_t>(jobs), std::max<std::size_t>(tasks.size(), 1));
-  if (n_threads <= 1) {
-    worker();
-  } else {
-    std::vector<std::jthread> threads;
-    for (std::size_t t = 0; t < n_threads; ++t) threads.emplace_back(worker);
-  }
-
-  // ---- the manifest (no timings: they are on stderr, so reruns give identical files) ----
-  const std::string suffix = shard ? fmt::format("-{}-of-{}", shard->index, shard->count) : "";
-  nlohmann::ordered_json manifest;
-  manifest["eulervop"] = EULERVOP_VERSION;
-  manifest["shard"] = shard ? nlohmann::ordered_json(fmt::format("{}/{}", shard->index, shard->count)) : nullptr;
-  manifest["flags"] = s.flags_text.empty() ? "" : s.flags_text.substr(1);
-  manifest["report"] = s.report;
-  manifest["scenes"] = nlohmann::ordered_json::array();
-  bool any_bad_input = false, any_numerical = false, any_internal = false;
-  std::size_t n_ok = 0, n_skipped = 0, n_failed = 0;
-  for (std::size_t i = 0; i < tasks.size(); ++i) {
-    const scene_outcome& r = results[i];
-    manifest["scenes"].push_back({{"path", tasks[i].path},
-                                  {"name", tasks[i].name},
-                                  {"status", r.status},
-                                  {"exit_code", r.exit_code},
-                                  {"message", r.message},
-                                  {"outputs", r.outputs},
-                                  {"hash", r.hash}});
-    if (r.status == "ok") ++n_ok;
-    else if (r.status == "skipped-up-to-date") ++n_skipped;
-    else ++n_failed;
-    any_bad_input |= r.exit_code == 2;
-    any_numerical |= r.exit_code == 3;
-    any_internal |= r.exit_code == 1;
-  }
-  const fs::path manifest_path = s.out_dir / ("manifest" + suffix + ".json");
-  write_atomically_text(manifest_path, manifest.dump(2) + "\n");
-  standard_output << fmt::format("batch: {} scene{}: {} ok, {} skipped (up to date), {} failed; manifest {}\n",
-                                 tasks.size(), tasks.size() == 1 ? "" : "s", n_ok, n_skipped, n_failed,
-                                 manifest_path.string())
-                  << std::flush;
-  if (any_bad_input) return 2;
-  if (any_numerical) return 3;
-  if (any_internal) return 1;
-  return 0;
+  const std::vector<scene_outcome> results = run_tasks(s, tasks, jobs);
+  return write_manifest(s, shard, tasks, results, standard_output);
 }
 
 }  // namespace eulervop::app

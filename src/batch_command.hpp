@@ -1,5 +1,5 @@
 // `eulervop batch SCENES... --out-dir DIR [--jobs N] [--shard i/n] [--report] [--verify]`:
-// `reference` (and optionally `report`) for many scenes, in-process (issue 6, section 4).
+// `reference` (and optionally `report`) for many scenes, in-process.
 //
 // Each scene SCENE.toml writes DIR/SCENE/reference.csv (and DIR/SCENE/report/errors.csv,
 // summary.json with --report). The reference CSVs carry no wall-clock lines, so two runs (any

@@ -2,12 +2,13 @@
 
 #include "atomic_file.hpp"
 #include "csv_rows.hpp"
-#include "decimal.hpp"
-#include "input_error.hpp"
+#include "exit_codes.hpp"
+#include "output_cells.hpp"
 #include "reference_compute.hpp"
-#include "scene.hpp"
+#include "reference_csv.hpp"
+#include "scene_library.hpp"
 #include "scene_overrides.hpp"
-#include "scene_problem.hpp"
+#include "with_scalar.hpp"
 
 #include <eulervop/chebyshev_picard.hpp>
 #include <eulervop/error_measure.hpp>
@@ -36,8 +37,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr int exit_within = 0;
-constexpr int exit_outside = 1;
 
 // Trajectory times must equal reference sample times to this relative difference.
 constexpr double time_match_rel = 1e-12;
@@ -62,20 +61,12 @@ struct check_job {
   bool json = false;
 };
 
-std::ifstream open_input(const std::string& what, const std::string& path) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw input_error(fmt::format("{} {}: is a directory", what, path));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw input_error(fmt::format("{} {}: cannot read the file", what, path));
-  return in;
-}
-
 // A scene (.toml) or a reference CSV? By extension, else by the first non-blank line.
 bool looks_like_scene(const std::string& path) {
   const std::string ext = fs::path(path).extension().string();
   if (ext == ".toml") return true;
   if (ext == ".csv") return false;
-  std::ifstream in = open_input("reference", path);
+  std::ifstream in = open_input_file("reference", path);
   for (std::string l; std::getline(in, l);) {
     const std::string t = trimmed(l);
     if (t.empty()) continue;
@@ -133,7 +124,7 @@ check_job make_job(const check_options& o) {
     throw input_error(fmt::format("--precision {}: not used with a reference file (its own precision is used)",
                                   *o.precision));
   }
-  open_input("trajectory", o.trajectory);  // unreadable: bad input before any work
+  open_input_file("trajectory", o.trajectory);  // unreadable: bad input before any work
   return job;
 }
 
@@ -227,7 +218,7 @@ template <scalar T>
 void record(const check_job& job, tally& t, errors_writer& out, std::size_t line, const decimal& time,
             const vec3<T>& ref, const vec3<T>& Om) {
   const double e = static_cast<double>(eq20_error(ref, Om));
-  if (!std::isfinite(e)) throw numerical_failure(time.value, "non-finite Eq. 20 error");
+  if (!std::isfinite(e)) throw numerical_failure({outcome_kind::error_non_finite, time.value});
   std::optional<double> bar;
   if (job.tol || job.rel_tol) {
     using std::sqrt;
@@ -290,7 +281,7 @@ check_result check_against_scene(const check_job& job) {
   std::size_t count = 0;
   trajectory_columns cols;
   {
-    std::ifstream in = open_input("trajectory", job.trajectory_path);
+    std::ifstream in = open_input_file("trajectory", job.trajectory_path);
     csv_rows rows(in, "trajectory " + job.trajectory_path);
     cols = find_columns(job, rows);
     if (cols.physical && !s.is_physical())
@@ -324,7 +315,7 @@ check_result check_against_scene(const check_job& job) {
   check_result r;
   r.time_name = cols.time_name;
   out.header(cols.time_name);
-  std::ifstream in = open_input("trajectory", job.trajectory_path);
+  std::ifstream in = open_input_file("trajectory", job.trajectory_path);
   csv_rows rows(in, "trajectory " + job.trajectory_path);
   row_reader reader{rows, cols};
   while (rows.next()) {
@@ -350,138 +341,116 @@ check_result check_against_scene(const check_job& job) {
 
 // ---- against a reference file ---------------------------------------------------------------------
 
-struct reference_file_meta {
-  eulervop::precision precision = eulervop::precision::binary128();  // of the computation here
-  std::string precision_name = "quad";
-  std::string scene_name;
-  std::string scene_text;  // "# scene_text:" lines, for the physical scaling
-  std::optional<std::string> estimated_max_error;
-};
-
-reference_file_meta reference_metadata(const csv_rows& rows) {
-  reference_file_meta m;
-  std::size_t line = 0;
-  for (const std::string& l : rows.comments()) {
-    ++line;  // the comments come first in the file (blank lines aside)
-    if (auto v = metadata_value(l, "precision")) {
-      const std::string name = v->substr(0, v->find(' '));  // "mpfr:256 (effective_bits=257)"
-      const auto p = eulervop::precision::parse(name);
-      if (!p) throw input_error(fmt::format("{}: line {}: unknown precision `{}`", rows.where(), line, name));
-      m.precision_name = name;
-      // Double values are read exactly enough in quad; MPFR at the stated bits.
-      m.precision = p->type == eulervop::precision::kind::mpfr ? *p : eulervop::precision::binary128();
-    } else if (auto e = metadata_value(l, "estimated_max_error")) {
-      m.estimated_max_error = *e;
-    } else if (auto n = metadata_value(l, "scene")) {
-      m.scene_name = *n;
-    } else if (l.starts_with("# scene_text:")) {
-      std::string_view text = std::string_view(l).substr(13);
-      if (text.starts_with(" ")) text.remove_prefix(1);
-      m.scene_text += std::string(text) + "\n";
-    }
-  }
-  return m;
-}
-
 bool same_time(double a, double b) { return std::abs(a - b) <= time_match_rel * std::max(std::abs(a), std::abs(b)); }
 
+// Walks a reference file's rows (times increasing) alongside a trajectory's: each trajectory
+// time must be one of the reference's sample times.
+class reference_cursor {
+ public:
+  reference_cursor(reference_csv_reader& ref, std::size_t time_column) : ref_(ref), time_(time_column) {}
+
+  // Advances to the sample at `time`; input_error naming the nearest samples if there is none.
+  void seek(const decimal& time, const csv_rows& rows, const std::string& time_name) {
+    while (load() && current_->value < time.value && !same_time(current_->value, time.value)) consume();
+    if (!pending_ || !same_time(current_->value, time.value)) {
+      std::string nearest;
+      if (below_) nearest += fmt::format("{} (line {})", below_->text, below_line_);
+      if (pending_) nearest += fmt::format("{}{} (line {})", nearest.empty() ? "" : " and ", current_->text, current_line_);
+      throw input_error(fmt::format("{}: line {}: {} = {} is not a sample time of {}{}", rows.where(), rows.line(),
+                                    time_name, time.text, ref_.rows().where(),
+                                    nearest.empty() ? " (it has no samples there)" : "; nearest: " + nearest));
+    }
+    consume();
+  }
+
+ private:
+  // Reads the next reference row unless one is pending; false at the end of the file.
+  bool load() {
+    if (pending_) return true;
+    csv_rows& r = ref_.rows();
+    if (!r.next()) return false;
+    const decimal t = r.number(time_);
+    if (current_ && !(t.value > current_->value))
+      throw input_error(fmt::format("{}: line {}: column {} = {} does not increase", r.where(), r.line(),
+                                    r.header()[time_], t.text));
+    current_ = t;
+    current_line_ = r.line();
+    pending_ = true;
+    return true;
+  }
+  // The current row is matched or passed: no later trajectory row can match it.
+  void consume() {
+    pending_ = false;
+    below_ = current_;
+    below_line_ = current_line_;
+  }
+
+  reference_csv_reader& ref_;
+  std::size_t time_;
+  std::optional<decimal> current_;  // the last reference time read, and its line
+  std::size_t current_line_ = 0;
+  bool pending_ = false;            // the current row is neither matched nor passed yet
+  std::optional<decimal> below_;    // the last reference time consumed, and its line
+  std::size_t below_line_ = 0;
+};
+
+// The physical scaling of the reference's scene (from its "# scene_text:" lines).
 template <scalar T>
-check_result check_against_file(const check_job& job, csv_rows& ref_rows, const reference_file_meta& meta) {
-  std::ifstream in = open_input("trajectory", job.trajectory_path);
+physical_scaling<T> scaling_of_reference(const reference_csv_reader& ref) {
+  const std::string& where = ref.rows().where();
+  if (ref.metadata().scene_text.empty())
+    throw input_error(fmt::format("{}: no `# scene_text:` lines, so omega cannot be mapped to Omega", where));
+  const scene s = parse_scene(ref.metadata().scene_text, where + " (scene_text)");
+  if (!s.is_physical()) throw input_error(fmt::format("{}: the scene is not physical", where));
+  return scaling_of<T>(s);
+}
+
+void describe_reference_file(const check_job& job, const reference_metadata& meta, check_result& r) {
+  const auto& error = meta.estimated_max_error;
+  r.reference_text = fmt::format("file {} (scene {}, {}, estimated max error {})", job.reference_path,
+                                 meta.scene_name.empty() ? "?" : meta.scene_name, meta.precision.name(),
+                                 error ? error->text : "-");
+  r.reference_json = {
+      {"source", "file"},
+      {"path", job.reference_path},
+      {"scene", meta.scene_name.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(meta.scene_name)},
+      {"precision", meta.precision.name()},
+      {"estimated_max_error", number_or_null(error ? std::optional<double>(error->value) : std::nullopt)}};
+}
+
+template <scalar T>
+check_result check_against_file(const check_job& job, reference_csv_reader& ref) {
+  std::ifstream in = open_input_file("trajectory", job.trajectory_path);
   csv_rows rows(in, "trajectory " + job.trajectory_path);
   const trajectory_columns cols = find_columns(job, rows);
-
-  // The reference's columns (always the canonical names of `eulervop reference`).
-  auto ref_column = [&](const std::string& name) {
-    const auto c = ref_rows.column(name);
-    if (!c)
-      throw input_error(fmt::format("{}: line {}: the header has no column `{}`{}", ref_rows.where(), ref_rows.line(),
-                                    name, name == "t" ? " (the trajectory has physical times; the reference is normalized)" : ""));
-    return *c;
-  };
-  const std::size_t ref_time = ref_column(cols.physical ? "t" : "tau");
-  const std::array<std::size_t, 3> ref_Om = {ref_column("Omega1"), ref_column("Omega2"), ref_column("Omega3")};
+  // The reference's columns are always the canonical names of `eulervop reference`.
+  const std::size_t ref_time =
+      cols.physical ? ref.column("t", " (the trajectory has physical times; the reference is normalized)")
+                    : ref.column("tau");
   std::optional<physical_scaling<T>> scale;
-  if (cols.physical) {
-    if (meta.scene_text.empty())
-      throw input_error(fmt::format("{}: no `# scene_text:` lines, so omega cannot be mapped to Omega", ref_rows.where()));
-    const scene s = parse_scene(meta.scene_text, ref_rows.where() + " (scene_text)");
-    if (!s.is_physical()) throw input_error(fmt::format("{}: the scene is not physical", ref_rows.where()));
-    scale.emplace(scaling_of<T>(s));
-  }
+  if (cols.physical) scale.emplace(scaling_of_reference<T>(ref));
 
   check_result r;
   r.time_name = cols.time_name;
   errors_writer out(job.errors_out);
   out.header(cols.time_name);
   row_reader reader{rows, cols};
-  std::optional<decimal> ref_prev;  // the last reference time read
-  std::size_t ref_prev_line = 0;
-  bool ref_valid = false;  // ref_rows holds an unconsumed row
-  std::optional<decimal> below;  // the last reference time consumed, and its line
-  std::size_t below_line = 0;
+  reference_cursor cursor(ref, ref_time);
   while (rows.next()) {
     const decimal time = reader.time();
     const std::array<decimal, 3> d = reader.values();
-    // Advance the reference to the first sample time not below this row's.
-    while (true) {
-      if (!ref_valid) {
-        if (!ref_rows.next()) break;
-        const decimal rt = ref_rows.number(ref_time);
-        if (ref_prev && !(rt.value > ref_prev->value))
-          throw input_error(fmt::format("{}: line {}: column {} = {} does not increase", ref_rows.where(),
-                                        ref_rows.line(), ref_rows.header()[ref_time], rt.text));
-        ref_prev = rt;
-        ref_prev_line = ref_rows.line();
-        ref_valid = true;
-      }
-      if (ref_prev->value < time.value && !same_time(ref_prev->value, time.value)) {
-        below = ref_prev;
-        below_line = ref_prev_line;
-        ref_valid = false;  // consumed: no later trajectory row can match it
-        continue;
-      }
-      break;
-    }
-    if (!ref_valid || !same_time(ref_prev->value, time.value)) {
-      std::string nearest;
-      if (below) nearest += fmt::format("{} (line {})", below->text, below_line);
-      if (ref_valid) nearest += fmt::format("{}{} (line {})", nearest.empty() ? "" : " and ", ref_prev->text, ref_prev_line);
-      throw input_error(fmt::format("{}: line {}: {} = {} is not a sample time of {}{}", rows.where(), rows.line(),
-                                    cols.time_name, time.text, ref_rows.where(),
-                                    nearest.empty() ? " (it has no samples there)" : "; nearest: " + nearest));
-    }
-    ref_valid = false;
-    below = ref_prev;
-    below_line = ref_prev_line;
-    const vec3<T> ref = {ref_rows.number(ref_Om[0]).template to_scalar<T>(),
-                         ref_rows.number(ref_Om[1]).template to_scalar<T>(),
-                         ref_rows.number(ref_Om[2]).template to_scalar<T>()};
+    cursor.seek(time, rows, cols.time_name);
     vec3<T> Om = {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
     if (scale) Om = scale->Omega_of_omega(Om);
-    record<T>(job, r.t, out, rows.line(), time, ref, Om);
+    record<T>(job, r.t, out, rows.line(), time, ref.template Omega<T>(), Om);
   }
   if (!r.t.rows) throw input_error(fmt::format("{}: no data rows", rows.where()));
   out.commit();
-
-  r.reference_text = fmt::format("file {} (scene {}, {}, estimated max error {})", job.reference_path,
-                                 meta.scene_name.empty() ? "?" : meta.scene_name, meta.precision_name,
-                                 meta.estimated_max_error.value_or("-"));
-  r.reference_json = {{"source", "file"},
-                      {"path", job.reference_path},
-                      {"scene", meta.scene_name.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(meta.scene_name)},
-                      {"precision", meta.precision_name},
-                      {"estimated_max_error", meta.estimated_max_error
-                                                  ? nlohmann::ordered_json(std::strtod(meta.estimated_max_error->c_str(), nullptr))
-                                                  : nlohmann::ordered_json(nullptr)}};
+  describe_reference_file(job, ref.metadata(), r);
   return r;
 }
 
 // ---- output -----------------------------------------------------------------------------------------
-
-nlohmann::ordered_json json_number(const std::optional<double>& x) {
-  return x ? nlohmann::ordered_json(*x) : nlohmann::ordered_json(nullptr);
-}
 
 double time_value(const std::string& text) { return std::strtod(text.c_str(), nullptr); }
 
@@ -502,8 +471,8 @@ int report(const check_job& job, const check_result& r, std::ostream& standard_o
     j["max_error_time"] = time_value(t.max_time);
     j["max_error_line"] = t.max_line;
     j["rms_error"] = rms;
-    j["tol"] = json_number(job.tol);
-    j["rel_tol"] = json_number(job.rel_tol);
+    j["tol"] = number_or_null(job.tol);
+    j["rel_tol"] = number_or_null(job.rel_tol);
     j["exceeding_rows"] = t.exceeding;
     j["first_exceeding_time"] = t.first_exceeding_time ? nlohmann::ordered_json(time_value(*t.first_exceeding_time))
                                                        : nlohmann::ordered_json(nullptr);
@@ -537,12 +506,7 @@ int report(const check_job& job, const check_result& r, std::ostream& standard_o
     standard_output << fmt::to_string(b);
   }
   standard_output << std::flush;
-  return pass ? exit_within : exit_outside;
-}
-
-template <scalar T>
-check_result dispatch_file(const check_job& job, csv_rows& ref_rows, const reference_file_meta& meta) {
-  return check_against_file<T>(job, ref_rows, meta);
+  return pass ? exit_success : exit_check_outside;
 }
 
 }  // namespace
@@ -572,29 +536,18 @@ CLI::App* add_check_command(CLI::App& app, check_options& o) {
 
 int run_check(const check_options& options, std::ostream& standard_output) {
   const check_job job = make_job(options);
-  if (job.from_scene) {
-    switch (job.precision.type) {
-      case eulervop::precision::kind::binary64: return report(job, check_against_scene<double>(job), standard_output);
-      case eulervop::precision::kind::binary128: return report(job, check_against_scene<quad>(job), standard_output);
-      case eulervop::precision::kind::mpfr: {
-        const mpfr_precision_scope scope(job.precision.bits);
-        return report(job, check_against_scene<mpfr_real>(job), standard_output);
-      }
-    }
-    throw std::logic_error("unknown precision kind");
-  }
-  std::ifstream in = open_input("reference", job.reference_path);
-  csv_rows ref_rows(in, "reference " + job.reference_path);
-  const reference_file_meta meta = reference_metadata(ref_rows);
-  switch (meta.precision.type) {
-    case eulervop::precision::kind::binary64:  // never: a double file is read in quad
-    case eulervop::precision::kind::binary128: return report(job, dispatch_file<quad>(job, ref_rows, meta), standard_output);
-    case eulervop::precision::kind::mpfr: {
-      const mpfr_precision_scope scope(meta.precision.bits);
-      return report(job, dispatch_file<mpfr_real>(job, ref_rows, meta), standard_output);
-    }
-  }
-  throw std::logic_error("unknown precision kind");
+  if (job.from_scene)
+    return with_scalar(job.precision,
+                       [&](auto zero) { return report(job, check_against_scene<decltype(zero)>(job), standard_output); });
+  std::ifstream in = open_input_file("reference", job.reference_path);
+  reference_csv_reader ref(in, "reference " + job.reference_path);
+  return with_scalar(ref.metadata().reading_precision(), [&](auto zero) -> int {
+    using T = decltype(zero);
+    if constexpr (std::is_same_v<T, double>)
+      throw std::logic_error("a reference file is read in quad or MPFR");
+    else
+      return report(job, check_against_file<T>(job, ref), standard_output);
+  });
 }
 
 }  // namespace eulervop::app

@@ -1,5 +1,5 @@
 // `eulervop check SCENE_OR_REFERENCE TRAJECTORY.csv [options]`: how far another tool's
-// trajectory is from the reference (issue 6, section 1).
+// trajectory is from the reference.
 //
 // The trajectory is a CSV with a header; its columns are found by name (tau, Omega1..3, or
 // t, omega1..3 for a physical scene; --columns renames). Against a scene (.toml) the reference

@@ -1,8 +1,10 @@
 #include "csv_rows.hpp"
 
-#include "input_error.hpp"
+#include "scene_library.hpp"
 
 #include <fmt/format.h>
+
+#include <filesystem>
 
 namespace eulervop::app {
 
@@ -22,6 +24,14 @@ std::vector<std::string> split_csv_cells(std::string_view l) {
     begin = comma + 1;
   }
   return cells;
+}
+
+std::ifstream open_input_file(std::string_view what, const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw input_error(fmt::format("{} {}: is a directory", what, path));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw input_error(fmt::format("{} {}: cannot read the file", what, path));
+  return in;
 }
 
 std::optional<std::string> metadata_value(std::string_view line, std::string_view key) {

@@ -6,9 +6,10 @@
 // line number and, for a cell, the column: a malformed row is never skipped.
 #pragma once
 
-#include "decimal.hpp"
+#include "scene_library.hpp"
 
 #include <cstddef>
+#include <fstream>
 #include <istream>
 #include <optional>
 #include <string>
@@ -22,6 +23,10 @@ std::string trimmed(std::string_view s);
 
 // The cells of one CSV line, trimmed; empty cells are kept ("1,,2" has three cells).
 std::vector<std::string> split_csv_cells(std::string_view line);
+
+// The file opened for reading; input_error "<what> <path>: is a directory" or "...: cannot read the
+// file" otherwise.
+std::ifstream open_input_file(std::string_view what, const std::string& path);
 
 // "# key: value" -> value (trimmed); nullopt if the line is not that key's metadata.
 std::optional<std::string> metadata_value(std::string_view line, std::string_view key);

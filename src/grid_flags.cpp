@@ -1,9 +1,8 @@
 #include "grid_flags.hpp"
 
-#include "comparison_common.hpp"
-#include "input_error.hpp"
+#include "run_names.hpp"
+#include "scene_library.hpp"
 #include "scene_overrides.hpp"
-#include "scene_problem.hpp"
 
 #include <eulervop/runge_kutta.hpp>
 

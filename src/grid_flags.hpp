@@ -3,7 +3,7 @@
 // and --jobs.
 #pragma once
 
-#include "scene.hpp"
+#include "scene_library.hpp"
 #include "work_precision.hpp"
 
 #include <CLI/CLI.hpp>

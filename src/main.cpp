@@ -1,17 +1,18 @@
 // eulervop: the command-line program.
 //
-// Exit codes (issue 2, section 6): 0 success; 2 bad input (scene or flags), with exactly one
+// Exit codes: 0 success; 2 bad input (scene or flags), with exactly one
 // line "eulervop: error: <message>" on stderr and no output file; 3 numerical failure, with
 // the tau where it happened and why. 1 is left for what should never happen (a bug), except in
-// `check`, where 1 means "the trajectory is outside the tolerance" (issue 6, section 1).
+// `check`, where 1 means "the trajectory is outside the tolerance".
 // `batch` runs every scene and then exits 2 if any scene had bad input, else 3 if any had a
 // numerical failure (batch_command.hpp).
 #include "batch_command.hpp"
 #include "check_command.hpp"
-#include "input_error.hpp"
+#include "exit_codes.hpp"
 #include "map_command.hpp"
 #include "reference_command.hpp"
 #include "report_command.hpp"
+#include "scene_library.hpp"
 #include "sweep_command.hpp"
 
 #include <eulervop/chebyshev_picard.hpp>
@@ -21,14 +22,18 @@
 
 #include <cstdio>
 #include <exception>
+#include <functional>
 #include <iostream>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace {
 
-constexpr int exit_bad_input = 2;
-constexpr int exit_numerical_failure = 3;
-constexpr int exit_internal_error = 1;
+using eulervop::app::exit_bad_input;
+using eulervop::app::exit_internal_error;
+using eulervop::app::exit_numerical_failure;
+using eulervop::app::exit_success;
 
 int report(int code, const std::string& prefix, const std::string& message) {
   fmt::print(stderr, "eulervop: {}{}\n", prefix, eulervop::app::input_error::one_line(message));
@@ -42,23 +47,27 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", EULERVOP_VERSION);
   app.require_subcommand(1);
 
-  eulervop::app::reference_options reference;
-  CLI::App* reference_command = eulervop::app::add_reference_command(app, reference);
-  eulervop::app::report_options report_opts;
-  CLI::App* report_command = eulervop::app::add_report_command(app, report_opts);
-  eulervop::app::sweep_options sweep_opts;
-  CLI::App* sweep_command = eulervop::app::add_sweep_command(app, sweep_opts);
-  eulervop::app::check_options check_opts;
-  CLI::App* check_command = eulervop::app::add_check_command(app, check_opts);
-  eulervop::app::batch_options batch_opts;
-  CLI::App* batch_command = eulervop::app::add_batch_command(app, batch_opts);
-  eulervop::app::map_options map_opts;
-  CLI::App* map_command = eulervop::app::add_map_command(app, map_opts);
+  namespace ev = eulervop::app;
+  ev::reference_options reference;
+  ev::report_options report_opts;
+  ev::sweep_options sweep_opts;
+  ev::check_options check_opts;
+  ev::batch_options batch_opts;
+  ev::map_options map_opts;
+  // Each subcommand with what runs it (reference, report, sweep and map exit 0 unless they throw).
+  const std::vector<std::pair<CLI::App*, std::function<int()>>> subcommands = {
+      {ev::add_reference_command(app, reference), [&] { return ev::run_reference(reference, std::cout), 0; }},
+      {ev::add_report_command(app, report_opts), [&] { return ev::run_report(report_opts, std::cout), 0; }},
+      {ev::add_sweep_command(app, sweep_opts), [&] { return ev::run_sweep(sweep_opts, std::cout), 0; }},
+      {ev::add_check_command(app, check_opts), [&] { return ev::run_check(check_opts, std::cout); }},
+      {ev::add_batch_command(app, batch_opts), [&] { return ev::run_batch(batch_opts, std::cout); }},
+      {ev::add_map_command(app, map_opts), [&] { return ev::run_map(map_opts, std::cout), 0; }},
+  };
 
   // CLI11 would report a mistyped command as "A subcommand is required"; name it instead.
   std::string commands;
   bool known = false;
-  for (const CLI::App* c : {reference_command, report_command, sweep_command, check_command, batch_command, map_command}) {
+  for (const auto& [c, run] : subcommands) {
     commands += (commands.empty() ? "" : ", ") + c->get_name();
     known = known || (argc >= 2 && std::string_view(argv[1]) == c->get_name());
   }
@@ -73,7 +82,7 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForVersion&) {
     fmt::print("eulervop {}\n", EULERVOP_VERSION);  // CLI11 2.1 prints it without a newline
-    return 0;
+    return exit_success;
   } catch (const CLI::ParseError& e) {
     std::string message = e.what();
     if (message == "A subcommand is required") message += fmt::format(" (expected: {}; see eulervop --help)", commands);
@@ -82,13 +91,9 @@ int main(int argc, char** argv) {
 
   try {
     reference.command = eulervop::app::command_text(argc, argv);
-    if (reference_command->parsed()) eulervop::app::run_reference(reference, std::cout);
-    if (report_command->parsed()) eulervop::app::run_report(report_opts, std::cout);
-    if (sweep_command->parsed()) eulervop::app::run_sweep(sweep_opts, std::cout);
-    if (check_command->parsed()) return eulervop::app::run_check(check_opts, std::cout);
-    if (batch_command->parsed()) return eulervop::app::run_batch(batch_opts, std::cout);
-    if (map_command->parsed()) eulervop::app::run_map(map_opts, std::cout);
-    return 0;
+    for (const auto& [c, run] : subcommands)
+      if (c->parsed()) return run();
+    return exit_success;
   } catch (const eulervop::app::input_error& e) {
     return report(exit_bad_input, "error: ", e.what());
   } catch (const eulervop::numerical_failure& e) {

@@ -1,9 +1,11 @@
 #include "map_command.hpp"
 
-#include "comparison_common.hpp"
+#include "figure.hpp"
 #include "grid_flags.hpp"
-#include "input_error.hpp"
-#include "scene_problem.hpp"
+#include "output_cells.hpp"
+#include "output_dir.hpp"
+#include "run_names.hpp"
+#include "scene_library.hpp"
 #include "text_table.hpp"
 #include "work_precision.hpp"
 
@@ -86,8 +88,7 @@ map_job make_job(const map_options& o) {
     throw input_error(fmt::format("--formulations {}: the map compares euler with vop or vop-theta; give both kinds",
                                   o.grid.formulations.value_or("")));
 
-  if (o.out_dir && o.out_dir->empty()) throw input_error("--out-dir: empty path");
-  job.out_dir = o.out_dir ? fs::path(*o.out_dir) : fs::path("eulervop-map");
+  job.out_dir = out_dir_of(o.out_dir, "map");
   job.plot = !o.no_plot;
   return job;
 }
@@ -193,7 +194,7 @@ std::string runs_csv(const map_job& job, const std::vector<wp_outcome>& outcomes
       }
       put("{},{},{},{:.6g},{},{},{},false\n", r.run.steps, c.adaptive ? fmt::format("{}", r.run.rejected) : "",
           r.run.rhs_evals, r.seconds, csv_number(r.max_error), csv_number(r.final_error),
-          r.run.diverged ? "true" : "false");
+          r.run.diverged() ? "true" : "false");
     }
   }
   return fmt::to_string(out);
@@ -339,8 +340,7 @@ CLI::App* add_map_command(CLI::App& app, map_options& o) {
   scene_override_set which;
   which.times = false;
   add_scene_override_options(*sub, o.overrides, which, "About this many error samples per run (default: 200)");
-  bind("--out-dir", o.out_dir, "Output directory (default: ./eulervop-map/, created if missing)")->type_name("DIR");
-  sub->add_flag("--no-plot", o.no_plot, "Do not draw regime_map.png/regime_map.svg");
+  add_output_flags(*sub, o.out_dir, o.no_plot, "map", "regime_map");
   return sub;
 }
 

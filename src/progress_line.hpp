@@ -1,8 +1,8 @@
 // A single updating progress line on standard error.
 //
-// Issue 2 section 6: progress goes to stderr, only when it is a terminal, and only once a run
-// has taken more than a second (short runs and pipelines stay silent). The line is cleared
-// when the run ends, so the terminal is left as it was.
+// Progress goes to stderr, only when it is a terminal, and only once a run has taken more than
+// a second (short runs and pipelines stay silent). The line is cleared when the run ends, so the
+// terminal is left as it was (docs/design.md section 5.3).
 #pragma once
 
 #include <chrono>

@@ -1,12 +1,12 @@
 #include "reference_command.hpp"
 
 #include "atomic_file.hpp"
-#include "decimal.hpp"
-#include "input_error.hpp"
 #include "reference_compute.hpp"
-#include "scene.hpp"
+#include "reference_csv.hpp"
+#include "scene_library.hpp"
 #include "scene_overrides.hpp"
-#include "scene_problem.hpp"
+#include "shell_word.hpp"
+#include "with_scalar.hpp"
 
 #include <eulervop/chebyshev_picard.hpp>
 #include <eulervop/model.hpp>
@@ -50,7 +50,7 @@ reference_job make_job(const reference_options& o) {
 
 // ---- computing -------------------------------------------------------------------------------
 
-// The whole CSV (issue 2, section 6) of a run in T.
+// The whole CSV of a run in T (layout in the README, "Command line").
 template <scalar T>
 std::string run_in(const reference_job& job) {
   const scene& s = job.scn;
@@ -59,64 +59,36 @@ std::string run_in(const reference_job& job) {
   const sample_times<T> times = sample_times_of<T>(s);
   const sampled_reference<T> ref = integrate_and_sample<T>(problem, tau_end, times.tau, job.settings, "reference");
 
-  std::optional<verify_result> check;
-  if (job.verify) check = verify<T>(s, tau_end, times.tau, ref.Omega, job.precision);
-
-  fmt::memory_buffer out;
-  auto line = [&]<class... Args>(fmt::format_string<Args...> format, Args&&... args) {
-    fmt::format_to(std::back_inserter(out), format, std::forward<Args>(args)...);
-    out.push_back('\n');
-  };
-  line("# eulervop {}", EULERVOP_VERSION);
-  line("# scene: {}", s.name);
-  line("# scene_source: {}", s.origin);
-  if (!job.command.empty()) line("# command: {}", job.command);
-  if (!job.overrides.empty()) line("# overrides: {}", job.overrides);
-  line("# precision: {}", precision_text(job.precision));
-  line("# method: {}", method_text(job.settings, ref.stats));
-  if (!job.omit_timing) line("# wall_seconds: {:.3f}", ref.wall_seconds);
-  if (check) {
-    line("# estimated_max_error: {}", check->max_error);
-    line("# verify_precision: {}", check->precision);
-    line("# verify_method: {}", check->method);
-    if (!job.omit_timing) line("# wall_seconds_verify: {:.3f}", check->wall_seconds);
+  reference_metadata m;
+  m.scene_name = s.name;
+  m.scene_source = s.origin;
+  m.command = job.command;
+  m.overrides = job.overrides;
+  m.precision = job.precision;
+  m.method = method_text(job.settings, ref.stats);
+  if (!job.omit_timing) m.wall_seconds = ref.wall_seconds;
+  if (job.verify) {
+    const verify_result check = verify<T>(s, tau_end, times.tau, ref.Omega, job.precision);
+    m.estimated_max_error = check.max_error;
+    m.verify_precision = check.precision;
+    m.verify_method = check.method;
+    if (!job.omit_timing) m.wall_seconds_verify = check.wall_seconds;
   }
-  std::istringstream scene_lines(s.source_text);
-  for (std::string l; std::getline(scene_lines, l);) {
-    if (!l.empty() && l.back() == '\r') l.pop_back();
-    line("# scene_text: {}", l);
-  }
+  m.scene_text = s.source_text;
 
+  reference_csv_writer out(m, s.is_physical());
   if (s.is_physical()) {
-    line("tau,Omega1,Omega2,Omega3,t,omega1,omega2,omega3");
     const physical_scaling<T> scale = scaling_of<T>(s);
-    for (std::size_t i = 0; i < times.tau.size(); ++i) {
-      const vec3<T>& Om = ref.Omega[i];
-      const vec3<T> om = scale.omega_of_Omega(Om);
-      line("{},{},{},{},{},{},{},{}", to_text(times.tau[i]), to_text(Om[0]), to_text(Om[1]), to_text(Om[2]),
-           to_text(times.t[i]), to_text(om[0]), to_text(om[1]), to_text(om[2]));
-    }
+    for (std::size_t i = 0; i < times.tau.size(); ++i)
+      out.row(times.tau[i], ref.Omega[i], times.t[i], scale.omega_of_Omega(ref.Omega[i]));
   } else {
-    line("tau,Omega1,Omega2,Omega3");
-    for (std::size_t i = 0; i < times.tau.size(); ++i) {
-      const vec3<T>& Om = ref.Omega[i];
-      line("{},{},{},{}", to_text(times.tau[i]), to_text(Om[0]), to_text(Om[1]), to_text(Om[2]));
-    }
+    for (std::size_t i = 0; i < times.tau.size(); ++i) out.row(times.tau[i], ref.Omega[i]);
   }
-  return fmt::to_string(out);
+  return out.text();
 }
 
 std::string run_job(const reference_job& job) {
-  switch (job.precision.type) {
-    case eulervop::precision::kind::binary64: return run_in<double>(job);
-    case eulervop::precision::kind::binary128: return run_in<quad>(job);
-    case eulervop::precision::kind::mpfr: {
-      // Every MPFR value of the run is created (and destroyed) inside this scope.
-      const mpfr_precision_scope scope(job.precision.bits);
-      return run_in<mpfr_real>(job);
-    }
-  }
-  throw std::logic_error("unknown precision kind");
+  return with_scalar(job.precision, [&](auto zero) { return run_in<decltype(zero)>(job); });
 }
 
 }  // namespace
@@ -148,15 +120,6 @@ void run_reference(const reference_options& options, std::ostream& standard_outp
   } else {
     standard_output << csv << std::flush;
   }
-}
-
-std::string shell_word(const std::string& a) {
-  const bool plain = !a.empty() && a.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                                       "0123456789-_./:=,+@%") == std::string::npos;
-  if (plain) return a;
-  std::string q = "'";
-  for (char c : a) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
 }
 
 std::string command_text(int argc, const char* const* argv) {

@@ -1,5 +1,5 @@
 // `eulervop reference [SCENE] [options]`: the high-precision reference solution as CSV
-// (issue 2, section 6).
+// (layout in the README, "Command line").
 #pragma once
 
 #include "scene_overrides.hpp"
@@ -35,8 +35,5 @@ void run_reference(const reference_options& options, std::ostream& standard_outp
 // The "# command:" text of a run: "eulervop" and the arguments after the program name, each
 // shell-quoted when needed, with `--out FILE` left out (where the CSV went is not what made it).
 std::string command_text(int argc, const char* const* argv);
-
-// `a` quoted for a POSIX shell when it holds anything beyond plain word characters.
-std::string shell_word(const std::string& a);
 
 }  // namespace eulervop::app

@@ -4,10 +4,11 @@
 #pragma once
 
 #include "progress_line.hpp"
-#include "scene.hpp"
-#include "scene_problem.hpp"
+#include "scene_library.hpp"
+#include "with_scalar.hpp"
 
 #include <eulervop/chebyshev_picard.hpp>
+#include <eulervop/error_measure.hpp>
 #include <eulervop/model.hpp>
 #include <eulervop/scalar.hpp>
 
@@ -17,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -60,12 +62,13 @@ dense_reference<T> integrate_dense(const normalized_problem<T>& problem, const T
 }
 
 // The dense output at `tau` (within the integrated span). A non-finite value is a
-// numerical_failure: no NaN is ever printed as a result (issue 5).
+// numerical_failure: no NaN is ever printed as a result (docs/design.md section 5.3).
 template <scalar T>
 vec3<T> sample_dense(const dense_trajectory<T>& trajectory, const T& tau) {
   vec3<T> Om = trajectory(tau);
   for (const T& x : Om)
-    if (!(boost::math::isfinite)(x)) throw numerical_failure(static_cast<double>(tau), "non-finite state in the dense output");
+    if (!(boost::math::isfinite)(x))
+      throw numerical_failure({outcome_kind::dense_output_non_finite, static_cast<double>(tau)});
   return Om;
 }
 
@@ -115,19 +118,13 @@ inline std::string method_text(const picard_settings& settings, const picard_sta
                      stats.segments, stats.rejected);
 }
 
-inline std::string precision_text(const eulervop::precision& p) {
-  if (p.type == eulervop::precision::kind::mpfr)
-    return fmt::format("{} (effective_bits={})", p.name(), eulervop::mpfr_effective_bits(p.bits));
-  return p.name();
-}
-
 // The verification (--verify): the same samples, recomputed one precision up with the
 // integrator's default (stricter) settings, from the scene's decimals converted directly into
 // the wider type. Evaluated at the narrow run's tau values (widened exactly), so the difference
 // measures the narrow run's error at the rows it prints, input rounding included.
 struct verify_result {
-  std::string max_error;  // three significant digits
-  std::string precision;
+  decimal max_error;  // three significant digits, as the metadata prints it
+  eulervop::precision precision;
   std::string method;
   double wall_seconds = 0;
 };
@@ -142,16 +139,12 @@ verify_result verify_in(const scene& s, const Lo& tau_end, const std::vector<Lo>
       integrate_and_sample<Hi>(to_problem<Hi>(s), widen<Hi>(tau_end), wide_taus, picard_settings{}, "verify");
   Hi worst = 0;
   for (std::size_t i = 0; i < Omega.size(); ++i) {
-    Hi sum = 0;
-    for (int c = 0; c < 3; ++c) {
-      const Hi d = ref.Omega[i][c] - widen<Hi>(Omega[i][c]);
-      sum += d * d;
-    }
-    using std::sqrt;
-    const Hi err = sqrt(sum);  // Eq. 20
+    const vec3<Hi> narrow = {widen<Hi>(Omega[i][0]), widen<Hi>(Omega[i][1]), widen<Hi>(Omega[i][2])};
+    const Hi err = eq20_error(ref.Omega[i], narrow);
     if (err > worst) worst = err;
   }
-  return {three_digits(worst), precision_text(wide), method_text(picard_settings{}, ref.stats), ref.wall_seconds};
+  return {decimal{three_digits(worst), static_cast<double>(worst)}, wide, method_text(picard_settings{}, ref.stats),
+          ref.wall_seconds};
 }
 
 // One precision up: double -> quad -> mpfr:(113+64) ; mpfr:B -> mpfr:(B+64). `narrow` is the
@@ -160,13 +153,17 @@ template <scalar Lo>
 verify_result verify(const scene& s, const Lo& tau_end, const std::vector<Lo>& taus,
                      const std::vector<vec3<Lo>>& Omega, const eulervop::precision& narrow) {
   constexpr unsigned extra_bits = 64;
-  if constexpr (std::is_same_v<Lo, double>) {
-    return verify_in<quad>(s, tau_end, taus, Omega, eulervop::precision::binary128());
-  } else {
-    const unsigned bits = (std::is_same_v<Lo, quad> ? 113u : narrow.bits) + extra_bits;
-    const mpfr_precision_scope scope(bits);
-    return verify_in<mpfr_real>(s, tau_end, taus, Omega, eulervop::precision::mpfr(bits));
-  }
+  const eulervop::precision wide =
+      std::is_same_v<Lo, double>
+          ? eulervop::precision::binary128()
+          : eulervop::precision::mpfr((std::is_same_v<Lo, quad> ? 113u : narrow.bits) + extra_bits);
+  return with_scalar(wide, [&](auto zero) -> verify_result {
+    using Hi = decltype(zero);
+    if constexpr (std::is_same_v<Hi, double> || (std::is_same_v<Hi, quad> && !std::is_same_v<Lo, double>))
+      throw std::logic_error("verify: the precision is not wider");
+    else
+      return verify_in<Hi>(s, tau_end, taus, Omega, wide);
+  });
 }
 
 }  // namespace eulervop::app

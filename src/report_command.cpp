@@ -2,10 +2,14 @@
 
 #include "atomic_file.hpp"
 #include "csv_rows.hpp"
-#include "decimal.hpp"
-#include "input_error.hpp"
+#include "figure.hpp"
+#include "output_cells.hpp"
+#include "output_dir.hpp"
 #include "reference_compute.hpp"
-#include "scene_problem.hpp"
+#include "reference_csv.hpp"
+#include "run_names.hpp"
+#include "scene_library.hpp"
+#include "step_rule.hpp"
 #include "text_table.hpp"
 #include "with_scalar.hpp"
 #include "work_precision.hpp"
@@ -15,6 +19,7 @@
 #include <eulervop/elliptic.hpp>
 #include <eulervop/error_measure.hpp>
 #include <eulervop/model.hpp>
+#include <eulervop/outcome_text.hpp>
 #include <eulervop/runge_kutta.hpp>
 #include <eulervop/scalar.hpp>
 
@@ -48,13 +53,10 @@ struct run_spec {
   std::string column() const { return fmt::format("{}_{}", formulation_name(form), rk::method_name(method)); }
 };
 
-// The metadata of a --reference file, read before the computation's scalar type is chosen.
+// A --reference file and its metadata, read before the computation's scalar type is chosen.
 struct reference_file_info {
   std::string path;
-  std::vector<std::string> lines;  // the whole file
-  eulervop::precision precision = eulervop::precision::binary128();
-  std::string precision_name = "quad";
-  std::optional<double> estimated_max_error;
+  reference_metadata meta;
 };
 
 struct report_job {
@@ -80,81 +82,33 @@ constexpr std::int64_t default_K_divisor = 200;
 const std::vector<rk::method> default_adaptive_methods = {rk::method::rkf45, rk::method::dop853};
 constexpr std::int64_t default_samples = 2000;
 
-std::string read_text_file(const std::string& flag, const std::string& path) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw input_error(fmt::format("{} {}: is a directory", flag, path));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw input_error(fmt::format("{} {}: cannot read the file", flag, path));
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// Reads the file and its '#' metadata: precision, estimated_max_error, scene (must match).
+// Reads the file's metadata; the scene it names must be the report's.
 reference_file_info read_reference_metadata(const std::string& path, const scene& s) {
-  reference_file_info info;
-  info.path = path;
-  const std::string text = read_text_file("--reference", path);
-  std::istringstream in(text);
-  for (std::string l; std::getline(in, l);) {
-    if (!l.empty() && l.back() == '\r') l.pop_back();
-    info.lines.push_back(std::move(l));
-  }
-  const std::string where = "--reference " + path;
-  for (std::size_t i = 0; i < info.lines.size(); ++i) {
-    const std::string& l = info.lines[i];
-    if (!l.starts_with("#")) continue;
-    auto value_of = [&](std::string_view key) { return metadata_value(l, key); };  // csv_rows.hpp
-    if (auto v = value_of("precision")) {
-      const std::string name = v->substr(0, v->find(' '));  // "mpfr:256 (effective_bits=257)"
-      const auto p = eulervop::precision::parse(name);
-      if (!p) throw input_error(fmt::format("{}: line {}: unknown precision `{}`", where, i + 1, name));
-      info.precision_name = name;
-      // Double values are read exactly enough in quad; MPFR at the stated bits.
-      info.precision = p->type == eulervop::precision::kind::mpfr ? *p : eulervop::precision::binary128();
-    } else if (auto e = value_of("estimated_max_error")) {
-      const auto parsed = parse_decimal(*e);
-      if (!parsed.number || parsed.number->value < 0)
-        throw input_error(fmt::format("{}: line {}: estimated_max_error `{}` is not a non-negative number", where,
-                                      i + 1, *e));
-      info.estimated_max_error = parsed.number->value;
-    } else if (auto name = value_of("scene")) {
-      if (*name != s.name)
-        throw input_error(fmt::format("{}: line {}: the reference is for scene `{}`, the report is for scene `{}`",
-                                      where, i + 1, *name, s.name));
-    }
-  }
-  return info;
+  std::ifstream in = open_input_file("--reference", path);
+  const reference_csv_reader reader(in, "--reference " + path);
+  const reference_metadata& m = reader.metadata();
+  if (!m.scene_name.empty() && m.scene_name != s.name)
+    throw input_error(fmt::format("--reference {}: the reference is for scene `{}`, the report is for scene `{}`", path,
+                                  m.scene_name, s.name));
+  return {path, m};
 }
 
-report_job make_job(const report_options& o) {
-  report_job job;
-  job.scn = o.scene_path ? load_scene_file(*o.scene_path) : load_default_scene();
-  scene& s = job.scn;
+// With --reference, the file's samples and precision are used: flags that would set them are bad input.
+void check_reference_flags(const report_options& o) {
+  if (!o.reference_file) return;
+  for (const auto& [flag, given] : {std::pair{"--samples", o.overrides.samples.has_value()},
+                                    std::pair{"--precision", o.overrides.precision.has_value()},
+                                    std::pair{"--degree", o.overrides.degree.has_value()},
+                                    std::pair{"--tolerance", o.overrides.tolerance.has_value()},
+                                    std::pair{"--verify", o.verify}})
+    if (given)
+      throw input_error(fmt::format("{}: not used with --reference {} (the file's samples and precision are used)", flag,
+                                    *o.reference_file));
+}
 
-  // Error samples are step points of the runs, about `samples` of them: the scene's explicit
-  // sample times do not apply.
-  if (!s.samples) s.samples = s.times.empty() ? default_samples : std::max<std::int64_t>(2, std::ssize(s.times));
-  s.times.clear();
-
-  if (o.reference_file) {
-    for (const auto& [flag, given] : {std::pair{"--samples", o.overrides.samples.has_value()},
-                                      std::pair{"--precision", o.overrides.precision.has_value()},
-                                      std::pair{"--degree", o.overrides.degree.has_value()},
-                                      std::pair{"--tolerance", o.overrides.tolerance.has_value()},
-                                      std::pair{"--verify", o.verify}})
-      if (given)
-        throw input_error(fmt::format("{}: not used with --reference {} (the file's samples and precision are used)",
-                                      flag, *o.reference_file));
-  }
-  const applied_overrides applied = apply_scene_overrides(s, o.overrides);
-  job.overrides = applied.text();
-  job.precision = applied.precision;
-  job.settings = applied.settings;
-  job.verify = o.verify;
-  job.samples = static_cast<std::size_t>(*s.samples);
-
-  // Fixed step: --step, else [run] step, else K/200. Or error control: --tols (with no step).
+// The step of the runs: --step, else [run] step, else K/200; or error control (--tols, no step).
+void choose_step(report_job& job, const report_options& o) {
+  const scene& s = job.scn;
   if (o.tols) {
     if (o.step)
       throw input_error(fmt::format("--tols {} and --step {}: a report runs either at one fixed step or under error "
@@ -183,7 +137,11 @@ report_job make_job(const report_options& o) {
     job.step = resolve_step(s, spec, fmt::format("the default step K/{} (give --step)", default_K_divisor));
   }
 
-  // Formulations x methods (x tolerances).
+}
+
+// Formulations x methods (x tolerances); returns the formulations.
+std::vector<formulation> choose_runs(report_job& job, const report_options& o) {
+  const scene& s = job.scn;
   std::vector<formulation> forms;
   if (o.formulations)
     forms = formulations_of(flag_list("--formulations", *o.formulations), "--formulations " + *o.formulations, "");
@@ -209,12 +167,34 @@ report_job make_job(const report_options& o) {
       for (std::size_t t = 0; t < job.tols.size(); ++t) job.runs.push_back({f, m, t});
     }
 
+  return forms;
+}
+
+report_job make_job(const report_options& o) {
+  report_job job;
+  job.scn = o.scene_path ? load_scene_file(*o.scene_path) : load_default_scene();
+  scene& s = job.scn;
+
+  // Error samples are step points of the runs, about `samples` of them: the scene's explicit
+  // sample times do not apply.
+  if (!s.samples) s.samples = s.times.empty() ? default_samples : std::max<std::int64_t>(2, std::ssize(s.times));
+  s.times.clear();
+
+  check_reference_flags(o);
+  const applied_overrides applied = apply_scene_overrides(s, o.overrides);
+  job.overrides = applied.text();
+  job.precision = applied.precision;
+  job.settings = applied.settings;
+  job.verify = o.verify;
+  job.samples = static_cast<std::size_t>(*s.samples);
+
+  choose_step(job, o);
+  const std::vector<formulation> forms = choose_runs(job, o);
   probe_formulations(forms, to_problem<double>(s), job.tols.empty() ? job.step.h : std::min(job.h_max, tau_end_of<double>(s)));
 
   if (o.reference_file) job.file = read_reference_metadata(*o.reference_file, s);
 
-  job.out_dir = o.out_dir ? fs::path(*o.out_dir) : fs::path("eulervop-report");
-  if (o.out_dir && o.out_dir->empty()) throw input_error("--out-dir: empty path");
+  job.out_dir = out_dir_of(o.out_dir, "report");
   const std::string format = o.format.value_or("table");
   if (format != "table" && format != "json")
     throw input_error(fmt::format("--format {}: expected table or json", format));
@@ -252,48 +232,20 @@ reference_samples<T> load_reference_file(const report_job& job) {
   const reference_file_info& info = *job.file;
   const std::string where = "--reference " + info.path;
   reference_samples<T> out;
-  out.precision = info.precision_name;
-  out.estimated_max_error = info.estimated_max_error;
+  out.precision = info.meta.precision.name();
+  if (info.meta.estimated_max_error) out.estimated_max_error = info.meta.estimated_max_error->value;
   out.source = info.path;
 
-  std::vector<std::string> header;
-  int col_tau = -1, col_O[3] = {-1, -1, -1};
-  auto split = [](const std::string& l) { return split_csv_cells(l); };  // csv_rows.hpp
+  std::ifstream in = open_input_file("--reference", info.path);
+  reference_csv_reader reader(in, where);
+  const std::size_t col_tau = reader.column("tau");
+  csv_rows& rows = reader.rows();
   const double h = job.step.h;
   const std::size_t max_step = job.step.n_steps;
-  for (std::size_t i = 0; i < info.lines.size(); ++i) {
-    const std::string& l = info.lines[i];
-    const std::size_t line = i + 1;
-    if (l.starts_with("#") || trimmed(l).empty()) continue;
-    if (header.empty()) {
-      header = split(l);
-      for (std::size_t c = 0; c < header.size(); ++c) {
-        if (header[c] == "tau") col_tau = static_cast<int>(c);
-        for (int k = 0; k < 3; ++k)
-          if (header[c] == fmt::format("Omega{}", k + 1)) col_O[k] = static_cast<int>(c);
-      }
-      const char* names[] = {"Omega1", "Omega2", "Omega3"};
-      if (col_tau < 0) throw input_error(fmt::format("{}: line {}: the header has no `tau` column", where, line));
-      for (int k = 0; k < 3; ++k)
-        if (col_O[k] < 0)
-          throw input_error(fmt::format("{}: line {}: the header has no `{}` column", where, line, names[k]));
-      continue;
-    }
-    const std::vector<std::string> cells = split(l);
-    if (cells.size() != header.size())
-      throw input_error(fmt::format("{}: line {}: {} cells, the header has {}", where, line, cells.size(), header.size()));
-    auto number = [&](int c) {
-      const std::string& cell = cells[static_cast<std::size_t>(c)];
-      const auto parsed = parse_decimal(cell);
-      if (!parsed.number)
-        throw input_error(fmt::format("{}: line {}: {} = `{}` is {}", where, line, header[static_cast<std::size_t>(c)],
-                                      cell, parsed.problem == decimal_problem::not_a_number ? "not a number"
-                                                                                            : describe(parsed.problem)));
-      return *parsed.number;
-    };
-    const decimal tau = number(col_tau);
-    vec3<T> Om;
-    for (int k = 0; k < 3; ++k) Om[k] = number(col_O[k]).template to_scalar<T>();
+  while (rows.next()) {
+    const std::size_t line = rows.line();
+    const decimal tau = rows.number(col_tau);
+    const vec3<T> Om = reader.template Omega<T>();
     if (tau.value < 0) throw input_error(fmt::format("{}: line {}: tau = {} is negative", where, line, tau.text));
     if (!out.tau.empty() && !(tau.value > static_cast<double>(out.tau.back())))
       throw input_error(fmt::format("{}: line {}: tau = {} does not increase", where, line, tau.text));
@@ -311,7 +263,6 @@ reference_samples<T> load_reference_file(const report_job& job) {
     out.tau.push_back(tau.template to_scalar<T>());
     out.Omega.push_back(Om);
   }
-  if (header.empty()) throw input_error(fmt::format("{}: no header line (tau,Omega1,Omega2,Omega3)", where));
   if (out.tau.empty()) throw input_error(fmt::format("{}: no data rows", where));
   out.n_steps = out.steps.back();
   std::size_t g = 0;
@@ -341,7 +292,7 @@ reference_samples<T> compute_reference(const report_job& job) {
   out.segments = ref.stats.segments;
   if (job.verify) {
     const verify_result v = verify<T>(job.scn, tau_end, out.tau, out.Omega, job.precision);
-    out.estimated_max_error = std::strtod(v.max_error.c_str(), nullptr);
+    out.estimated_max_error = v.max_error.value;
   }
   return out;
 }
@@ -368,7 +319,7 @@ run_errors measure(const run_spec& spec, const normalized_problem<double>& probl
     while (pos < r.sample_steps.size() && r.sample_steps[pos] < n) ++pos;
     if (pos == r.sample_steps.size() || r.sample_steps[pos] != n) continue;
     const double tau = static_cast<double>(n) * h;
-    if (r.diverged && r.diverged_at && tau >= *r.diverged_at) continue;
+    if (r.diverged() && r.diverged_at() && tau >= *r.diverged_at()) continue;
     const double e = static_cast<double>(eq20_error(ref.Omega[i], r.Omega[pos]));
     if (!std::isfinite(e)) continue;  // never a NaN as an error value
     out.error[i] = e;
@@ -412,7 +363,7 @@ nlohmann::ordered_json run_json(const run_spec& spec, const run_errors& e, nlohm
   const run_result& r = e.run;
   const bool adaptive = spec.tol.has_value();
   auto if_adaptive = [&](auto v) { return adaptive ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
-  auto if_diverged = [&](auto v) { return r.diverged ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
+  auto if_diverged = [&](auto v) { return r.diverged() ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
   return {{"formulation", std::string(formulation_name(spec.form))},
           {"method", std::string(rk::method_name(spec.method))},
           {"step", std::move(step)},
@@ -425,9 +376,9 @@ nlohmann::ordered_json run_json(const run_spec& spec, const run_errors& e, nlohm
           {"max_error", number_or_null(e.max_error)},
           {"final_tau", number_or_null(e.final_tau)},
           {"final_error", number_or_null(e.final_error)},
-          {"diverged", r.diverged},
-          {"diverged_at", r.diverged ? number_or_null(r.diverged_at) : nlohmann::ordered_json(nullptr)},
-          {"why", if_diverged(r.why)},
+          {"diverged", r.diverged()},
+          {"diverged_at", r.diverged() ? number_or_null(r.diverged_at()) : nlohmann::ordered_json(nullptr)},
+          {"why", if_diverged(describe(r.status))},
           {"separatrix_bands", bands_json(r.separatrix_bands)},
           {"small_k_bands", bands_json(r.small_k_bands)},
           {"direct_steps", r.direct_steps},
@@ -489,7 +440,7 @@ std::string table_text(const report_job& job, const reference_samples<T>& ref, c
                     fmt::format("{:.6g}", job.step.h), fmt::format("{}", r.steps), fmt::format("{}", r.rhs_evals),
                     fmt::format("{:.3f}", r.seconds), optional_text(runs[i].max_error, "{:.3e}"),
                     optional_text(runs[i].final_tau, "{:.6g}"), optional_text(runs[i].final_error, "{:.3e}")});
-    notes.push_back(r.diverged ? fmt::format("diverged at tau={} ({})", optional_text(r.diverged_at, "{:.6g}"), r.why)
+    notes.push_back(r.diverged() ? fmt::format("diverged at tau={} ({})", optional_text(r.diverged_at(), "{:.6g}"), describe(r.status))
                                : "");
   }
   std::vector<std::size_t> width(rows[0].size(), 0);
@@ -585,7 +536,7 @@ std::string adaptive_table(const report_job& job, const dense_reference_info& re
                     fmt::format("{}", r.rhs_evals), fmt::format("{:.3f}", r.seconds),
                     optional_text(runs[i].max_error, "{:.3e}"), optional_text(runs[i].final_tau, "{:.6g}"),
                     optional_text(runs[i].final_error, "{:.3e}"),
-                    r.diverged ? fmt::format("diverged at tau={} ({})", optional_text(r.diverged_at, "{:.6g}"), r.why)
+                    r.diverged() ? fmt::format("diverged at tau={} ({})", optional_text(r.diverged_at(), "{:.6g}"), describe(r.status))
                                : ""});
   }
   out += aligned_table(rows, 2);
@@ -691,16 +642,15 @@ CLI::App* add_report_command(CLI::App& app, report_options& o) {
   scene_override_set which;
   which.times = false;
   add_scene_override_options(*sub, o.overrides, which, "About this many error samples, at the runs' step points");
-  bind("--out-dir", o.out_dir, "Output directory (default: ./eulervop-report/, created if missing)")->type_name("DIR");
+  add_output_flags(*sub, o.out_dir, o.no_plot, "report", "fig1");
   bind("--format", o.format, "Standard output: table (default) or json (summary.json)")->type_name("F");
-  sub->add_flag("--no-plot", o.no_plot, "Do not draw fig1.png/fig1.svg");
   sub->add_flag("--verify", o.verify, "Recompute the reference one precision up for its estimated_max_error");
   return sub;
 }
 
 void run_report(const report_options& options, std::ostream& standard_output) {
   const report_job job = make_job(options);
-  const eulervop::precision p = job.file ? job.file->precision : job.precision;
+  const eulervop::precision p = job.file ? job.file->meta.reading_precision() : job.precision;
   with_scalar(p, [&](auto zero) { execute<decltype(zero)>(job, standard_output); });
 }
 

@@ -3,8 +3,7 @@
 // paper's Fig. 1.
 #pragma once
 
-#include "comparison_common.hpp"
-#include "scene.hpp"
+#include "scene_library.hpp"
 #include "scene_overrides.hpp"
 
 #include <CLI/CLI.hpp>

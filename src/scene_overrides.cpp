@@ -1,6 +1,6 @@
 #include "scene_overrides.hpp"
 
-#include "input_error.hpp"
+#include "scene_library.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -102,6 +102,14 @@ std::string applied_overrides::text() const { return fmt::format("{}", fmt::join
 CLI::Option* add_text_option(CLI::App& sub, const std::string& name, std::optional<std::string>& target,
                              const std::string& help) {
   return sub.add_option_function<std::string>(name, [&target](const std::string& v) { target = v; }, help);
+}
+
+void add_output_flags(CLI::App& sub, std::optional<std::string>& out_dir, bool& no_plot, std::string_view command,
+                      std::string_view figure) {
+  add_text_option(sub, "--out-dir", out_dir,
+                  fmt::format("Output directory (default: ./eulervop-{}/, created if missing)", command))
+      ->type_name("DIR");
+  sub.add_flag("--no-plot", no_plot, fmt::format("Do not draw {0}.png/{0}.svg", figure));
 }
 
 void add_scene_override_options(CLI::App& sub, scene_override_flags& o, scene_override_set which,

@@ -5,8 +5,7 @@
 // The flags are kept as the user's text until they are applied, so every message can quote it.
 #pragma once
 
-#include "decimal.hpp"
-#include "scene.hpp"
+#include "scene_library.hpp"
 
 #include <eulervop/chebyshev_picard.hpp>
 #include <eulervop/scalar.hpp>
@@ -43,6 +42,10 @@ struct scene_override_set {
 // scene they modify is known, so that errors can name the flag, the value and the scene.
 CLI::Option* add_text_option(CLI::App& sub, const std::string& name, std::optional<std::string>& target,
                              const std::string& help);
+
+// --out-dir (default ./eulervop-<command>/) and --no-plot (of the figure <figure>.png/.svg).
+void add_output_flags(CLI::App& sub, std::optional<std::string>& out_dir, bool& no_plot, std::string_view command,
+                      std::string_view figure);
 
 // Registers the flags of `which` on `sub`, binding them to `flags`. `samples_help` describes
 // --samples in the subcommand's own terms.

@@ -1,12 +1,16 @@
 #include "sweep_command.hpp"
 
+#include "figure.hpp"
 #include "grid_flags.hpp"
-#include "input_error.hpp"
-#include "scene_problem.hpp"
+#include "output_cells.hpp"
+#include "output_dir.hpp"
+#include "run_names.hpp"
+#include "scene_library.hpp"
 #include "text_table.hpp"
 #include "work_precision.hpp"
 
 #include <eulervop/comparison_run.hpp>
+#include <eulervop/outcome_text.hpp>
 #include <eulervop/runge_kutta.hpp>
 
 #include <fmt/format.h>
@@ -53,8 +57,7 @@ sweep_job make_job(const sweep_options& o) {
   job.run = run_options_of(o.grid, defaults, "sweep");
   job.grid = grid_of(s, static_cast<std::size_t>(*s.samples), o.grid, defaults);
 
-  if (o.out_dir && o.out_dir->empty()) throw input_error("--out-dir: empty path");
-  job.out_dir = o.out_dir ? fs::path(*o.out_dir) : fs::path("eulervop-sweep");
+  job.out_dir = out_dir_of(o.out_dir, "sweep");
   job.plot = !o.no_plot;
   return job;
 }
@@ -95,8 +98,8 @@ std::string sweep_csv(const wp_grid& g, const wp_outcome& o) {
     else
       put("{},{},,{},,,", g.steps[c.rung].text, g.steps[c.rung].choice.h, r.run.steps);
     put("{},{:.6g},{},{},{},{}\n", r.run.rhs_evals, r.seconds, csv_number(r.max_error),
-        csv_number(r.final_error), r.run.diverged ? "true" : "false",
-        r.run.diverged ? csv_number(r.run.diverged_at) : std::string());
+        csv_number(r.final_error), r.run.diverged() ? "true" : "false",
+        r.run.diverged() ? csv_number(r.run.diverged_at()) : std::string());
   }
   return fmt::to_string(out);
 }
@@ -172,9 +175,9 @@ nlohmann::ordered_json summary_json(const sweep_job& job, const wp_outcome& o, c
                          {"seconds", r.seconds},
                          {"max_error", number_or_null(r.max_error)},
                          {"final_error", number_or_null(r.final_error)},
-                         {"diverged", r.run.diverged},
-                         {"diverged_at", r.run.diverged ? number_or_null(r.run.diverged_at) : null},
-                         {"why", r.run.diverged ? nlohmann::ordered_json(r.run.why) : null}});
+                         {"diverged", r.run.diverged()},
+                         {"diverged_at", r.run.diverged() ? number_or_null(r.run.diverged_at()) : null},
+                         {"why", r.run.diverged() ? nlohmann::ordered_json(describe(r.run.status)) : null}});
   }
   j["cheapest"] = nlohmann::ordered_json::array();
   for (const level_choice& lc : levels) {
@@ -229,10 +232,10 @@ std::string table_text(const sweep_job& job, const wp_outcome& o, const std::vec
                     fmt::format("{}", r.run.steps), c.adaptive ? fmt::format("{}", r.run.rejected) : std::string("-"),
                     fmt::format("{}", r.run.rhs_evals), fmt::format("{:.3e}", r.seconds), sci(r.max_error),
                     sci(r.final_error),
-                    r.run.diverged ? fmt::format("DIVERGED at tau={} ({})",
-                                                 r.run.diverged_at ? fmt::format("{:.6g}", *r.run.diverged_at) : "?",
-                                                 r.run.why)
-                                   : ""});
+                    r.run.diverged() ? fmt::format("DIVERGED at tau={} ({})",
+                                                   r.run.diverged_at() ? fmt::format("{:.6g}", *r.run.diverged_at()) : "?",
+                                                   describe(r.run.status))
+                                     : ""});
   }
   out += aligned_table(rows, 3);
 
@@ -274,8 +277,7 @@ CLI::App* add_sweep_command(CLI::App& app, sweep_options& o) {
   which.times = false;
   add_scene_override_options(*sub, o.overrides, which,
                              "About this many error samples per run, at its step points (default: 200)");
-  bind("--out-dir", o.out_dir, "Output directory (default: ./eulervop-sweep/, created if missing)")->type_name("DIR");
-  sub->add_flag("--no-plot", o.no_plot, "Do not draw work_precision.png/work_precision.svg");
+  add_output_flags(*sub, o.out_dir, o.no_plot, "sweep", "work_precision");
   return sub;
 }
 

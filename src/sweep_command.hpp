@@ -6,7 +6,6 @@
 // work-precision figure.
 #pragma once
 
-#include "comparison_common.hpp"
 #include "grid_flags.hpp"
 #include "scene_overrides.hpp"
 

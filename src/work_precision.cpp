@@ -1,10 +1,9 @@
 #include "work_precision.hpp"
 
-#include "input_error.hpp"
 #include "progress_line.hpp"
 #include "reference_compute.hpp"
+#include "scene_library.hpp"
 #include "scene_overrides.hpp"
-#include "scene_problem.hpp"
 #include "with_scalar.hpp"
 
 #include <eulervop/error_measure.hpp>
@@ -208,7 +207,7 @@ T sample_time(const wp_grid& g, const wp_case& c, const run_result& r, std::size
 template <scalar T>
 void measure(const wp_grid& g, const wp_case& c, const dense_trajectory<T>& ref, wp_result& out) {
   const run_result& r = out.run;
-  if (r.diverged) return;
+  if (r.diverged()) return;
   double worst = 0;
   std::optional<double> last;
   for (std::size_t i = 0; i < r.Omega.size(); ++i) {
@@ -379,7 +378,7 @@ std::vector<level_choice> cheapest_per_level(const wp_grid& g, const wp_outcome&
       for (std::size_t i = 0; i < g.cases.size(); ++i) {
         if (g.cases[i].form != g.forms[f]) continue;
         const wp_result& r = o.results[i];
-        if (r.skipped || r.run.diverged || !r.max_error || !(*r.max_error <= level)) continue;
+        if (r.skipped || r.run.diverged() || !r.max_error || !(*r.max_error <= level)) continue;
         if (!lc.best[f] || r.seconds < o.results[*lc.best[f]].seconds) lc.best[f] = i;
       }
       if (lc.best[f] && (!lc.winner || o.results[*lc.best[f]].seconds < o.results[*lc.best[*lc.winner]].seconds))

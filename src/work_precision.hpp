@@ -3,8 +3,8 @@
 // an embedded pair. The machinery of `sweep` (one scene) and `map` (one scene per torque scale).
 #pragma once
 
-#include "comparison_common.hpp"
-#include "scene.hpp"
+#include "scene_library.hpp"
+#include "step_rule.hpp"
 
 #include <eulervop/chebyshev_picard.hpp>
 #include <eulervop/comparison_run.hpp>

@@ -25,6 +25,23 @@ namespace fs = std::filesystem;
 inline const std::string binary = EULERVOP_BINARY;
 inline const std::string source_dir = EULERVOP_SOURCE_DIR;
 
+// A torque that overflows double: Omega3 = G3 tau passes DBL_MAX = 1.798e308 at tau = 1.798e8
+// (exact: G3 = 1e300 from Omega3 = 0). A double reference must stop there as a numerical failure.
+inline const char* const overflow_scene = R"(name = "overflow"
+description = "A torque so large that Omega3 = G3 tau overflows double at tau = 1.798e8."
+[torque]
+G = [0.0, 0.0, 1.0e300]
+[initial]
+Omega = [0.0, 0.0, 0.0]
+[span]
+tau_end = 1.0e9
+samples = 3
+[run]
+step = 1.0e6
+[reference]
+precision = "double"
+)";
+
 inline std::string read_file(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   std::ostringstream s;
@@ -107,7 +124,7 @@ inline std::string lower(std::string s) {
   return s;
 }
 
-// No NaN or infinity in any output, in any spelling (issue 5: never print NaN as a result).
+// No NaN or infinity in any output, in any spelling (docs/design.md section 5.3).
 inline void expect_no_nan(const std::string& text, const std::string& what) {
   const std::string l = lower(text);
   EXPECT_EQ(l.find("nan"), std::string::npos) << what << ":\n" << text;
@@ -121,8 +138,8 @@ inline std::string test_name_of(std::string_view label) {
   return name;
 }
 
-// The bad-input contract (issue 2 section 6): exit code 2, exactly one line on stderr that starts
-// "eulervop: error: " and contains `expected`, nothing on stdout.
+// The bad-input contract (docs/design.md section 5.3): exit code 2, exactly one line on stderr
+// that starts "eulervop: error: " and contains `expected`, nothing on stdout.
 inline void expect_one_line_error(const run_result& r, const std::string& expected) {
   EXPECT_EQ(r.exit_code, 2) << r.err;
   const auto lines = lines_of(r.err);

@@ -13,7 +13,9 @@
 // global error of a pair whose estimate is O(h^(q+1)) and which advances with the higher order
 // scales like tol^1 (error per step controlled, local extrapolation; HNW I, II.4), so the fitted
 // slope of log(error) against log(tol) must lie in [0.8, 1.2].
+#include "rk_test_systems.hpp"
 #include "slope_test_support.hpp"
+#include "type_test_names.hpp"
 
 #include <eulervop/adaptive_runge_kutta.hpp>
 #include <eulervop/model.hpp>
@@ -37,16 +39,9 @@ using eulervop::mpfr_real;
 using eulervop::quad;
 using eulervop::vec3;
 namespace rk = eulervop::rk;
+using eulervop::rk_test::rotation;
 
 using all_pairs = ::testing::Types<rk::rkf45_pair, rk::dp45_pair, rk::dop853_pair>;
-
-struct rotation {
-  template <class T>
-  void operator()(const std::array<T, 2>& x, std::array<T, 2>& dx, const T&) const {
-    dx[0] = -x[1];
-    dx[1] = x[0];
-  }
-};
 
 template <class T>
 struct euler_system {
@@ -58,7 +53,7 @@ struct euler_system {
 
 template <class Pair>
 struct EmbeddedPair : ::testing::Test {};
-TYPED_TEST_SUITE(EmbeddedPair, all_pairs);
+TYPED_TEST_SUITE(EmbeddedPair, all_pairs, method_test_names);
 
 // Every estimate is h sum e_j (k_j - k_1) with sum e_j = 0, which is what makes it vanish for a
 // constant derivative. In T: rational weights to stages epsilon<T>(); DOP853's er_j are the
@@ -178,7 +173,7 @@ TEST(PiController, FactorsStayInTheirBoundsAndDoNotGrowAfterARejection) {
 
 template <class Pair>
 struct AdaptiveDriver : ::testing::Test {};
-TYPED_TEST_SUITE(AdaptiveDriver, all_pairs);
+TYPED_TEST_SUITE(AdaptiveDriver, all_pairs, method_test_names);
 
 // A constant derivative: every estimate is exactly zero, every step but the last is h_max, the
 // result is exact, and nothing is rejected.
@@ -192,7 +187,7 @@ TYPED_TEST(AdaptiveDriver, ConstantDerivativeTakesTheMaximumStepEverywhere) {
   std::vector<double> times;
   const auto r = rk::integrate_adaptive<Pair>(sys, x, 0.0, 100.0, o,
                                               [&](std::size_t, double t, double, const vec3<double>&) { times.push_back(t); });
-  EXPECT_EQ(r.stop, rk::adaptive_stop::completed);
+  EXPECT_EQ(r.stop, eulervop::outcome_kind::success);
   EXPECT_EQ(r.rejected, 0u);
   ASSERT_EQ(r.accepted, 134u);  // 133 steps of 0.75, then 0.25
   for (std::size_t i = 1; i + 1 < times.size(); ++i) EXPECT_EQ(times[i] - times[i - 1], 0.75) << i;
@@ -217,7 +212,7 @@ TYPED_TEST(AdaptiveDriver, RhsEvaluationsAreCountedExactly) {
   rk::adaptive_options<double> o;
   o.atol = o.rtol = 1e-7;
   const auto r = rk::integrate_adaptive<Pair>(counting, x, 0.0, 20.0, o);
-  ASSERT_EQ(r.stop, rk::adaptive_stop::completed);
+  ASSERT_EQ(r.stop, eulervop::outcome_kind::success);
   EXPECT_EQ(r.rhs_evals, calls);
   const std::size_t attempts = r.accepted + r.rejected;
   const std::size_t expected = Pair::stages == 7 ? 2 + 6 * attempts : 2 + (Pair::stages - 1) * attempts + r.accepted;
@@ -239,7 +234,7 @@ TYPED_TEST(AdaptiveDriver, GlobalErrorIsProportionalToTheTolerance) {
     const auto r = rk::integrate_adaptive<Pair>(sys, x, 0.0, 20.0, o, [&](std::size_t, double t, double lo, const vec3<double>& y) {
       worst = std::max(worst, ref.error(quad(t) + quad(lo), y));
     });
-    ASSERT_EQ(r.stop, rk::adaptive_stop::completed);
+    ASSERT_EQ(r.stop, eulervop::outcome_kind::success);
     std::printf("  %-6s tol %.0e: %6zu steps (%zu rejected), max error %.3e\n", std::string(Pair::name).c_str(), tol,
                 r.accepted, r.rejected, worst);
     log_tol.push_back(std::log10(tol));
@@ -264,7 +259,7 @@ TEST(AdaptiveDriverTime, LastStepLandsOnTheEndAndTimeIsCompensated) {
     last_t = t;
     last_lo = lo;
   });
-  EXPECT_EQ(r.stop, rk::adaptive_stop::completed);
+  EXPECT_EQ(r.stop, eulervop::outcome_kind::success);
   EXPECT_EQ(last_t, 100.0);
   EXPECT_EQ(last_lo, 0.0);
   EXPECT_GE(r.accepted, 1000000u);
@@ -285,7 +280,7 @@ TEST(AdaptiveDriverFailure, BlowUpStopsNearTheSingularity) {
       const auto r = rk::integrate_adaptive<Pair>(sys, x, 0.0, 2.0, o);
       std::printf("  %-6s stop %d at t = %.12f after %zu steps, x = %.3e\n", std::string(Pair::name).c_str(),
                   static_cast<int>(r.stop), r.failed_at.value_or(-1), r.accepted, x[0]);
-      EXPECT_NE(r.stop, rk::adaptive_stop::completed);
+      EXPECT_NE(r.stop, eulervop::outcome_kind::success);
       ASSERT_TRUE(r.failed_at.has_value());
       EXPECT_NEAR(*r.failed_at, 1.0, 1e-3);
       EXPECT_TRUE(std::isfinite(x[0]));
@@ -299,7 +294,7 @@ TEST(AdaptiveDriverFailure, BlowUpStopsNearTheSingularity) {
   o.atol = o.rtol = 1e-10;
   o.max_norm = 1e4;
   const auto r = rk::integrate_adaptive<rk::dop853_pair>(sys, x, 0.0, 2.0, o);
-  EXPECT_EQ(r.stop, rk::adaptive_stop::norm_bound);
+  EXPECT_EQ(r.stop, eulervop::outcome_kind::norm_bound);
   ASSERT_TRUE(r.failed_at.has_value());
   EXPECT_NEAR(*r.failed_at, 1 - 1e-4, 1e-4);
   EXPECT_LE(x[0], 1e4);
@@ -312,7 +307,7 @@ TEST(AdaptiveDriverScalar, QuadRunReachesQuadAccuracyOnTheRotation) {
   rk::adaptive_options<quad> o;
   o.atol = o.rtol = quad("1e-28");
   const auto r = rk::integrate_adaptive<rk::dop853_pair>(rotation{}, x, quad(0), quad(10), o);
-  ASSERT_EQ(r.stop, rk::adaptive_stop::completed);
+  ASSERT_EQ(r.stop, eulervop::outcome_kind::success);
   const double e = static_cast<double>(fabs(x[0] - cos(quad(10))) + fabs(x[1] - sin(quad(10))));
   std::printf("  dop853 in quad, tol 1e-28: %zu steps, error %.2e\n", r.accepted, e);
   EXPECT_LE(e, 1e-26);  // tol times the ~100x global-to-local factor of a 10-unit run

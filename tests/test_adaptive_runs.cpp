@@ -16,6 +16,7 @@
 #include <eulervop/chebyshev_picard.hpp>
 #include <eulervop/comparison_run.hpp>
 #include <eulervop/error_measure.hpp>
+#include <eulervop/outcome_text.hpp>
 #include <eulervop/vop.hpp>
 
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
@@ -93,7 +94,7 @@ TEST(AdaptiveTorqueFree, VopTakesTheMaximumStepEverywhereAndIsExact) {
         s.samples = 1000000;  // keep every step
         const auto r = eulervop::run_adaptive(f, m, p, s);
         const std::string what = std::string(eulervop::formulation_name(f)) + " " + std::string(rk::method_name(m));
-        ASSERT_FALSE(r.diverged) << what << ": " << r.why;
+        ASSERT_FALSE(r.diverged()) << what << ": " << eulervop::describe(r.status);
         EXPECT_EQ(r.rejected, 0u) << what;
         const auto full = static_cast<std::size_t>(tau_end / h_max);
         ASSERT_EQ(r.steps, full + 1) << what;
@@ -134,7 +135,7 @@ TEST(AdaptivePaperScene, ErrorsFallWithTheToleranceAndDop853ReachesOneInATrillio
         s.h_max = 1.0;
         s.samples = 200;
         const auto r = eulervop::run_adaptive(f, m, p, s);
-        ASSERT_FALSE(r.diverged) << r.why;
+        ASSERT_FALSE(r.diverged()) << eulervop::describe(r.status);
         const double e = max_error(r, ref);
         std::printf("  %-9s %-6s tol %.0e: %7zu steps, %4zu rejected, %8zu evaluations, max error %.3e\n",
                     std::string(eulervop::formulation_name(f)).c_str(), std::string(rk::method_name(m)).c_str(), tol,
@@ -165,7 +166,7 @@ TEST(AdaptiveSmallTorque, VopErrorIsProportionalToTheTolerance) {
         s.atol = s.rtol = tol;
         s.h_max = 1.0;
         const auto r = eulervop::run_adaptive(f, m, p, s);
-        ASSERT_FALSE(r.diverged) << r.why;
+        ASSERT_FALSE(r.diverged()) << eulervop::describe(r.status);
         const double e = max_error(r, ref);
         std::printf("  %-9s %-6s tol %.0e: %6zu steps, max error %.3e\n", std::string(eulervop::formulation_name(f)).c_str(),
                     std::string(rk::method_name(m)).c_str(), tol, r.steps, e);
@@ -195,7 +196,7 @@ TEST(AdaptiveBands, CrossingTheSeparatrixIsRecordedAndAccurate) {
     s.atol = s.rtol = 1e-10;
     s.h_max = 0.5;
     const auto r = eulervop::run_adaptive(f, rk::method::dop853, p, s);
-    ASSERT_FALSE(r.diverged) << r.why;
+    ASSERT_FALSE(r.diverged()) << eulervop::describe(r.status);
     const double e = max_error(r, ref);
     std::printf("  %-9s dop853: %zu steps, %zu direct, %zu separatrix band(s), %zu regime change(s), max error %.3e\n",
                 std::string(eulervop::formulation_name(f)).c_str(), r.steps, r.direct_steps, r.separatrix_bands.size(),
@@ -217,7 +218,7 @@ TEST(AdaptiveSamples, ThinnedSamplesAreOrderedAndEndAtTheLastStep) {
     s.h_max = 1;
     s.samples = 100;
     const auto r = eulervop::run_adaptive(f, rk::method::dp45, p, s);
-    ASSERT_FALSE(r.diverged);
+    ASSERT_FALSE(r.diverged());
     EXPECT_GE(r.Omega.size(), 100u);
     EXPECT_LE(r.Omega.size(), 202u);
     EXPECT_EQ(r.sample_steps.front(), 0u);

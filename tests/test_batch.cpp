@@ -1,4 +1,4 @@
-// `eulervop batch` (issue 6, section 4) and the shipped reference datasets (section 2).
+// `eulervop batch` and the shipped reference datasets (README, "Reference datasets").
 //
 // Small scenes with short spans are written into a temporary directory, so every test runs in
 // a few seconds; the full hard-case suite is checked the same way by hand (README).
@@ -24,19 +24,6 @@ std::string torqued_scene(const std::string& name, double tau_end) {
   return "name = \"" + name + "\"\n[torque]\nG = [0.1, 0.2, 0.05]\n[initial]\nOmega = [0.5, 0.1, 1.0]\n[span]\ntau_end = " +
          std::to_string(tau_end) + "\nsamples = 7\n[reference]\nprecision = \"quad\"\n";
 }
-
-// A double reference overflows at tau = 1.8e8 (test_hard_cases.cpp): a numerical failure.
-constexpr const char* overflow_scene = R"(name = "overflow"
-[torque]
-G = [0.0, 0.0, 1.0e300]
-[initial]
-Omega = [0.0, 0.0, 0.0]
-[span]
-tau_end = 1.0e9
-samples = 3
-[reference]
-precision = "double"
-)";
 
 // scenes/a.toml ... in `dir`; returns the relative paths.
 std::vector<std::string> write_scenes(const fs::path& dir, int n) {

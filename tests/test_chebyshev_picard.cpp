@@ -2,6 +2,8 @@
 // solution (Eq. 12), dense output, compensated accumulation and failure reporting.
 #include <eulervop/chebyshev_picard.hpp>
 
+#include "type_test_names.hpp"
+
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
 #include <gtest/gtest.h>
 
@@ -17,7 +19,7 @@ using eulervop::vec3;
 template <class T>
 class ChebyshevBasis : public ::testing::Test {};
 using BasisTypes = ::testing::Types<double, quad>;
-TYPED_TEST_SUITE(ChebyshevBasis, BasisTypes);
+TYPED_TEST_SUITE(ChebyshevBasis, BasisTypes, scalar_test_names);
 
 // The Picard matrix integrates polynomials of degree <= N exactly: F = s^5 + 3 s^2 at the nodes
 // must give (s^6 - 1)/6 + (s^3 + 1) (exact antiderivative vanishing at s = -1).
@@ -48,7 +50,7 @@ TYPED_TEST(ChebyshevBasis, IntegratesPolynomialsExactly) {
 // Torque-free motion with Omega(0) = (k, 0, 1), so c1 = k, c2 = 1, u = tau (Eqs. 7, 11, 12):
 // Omega = (k cn(tau), k sn(tau), dn(tau)), modulus k. Exact values come from Boost.Math's
 // jacobi_elliptic in MPFR at bits_ref bits, with dn = sqrt(1 - k^2 sn^2) (Boost's dn is a ratio
-// that degrades near odd multiples of K: DESIGN.md section 2).
+// that degrades near odd multiples of K: docs/design.md section 2).
 template <class T>
 double torque_free_max_error(const std::string& k_text, double tau_end, int samples,
                              unsigned bits_ref, eulervop::picard_stats* st) {
@@ -83,7 +85,7 @@ TEST(TorqueFree, QuadMatchesExactSolutionOnLongSpan) {
     const double err = torque_free_max_error<quad>(k, 1000.0, 1000, 256, &st);
     RecordProperty(std::string("quad_max_error_k") + k, std::to_string(err));
     std::printf("quad k=%s: max error %.3e over tau in [0,1000], %zu segments\n", k, err, st.segments);
-    EXPECT_LE(err, 1e-28) << "k=" << k;  // issue 2 acceptance
+    EXPECT_LE(err, 1e-28) << "k=" << k;  // measured: README, "How good is the reference"
   }
 }
 
@@ -96,7 +98,7 @@ TEST(TorqueFree, Mpfr256MatchesExactSolutionOnLongSpan) {
       err = torque_free_max_error<mpfr_real>(k, 1000.0, 200, 400, &st);
     }
     std::printf("mpfr:256 k=%s: max error %.3e over tau in [0,1000], %zu segments\n", k, err, st.segments);
-    EXPECT_LE(err, 1e-65) << "k=" << k;  // issue 2 acceptance
+    EXPECT_LE(err, 1e-65) << "k=" << k;  // measured: README, "How good is the reference"
   }
 }
 

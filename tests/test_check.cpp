@@ -1,7 +1,7 @@
-// `eulervop check` (issue 6, section 1 and its acceptance): an outside integrator's trajectory
-// (Boost.Odeint dopri5, made here) checked against the paper's scene and against a reference
-// file; the reported max error against one computed independently here; the exit code around
-// the tolerance; and bad files, each one line naming the line and column, exit 2.
+// `eulervop check`: an outside integrator's trajectory (Boost.Odeint dopri5, made here) checked
+// against the paper's scene and against a reference file; the reported max error against one
+// computed independently here; the exit code around the tolerance; and bad files, each one line
+// naming the line and column, exit 2.
 #include "cli_test_support.hpp"
 
 #include <eulervop/chebyshev_picard.hpp>

@@ -1,6 +1,6 @@
 // The `eulervop` program end to end: bad input (exit 2, one line naming the field or flag, no
-// output file), and short successful runs (CSV layout, determinism). Issue 2 section 6 and
-// acceptance; issue 5 section 4.
+// output file), and short successful runs (CSV layout, determinism). The contract is in
+// docs/design.md section 5.3.
 #include "cli_test_support.hpp"
 
 #include <eulervop/scalar.hpp>

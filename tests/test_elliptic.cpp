@@ -8,7 +8,7 @@
 //                 signs (-1)^q
 //   dn            sqrt((1-k)(1+k) + k^2 cn^2) recomputed from the reference cn: Boost's dn is the
 //                 ratio cos(phi_0)/cos(phi_1 - phi_0), which is 0/0 at odd multiples of K
-//                 (DESIGN.md section 2)
+//                 (docs/design.md section 2)
 //   am            q pi + atan2(sn(r), cn(r))
 //   Z             boost::math::jacobi_zeta(k, am(r))
 //   E(u)          boost::math::ellint_2(k, am(u))   (independent of our Z + (E/K) u)
@@ -49,6 +49,7 @@
 #include "eulervop/elliptic.hpp"
 #include "eulervop/detail/sincos_double.hpp"
 #include "eulervop/jacobi_theta.hpp"
+#include "type_test_names.hpp"
 
 #include <gtest/gtest.h>
 
@@ -267,7 +268,7 @@ class Elliptic : public ::testing::Test {
 };
 
 using ScalarTypes = ::testing::Types<double, quad, mpfr_real>;
-TYPED_TEST_SUITE(Elliptic, ScalarTypes);
+TYPED_TEST_SUITE(Elliptic, ScalarTypes, scalar_test_names);
 
 void print_table(const std::string& title, const std::map<std::string, worst>& table) {
   std::ostringstream os;

@@ -1,5 +1,5 @@
-// The hard-case suite (issue 5): data/scenes/hard/*.toml through the program, and the reference
-// generator on hard cases against independent checks.
+// The hard-case suite (table: docs/hard-cases.md): data/scenes/hard/*.toml through the program,
+// and the reference generator on hard cases against independent checks.
 //
 // - No NaN anywhere: every hard scene through `eulervop report` (all three formulations, rk4),
 //   on a short span with the scene's own quad reference, and on its full span with a double
@@ -9,7 +9,7 @@
 //   mpfr:192 from the same (exactly widened) initial state.
 // - Reference at large |Omega| (Omega0 = (50, 0, 100), torque-free, tau to 20, ~320 periods):
 //   quad against the exact Eq. 12 solution by Boost.Math jacobi_elliptic in MPFR at 256 bits,
-//   with dn stabilised as sqrt(1 - k^2 sn^2) (DESIGN.md section 2).
+//   with dn stabilised as sqrt(1 - k^2 sn^2) (docs/design.md section 2).
 // - A forced failure (a torque that overflows double at tau = DBL_MAX / G3 = 1.798e8) is
 //   reported with tau and cause, exit code 3 and no output file, by `reference` and `report`.
 #include "cli_test_support.hpp"
@@ -227,19 +227,6 @@ TEST(HardReference, LargeOmegaQuadAgreesWithExactEq12) {
 // and write nothing. (Nothing in the CLI caps segments or iterations, and a tolerance below
 // epsilon does not fail: `reference --degree 4 --tolerance 1e-30` on crossing.toml succeeds
 // after ~90 s of short segments. Overflow is the failure a user can provoke.)
-constexpr const char* overflow_scene = R"(name = "overflow"
-description = "A torque so large that Omega3 = G3 tau overflows double at tau = 1.798e8."
-[torque]
-G = [0.0, 0.0, 1.0e300]
-[initial]
-Omega = [0.0, 0.0, 0.0]
-[span]
-tau_end = 1.0e9
-samples = 3
-[run]
-step = 1.0e6
-)";
-
 double failure_tau(const std::string& err) {
   std::smatch m;
   if (!std::regex_search(err, m, std::regex(R"(numerical failure at tau=([0-9.eE+-]+): )"))) return -1;

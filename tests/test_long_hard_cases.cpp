@@ -1,7 +1,7 @@
-// Long hard case of the reference generator (issue 5 section 3; CTest label "long"): a span of
-// 1e4. Torque-free k = 0.5 (Omega0 = (0.5, 0, 1), ~1500 periods 4K) in quad against the exact
+// Long hard case of the reference generator (CTest label "long"): a span of 1e4.
+// Torque-free k = 0.5 (Omega0 = (0.5, 0, 1), ~1500 periods 4K) in quad against the exact
 // Eq. 12 solution by Boost.Math jacobi_elliptic in MPFR at 256 bits (dn stabilised as
-// sqrt(1 - k^2 sn^2), DESIGN.md section 2).
+// sqrt(1 - k^2 sn^2), docs/design.md section 2).
 #include <eulervop/chebyshev_picard.hpp>
 #include <eulervop/scalar.hpp>
 

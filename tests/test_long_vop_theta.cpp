@@ -1,10 +1,11 @@
-// Long bounded run (issue 5 acceptance): tau >= 1e4 under a small torque that keeps k near 0.5,
-// rk4 at the paper's step h = K(0.5)/200. The paper's u carries the secular term E(u) - kc^2 u
-// (DESIGN.md 1.3), which grows with u ~ c2 tau; the secular-free theta form does not.
+// Long bounded run: tau >= 1e4 under a small torque that keeps k near 0.5, rk4 at the paper's
+// step h = K(0.5)/200. The paper's u carries the secular term E(u) - kc^2 u (docs/design.md
+// section 1.4), which grows with u ~ c2 tau; the secular-free theta form does not.
 // Measured (docs/vop-strategies.md): final errors euler 3.0e-7, vop 6.0e-7, vop-theta 5.7e-10.
 #include <eulervop/chebyshev_picard.hpp>
 #include <eulervop/comparison_run.hpp>
 #include <eulervop/error_measure.hpp>
+#include <eulervop/outcome_text.hpp>
 
 #include <gtest/gtest.h>
 
@@ -37,7 +38,7 @@ TEST(LongVopTheta, SecularFreePhaseWinsOnALongBoundedRun) {
   double final_error[3] = {};
   for (formulation f : eulervop::all_formulations) {
     const auto r = eulervop::run_fixed(f, eulervop::rk::method::rk4, p, eulervop::fixed_run_settings{h, n, n / 100});
-    ASSERT_FALSE(r.diverged) << r.why;
+    ASSERT_FALSE(r.diverged()) << eulervop::describe(r.status);
     ASSERT_EQ(r.steps, n);
     double kmin = 1, kmax = 0;
     for (const auto& O : r.Omega) {

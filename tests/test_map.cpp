@@ -3,7 +3,7 @@
 // flags. Also the exact decimal product behind the scaling (in process).
 #include "cli_test_support.hpp"
 
-#include "decimal.hpp"
+#include <eulervop/scene/decimal.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -23,8 +23,8 @@ using nlohmann::json;
 
 TEST(DecimalProduct, IsExactAndCanonical) {
   auto product = [](const char* a, const char* b) {
-    const auto x = eulervop::app::parse_decimal(a).number, y = eulervop::app::parse_decimal(b).number;
-    return eulervop::app::decimal_product(*x, *y)->text;
+    const auto x = eulervop::scene::parse_decimal(a).number, y = eulervop::scene::parse_decimal(b).number;
+    return eulervop::scene::decimal_product(*x, *y)->text;
   };
   EXPECT_EQ(product("1.0", "1e-6"), "1e-6");
   EXPECT_EQ(product("0.03", "1e-4"), "3e-6");    // in double 0.03 * 1e-4 = 2.9999999999999997e-06
@@ -32,8 +32,8 @@ TEST(DecimalProduct, IsExactAndCanonical) {
   EXPECT_EQ(product("1.5", "2.5"), "3.75");
   EXPECT_EQ(product("123.456", "1000"), "1.23456e5");
   EXPECT_EQ(product("0", "5"), "0");
-  EXPECT_EQ(eulervop::app::decimal_product(*eulervop::app::parse_decimal("1e300").number,
-                                           *eulervop::app::parse_decimal("1e300").number),
+  EXPECT_EQ(eulervop::scene::decimal_product(*eulervop::scene::parse_decimal("1e300").number,
+                                             *eulervop::scene::parse_decimal("1e300").number),
             std::nullopt);  // beyond a double
 }
 

@@ -4,9 +4,10 @@
 #include "cli_test_support.hpp"
 
 #include "report_command.hpp"
-#include "scene.hpp"
+#include "step_rule.hpp"
 
 #include <eulervop/elliptic.hpp>
+#include <eulervop/scene/scene.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -36,7 +37,7 @@ const double paper_h = 1.6857503548125960429 / 200;
 // ---- the step rule (in process) -----------------------------------------------------------------
 
 TEST(ReportStep, PaperSceneIsKHalfOver200) {
-  const auto s = eulervop::app::load_default_scene();
+  const auto s = eulervop::scene::load_default_scene();
   ASSERT_TRUE(s.step && s.step->K_divisor);
   const auto st = eulervop::app::resolve_step(s, *s.step, "[run] step");
   EXPECT_NEAR(st.h, paper_h, 4e-16 * paper_h);
@@ -48,7 +49,7 @@ TEST(ReportStep, PaperSceneIsKHalfOver200) {
 
 TEST(ReportStep, MinorAxisUsesTheReciprocalModulus) {
   // Omega(0) = (1, 0, 0.5): c1 = 1, c2 = 0.5, k0 = 2 -> h = K(1/2) / (N c1).
-  const auto s = eulervop::app::parse_scene(
+  const auto s = eulervop::scene::parse_scene(
       "name = \"minor\"\n[initial]\nOmega = [1.0, 0.0, 0.5]\n[span]\ntau_end = 10.0\nsamples = 3\n", "minor.toml");
   const auto st = eulervop::app::resolve_step(s, eulervop::app::parse_step_flag("K/100"), "--step K/100");
   EXPECT_TRUE(st.reciprocal);
@@ -57,7 +58,7 @@ TEST(ReportStep, MinorAxisUsesTheReciprocalModulus) {
 }
 
 TEST(ReportStep, PlainNumberIsInTheScenesTimeVariable) {
-  const auto s = eulervop::app::load_scene_file(source_dir + "/data/scenes/spacecraft-physical.toml");
+  const auto s = eulervop::scene::load_scene_file(source_dir + "/data/scenes/spacecraft-physical.toml");
   const auto st = eulervop::app::resolve_step(s, eulervop::app::parse_step_flag("2"), "--step 2");
   // Inertias 100, 150, 200: A = (50/100, 100/150, 50/200), dtau/dt = sqrt(A1 A2 A3) = sqrt(1/12).
   EXPECT_NEAR(st.h, 2 * std::sqrt(1.0 / 12), 1e-15);
@@ -365,10 +366,11 @@ TEST(Report, ReferenceFileProblemsNameTheLine) {
   const std::vector<bad_file> cases = {
       {good, {"--step", "0.3"}, "line 5: tau = 0.5 is not a step point of h = 0.3"},
       {good, {"--step", "0.3"}, "--step"},
-      {"tau,Omega1,Omega3\n0,0.5,1\n", {"--step", "0.25"}, "line 1: the header has no `Omega2` column"},
-      {"# c\ntau,Omega1,Omega2,Omega3\n0,0.5,0,1\n0.25,0.5,x,1\n", {"--step", "0.25"}, "line 4: Omega2 = `x`"},
+      {"tau,Omega1,Omega3\n0,0.5,1\n", {"--step", "0.25"}, "line 1: the header has no column `Omega2`"},
+      {"# c\ntau,Omega1,Omega2,Omega3\n0,0.5,0,1\n0.25,0.5,x,1\n", {"--step", "0.25"}, "line 4: column Omega2 = `x`"},
       {"tau,Omega1,Omega2,Omega3\n0,0.5,0,1\n0.25,0.5,1\n", {"--step", "0.25"}, "line 3:"},
-      {"# scene: other\ntau,Omega1,Omega2,Omega3\n0,0.5,0,1\n", {"--step", "0.25"}, "line 1: the reference is for scene `other`"},
+      {"# scene: other\ntau,Omega1,Omega2,Omega3\n0,0.5,0,1\n", {"--step", "0.25"},
+       "the reference is for scene `other`, the report is for scene `paper-fig1`"},
       {good, {"--step", "0.25", "--tau-end", "0.25"}, "line 5: tau = 0.5 is beyond the span end"},
   };
   for (const bad_file& c : cases) {

@@ -1,13 +1,14 @@
 // Scenes: the shipped and embedded paper scene, exact decimals in quad and MPFR, the physical
-// conversion (Eqs. 2-4, 8-9 against Eq. 7), sample times, and bad scenes (issue 2, section 5;
-// issue 5, section 4).
-#include "decimal.hpp"
-#include "input_error.hpp"
-#include "scene.hpp"
-#include "scene_problem.hpp"
+// conversion (Eqs. 2-4, 8-9 against Eq. 7), sample times, and bad scenes (format: README,
+// "Scenes").
+#include "type_test_names.hpp"
 
 #include <eulervop/model.hpp>
 #include <eulervop/scalar.hpp>
+#include <eulervop/scene/decimal.hpp>
+#include <eulervop/scene/input_error.hpp>
+#include <eulervop/scene/scene.hpp>
+#include <eulervop/scene/scene_problem.hpp>
 
 #include <gtest/gtest.h>
 
@@ -19,7 +20,7 @@ namespace {
 using eulervop::mpfr_real;
 using eulervop::quad;
 using eulervop::vec3;
-using namespace eulervop::app;
+using namespace eulervop::scene;
 
 const std::string source_dir = EULERVOP_SOURCE_DIR;
 
@@ -176,9 +177,10 @@ samples = 5
 template <class T>
 class PhysicalConversion : public ::testing::Test {};
 using ConversionTypes = ::testing::Types<double, quad>;
-TYPED_TEST_SUITE(PhysicalConversion, ConversionTypes);
+TYPED_TEST_SUITE(PhysicalConversion, ConversionTypes, scalar_test_names);
 
-// Physical -> normalized (Eqs. 2-4, G of DESIGN.md 1.1) -> physical returns the scene's numbers.
+// Physical -> normalized (Eqs. 2-4, G as in docs/design.md section 1.1) -> physical returns the
+// scene's numbers.
 TYPED_TEST(PhysicalConversion, RoundTrips) {
   using T = TypeParam;
   using std::abs;

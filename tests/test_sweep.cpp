@@ -1,4 +1,4 @@
-// `eulervop sweep` (issue 4, section 1): the grid in sweep.csv and its columns, identical error
+// `eulervop sweep` (docs/sweep.md): the grid in sweep.csv and its columns, identical error
 // columns with --jobs 1 and --jobs 2, the observed order of rk4, divergence without NaN,
 // cheapest.csv and summary.json, and bad flags.
 #include "cli_test_support.hpp"

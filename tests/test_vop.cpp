@@ -5,6 +5,7 @@
 #include <eulervop/error_measure.hpp>
 #include <eulervop/vop.hpp>
 
+#include "type_test_names.hpp"
 #include "vop_test_support.hpp"
 
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
@@ -22,7 +23,7 @@ using eulervop::vec3;
 template <class T>
 class VopTyped : public ::testing::Test {};
 using Types = ::testing::Types<double, quad>;
-TYPED_TEST_SUITE(VopTyped, Types);
+TYPED_TEST_SUITE(VopTyped, Types, scalar_test_names);
 
 // Random states with 0.05 <= k <= 0.95, both signs of Omega3.
 template <class T>
@@ -80,9 +81,9 @@ TEST(VopRhs, IsEulersEquationsInElements) {
   EXPECT_LE(worst, 1e-15);
 }
 
-// Torque-free VOP is exact to rounding: c1, c2 stay put and u = u0 + c2 tau (issue 3
-// acceptance: Omega error <= 1e-13 at tau = 1000 for any step). Exact Omega from Boost.Math's
-// jacobi_elliptic in MPFR at 200 bits (dn as sqrt(1 - k^2 sn^2), DESIGN.md section 2).
+// Torque-free VOP is exact to rounding: c1, c2 stay put and u = u0 + c2 tau (the bound: Omega
+// error <= 1e-13 at tau = 1000 for any step). Exact Omega from Boost.Math's
+// jacobi_elliptic in MPFR at 200 bits (dn as sqrt(1 - k^2 sn^2), docs/design.md section 2).
 TEST(VopTorqueFree, ExactToRoundingForAnyStep) {
   // c2 = 1 keeps u = c2 tau <= 1001 where ulp(u) = 1.1e-13: a larger c2 would make the rounding
   // of u itself exceed the 1e-13 bound.
@@ -97,7 +98,7 @@ TEST(VopTorqueFree, ExactToRoundingForAnyStep) {
     s.sample_every = s.n_steps;
     for (auto m : eulervop::rk::fixed_step_methods) {
       const auto r = eulervop::run_fixed(eulervop::formulation::vop, m, p, s);
-      ASSERT_FALSE(r.diverged);
+      ASSERT_FALSE(r.diverged());
       const double tau = h * static_cast<double>(s.n_steps);
       eulervop::mpfr_precision_scope scope(200);
       const mpfr_real k = mpfr_real(c1) / mpfr_real(c2), u = mpfr_real(c2) * mpfr_real(tau);
@@ -111,7 +112,8 @@ TEST(VopTorqueFree, ExactToRoundingForAnyStep) {
   }
 }
 
-// The Omega3 < 0 symmetry (DESIGN.md section 1.2): the mirrored problem gives the mirrored run.
+// The Omega3 < 0 symmetry (docs/design.md section 1.3): the mirrored problem gives the mirrored
+// run.
 TEST(VopSymmetry, NegativeOmega3MirrorsThePositiveCase) {
   eulervop::normalized_problem<double> p, q;
   p.G = {1, 1, 1};
@@ -141,9 +143,9 @@ TEST(VopDomain, RefusesStatesOutsideTheRegime) {
   }
 }
 
-// The VOP equations are implemented exactly (issue 3 acceptance): on the paper scene, VOP in
-// quad with rk8 at a small step matches the quad Chebyshev-Picard reference (independent: Eq. 5
-// directly) to <= 1e-20 at tau = 10.
+// The VOP equations are implemented exactly: on the paper scene, VOP in quad with rk8 at a small
+// step matches the quad Chebyshev-Picard reference (independent: Eq. 5 directly) to <= 1e-20 at
+// tau = 10.
 TEST(VopPaperScene, QuadRk8MatchesTheReference) {
   eulervop::normalized_problem<quad> p;
   p.G = {quad(1), quad(1), quad(1)};
@@ -155,7 +157,7 @@ TEST(VopPaperScene, QuadRk8MatchesTheReference) {
   const std::size_t n = 20000;  // h = 5e-4: rk8 truncation ~ (5e-4 * |Omega| ~ 1e-2)^8 per unit
   const quad h = quad(10) / n;
   const auto r = eulervop::rk::integrate_fixed(eulervop::rk::method::rk8, sys, y, quad(0), h, n);
-  ASSERT_FALSE(r.diverged);
+  ASSERT_FALSE(r.diverged());
   const double err = static_cast<double>(eulervop::eq20_error(ref(quad(10)), frame.Omega_of(y)));
   std::printf("VOP quad rk8, h = 5e-4, tau = 10: error %.3e against the reference\n", err);
   EXPECT_LE(err, 1e-20);

@@ -1,9 +1,10 @@
-// Beyond the paper's VOP (issue 5, section 2): the secular-free elements (c1, c2, theta), the
+// Beyond the paper's VOP (docs/vop-strategies.md): the secular-free elements (c1, c2, theta), the
 // minor-axis regime (k > 1, reciprocal modulus), the Omega3 < 0 and Omega1 < 0 symmetries, and
 // the direct-Euler fallback across the separatrix and near c1 = 0 (comparison_run.hpp).
 #include <eulervop/chebyshev_picard.hpp>
 #include <eulervop/comparison_run.hpp>
 #include <eulervop/error_measure.hpp>
+#include <eulervop/outcome_text.hpp>
 #include <eulervop/vop.hpp>
 
 #include "vop_test_support.hpp"
@@ -39,8 +40,9 @@ std::vector<vec3<quad>> random_states(int n, bool minor) {
   return out;
 }
 
-// The theta equation (DESIGN.md 1.3, derived in vop.hpp: Eq. 16 with E(u) - kc^2 u -> Z(u),
-// times pi/(2K)) is the exact image of Eq. 5, in both regimes and all four frames.
+// The theta equation (docs/vop-strategies.md section 1, derived in vop.hpp: Eq. 16 with
+// E(u) - kc^2 u -> Z(u), times pi/(2K)) is the exact image of Eq. 5, in both regimes and all
+// four frames.
 TEST(VopThetaRhs, IsEulersEquationsInElements) {
   const vec3<quad> G = {quad(1), quad("-0.7"), quad("0.3")};
   for (bool minor : {false, true}) {
@@ -94,8 +96,8 @@ TEST(VopSymmetry, RotationsByPiAboutPrincipalAxesAreSymmetries) {
   EXPECT_NE(g[1], f[1]);  // Omega2' = Omega1 Omega3 + G2 changes sign only in part
 }
 
-// Torque-free VOP is exact to rounding in every regime (issue 5 acceptance): error <= 1e-13 at
-// tau = 1000 for any step and method, against Boost.Math jacobi_elliptic in MPFR at 200 bits.
+// Torque-free VOP is exact to rounding in every regime: error <= 1e-13 at tau = 1000 for any
+// step and method, against Boost.Math jacobi_elliptic in MPFR at 200 bits.
 // The free phase rate is 1 in each case (c2 = 1 for k < 1, c1 = 1 for k > 1), so the phase's
 // own ulp (1.1e-13 at 1000) is the bound for the paper's u.
 struct free_case {
@@ -138,7 +140,7 @@ TEST(VopRegimes, TorqueFreeExactToRoundingInEveryRegime) {
         const vec3<mpfr_real> exact = exact_free(c.Omega0, tau);
         for (auto m : eulervop::rk::fixed_step_methods) {
           const auto r = eulervop::run_fixed(f, m, p, s);
-          ASSERT_FALSE(r.diverged);
+          ASSERT_FALSE(r.diverged());
           EXPECT_TRUE(r.separatrix_bands.empty() && r.small_k_bands.empty() && r.direct_steps == 0);
           const double err = static_cast<double>(eulervop::eq20_error(exact, r.Omega.back()));
           worst = std::max(worst, err);
@@ -190,10 +192,11 @@ eulervop::normalized_problem<quad> to_quad(const eulervop::normalized_problem<do
   return q;
 }
 
-// Crossing scene (issue 5 acceptance): from the paper's Omega(0) = (0.5, 0, 1) (k = 0.5), the
-// constant torque G = (-0.05, 0, -0.05) drains c2 (G3 against Omega3 = c2 dn > 0) until k passes
-// 1 near tau = 14.7; the state ends near the minor axis (k ~ 5). Every formulation completes without NaN, the VOP runs record the band and
-// one regime change, and their max error is within 10x Euler's at the same step h = K(0.5)/200.
+// Crossing scene (docs/vop-strategies.md section 4): from the paper's Omega(0) = (0.5, 0, 1)
+// (k = 0.5), the constant torque G = (-0.05, 0, -0.05) drains c2 (G3 against Omega3 = c2 dn > 0)
+// until k passes 1 near tau = 14.7; the state ends near the minor axis (k ~ 5). Every
+// formulation completes without NaN, the VOP runs record the band and one regime change, and
+// their max error is within 10x Euler's at the same step h = K(0.5)/200.
 TEST(VopCrossing, CarriesKAcrossOneAndRecordsTheBand) {
   eulervop::normalized_problem<double> p;
   p.G = {-0.05, 0, -0.05};
@@ -204,11 +207,11 @@ TEST(VopCrossing, CarriesKAcrossOneAndRecordsTheBand) {
   for (auto m : {eulervop::rk::method::rk4, eulervop::rk::method::rk8}) {
     eulervop::fixed_run_settings s{h, n, 5};
     const auto e = eulervop::run_fixed(formulation::euler, m, p, s);
-    ASSERT_FALSE(e.diverged);
+    ASSERT_FALSE(e.diverged());
     const double e_max = max_error(e, ref, h);
     for (formulation f : {formulation::vop, formulation::vop_theta}) {
       const auto r = eulervop::run_fixed(f, m, p, s);
-      ASSERT_FALSE(r.diverged) << r.why;
+      ASSERT_FALSE(r.diverged()) << eulervop::describe(r.status);
       ASSERT_EQ(r.steps, n);
       ASSERT_FALSE(r.separatrix_bands.empty());
       const auto band = r.separatrix_bands.front();
@@ -232,7 +235,7 @@ TEST(VopSmallK, ExactZeroC1) {
   eulervop::fixed_run_settings s{0.01, 2000, 100};
   for (formulation f : {formulation::vop, formulation::vop_theta}) {
     const auto r = eulervop::run_fixed(f, eulervop::rk::method::rk4, p, s);
-    ASSERT_FALSE(r.diverged);
+    ASSERT_FALSE(r.diverged());
     EXPECT_EQ(r.direct_steps, 0u);
     for (const auto& O : r.Omega) {
       EXPECT_EQ(O[0], 0);
@@ -246,7 +249,7 @@ TEST(VopSmallK, ExactZeroC1) {
   const double e_max = max_error(e, ref, s.h);
   for (formulation f : {formulation::vop, formulation::vop_theta}) {
     const auto r = eulervop::run_fixed(f, eulervop::rk::method::rk4, p, s);
-    ASSERT_FALSE(r.diverged) << r.why;
+    ASSERT_FALSE(r.diverged()) << eulervop::describe(r.status);
     ASSERT_FALSE(r.small_k_bands.empty());
     EXPECT_EQ(r.small_k_bands.front().first, 0.0);
     const double v_max = max_error(r, ref, s.h);
@@ -283,7 +286,8 @@ TEST(VopHardStates, NeverProduceNaN) {
         p.Omega0 = c.Omega0;
         p.G = c.G;
         const auto r = eulervop::run_fixed(f, m, p, eulervop::fixed_run_settings{0.01, 1000, 10});
-        EXPECT_FALSE(r.diverged) << c.name << " " << eulervop::formulation_name(f) << ": " << r.why;
+        EXPECT_FALSE(r.diverged()) << c.name << " " << eulervop::formulation_name(f) << ": "
+                                   << eulervop::describe(r.status);
         for (const auto& O : r.Omega)
           for (double v : O) ASSERT_TRUE(std::isfinite(v)) << c.name << " " << eulervop::formulation_name(f);
       }

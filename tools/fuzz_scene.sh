@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer target for the scene parser (fuzz/fuzz_scene.cpp) with ASan and UBSan and
-# runs it for a bounded time (issue 5, section 4). Not part of the default build or CI.
+# runs it for a bounded time (docs/fuzzing.md). Not part of the default build or CI.
 #
 # Usage: tools/fuzz_scene.sh [SECONDS]     (default 600; extra libFuzzer flags via FUZZ_FLAGS;
 #        FUZZ_TOML=shared|header chooses how toml++ is linked, see below)
@@ -19,14 +19,14 @@ build=$root/fuzz/build
 bin=$build/fuzz_scene
 mkdir -p "$build/generated" "$build/corpus" "$build/artifacts"
 
-# The embedded default scene that src/scene.cpp includes (what CMake's configure_file makes).
+# The embedded default scene that src/scene/scene.cpp includes (what CMake's configure_file makes).
 header=$build/generated/default_scene.hpp
 {
-  sed -n '1,4p' "$root/src/default_scene.hpp.in"
+  sed -n '1,4p' "$root/src/scene/default_scene.hpp.in"
   printf 'inline constexpr std::string_view default_scene_toml = R"eulervop_scene('
   cat "$root/data/scenes/paper-fig1.toml"
   printf ')eulervop_scene";\n'
-  sed -n '6,$p' "$root/src/default_scene.hpp.in"
+  sed -n '6,$p' "$root/src/scene/default_scene.hpp.in"
 } >"$header.tmp"
 cmp -s "$header.tmp" "$header" && rm "$header.tmp" || mv "$header.tmp" "$header"
 
@@ -39,9 +39,8 @@ for h in quadmath.h quadmath_weak.h; do
   ln -sf "$gcc_include/$h" "$build/quadmath-include/$h"
 done
 
-sources=("$root/fuzz/fuzz_scene.cpp" "$root/src/scene.cpp" "$root/src/decimal.cpp")
-deps=("${sources[@]}" "$root"/src/scene.hpp "$root"/src/scene_problem.hpp "$root"/src/decimal.hpp
-      "$root"/src/input_error.hpp "$root"/include/eulervop/*.hpp "$header" "$0")
+sources=("$root/fuzz/fuzz_scene.cpp" "$root/src/scene/scene.cpp" "$root/src/scene/decimal.cpp")
+deps=("${sources[@]}" "$root"/include/eulervop/scene/*.hpp "$root"/include/eulervop/*.hpp "$header" "$0")
 rebuild=0
 [[ -x "$bin" ]] || rebuild=1
 toml_mode=${FUZZ_TOML:-shared}
@@ -69,7 +68,7 @@ if ((rebuild)); then
   "$cxx" -std=gnu++20 -O1 -g -fno-omit-frame-pointer \
     -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
     -D_GLIBCXX_ASSERTIONS "${toml_flags[@]}" \
-    -I"$root/include" -I"$root/src" -I"$build/generated" -isystem "$build/quadmath-include" \
+    -I"$root/include" -I"$build/generated" -isystem "$build/quadmath-include" \
     "${sources[@]}" -o "$bin.tmp" \
     "${toml_libs[@]}" -lfmt -lmpfr -lgmp -L"$(dirname "$(gcc -print-file-name=libquadmath.so)")" -lquadmath
   mv "$bin.tmp" "$bin"

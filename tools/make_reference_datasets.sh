@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the shipped reference datasets in data/reference/ (issue 6, section 2).
+# Regenerates the shipped reference datasets in data/reference/ (README, "Reference datasets").
 #
 #   tools/make_reference_datasets.sh [path/to/eulervop]     (default: build/eulervop)
 #

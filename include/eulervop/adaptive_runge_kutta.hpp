@@ -36,7 +36,9 @@
 // step ends at t_end exactly.
 #pragma once
 
+#include <eulervop/outcome.hpp>
 #include <eulervop/runge_kutta.hpp>
+#include <eulervop/scalar.hpp>
 
 #include <algorithm>
 #include <array>
@@ -58,7 +60,7 @@ namespace eulervop::rk {
 
 namespace detail {
 // e_j = b_j - bhat_j.
-template <class T, std::size_t S>
+template <scalar T, std::size_t S>
 std::array<T, S> difference(const std::array<T, S>& b, const std::array<T, S>& bhat) {
   std::array<T, S> e;
   for (std::size_t j = 0; j < S; ++j) e[j] = b[j] - bhat[j];
@@ -77,11 +79,11 @@ struct rkf45_pair {
   static constexpr sparsity<stages> nonzero = rkf45_tableau::nonzero;
   static constexpr std::array<bool, stages> error_nonzero = {true, false, true, true, true, true};
 
-  template <class T>
+  template <scalar T>
   static butcher_tableau<T, stages> coefficients() {
     return rkf45_tableau::coefficients<T>();
   }
-  template <class T>
+  template <scalar T>
   static std::array<T, stages> error_weights() {
     return detail::difference(rkf45_tableau::coefficients<T>().b, rkf45_tableau::embedded_weights<T>());
   }
@@ -102,7 +104,7 @@ struct dp45_pair {
   }();
   static constexpr std::array<bool, stages> error_nonzero = {true, false, true, true, true, true, true};
 
-  template <class T>
+  template <scalar T>
   static butcher_tableau<T, stages> coefficients() {
     const auto six = dp45_tableau::coefficients<T>();
     butcher_tableau<T, stages> t;
@@ -116,7 +118,7 @@ struct dp45_pair {
     t.b[6] = T(0);
     return t;
   }
-  template <class T>
+  template <scalar T>
   static std::array<T, stages> error_weights() {
     return detail::difference(coefficients<T>().b, dp45_tableau::embedded_weights<T>());
   }
@@ -135,12 +137,12 @@ struct dop853_pair {
   static constexpr std::array<bool, stages> error_nonzero = {true,  false, false, false, false, true,
                                                              true,  true,  true,  true,  true,  true};
 
-  template <class T>
+  template <scalar T>
   static butcher_tableau<T, stages> coefficients() {
     return rk8_tableau::coefficients<T>();
   }
   // er_j of dop853.f (its 5th-order difference; they sum to zero), as decimal strings parsed in T.
-  template <class T>
+  template <scalar T>
   static std::array<T, stages> error_weights() {
     const auto d = [](const char* text) { return detail::decimal<T>(text); };
     std::array<T, stages> e{};
@@ -156,7 +158,7 @@ struct dop853_pair {
   }
   // b_j - bhh_j: the 3rd-order estimate of dop853.f, whose bhh = (31/127, 12675/17272, 3/136) on
   // stages 1, 9 and 12 (1-based) are the rationals behind its printed decimals and sum to 1.
-  template <class T>
+  template <scalar T>
   static std::array<T, stages> second_error_weights() {
     std::array<T, stages> e = rk8_tableau::coefficients<T>().b;
     e[0] -= T(31) / T(127);
@@ -183,7 +185,7 @@ decltype(auto) dispatch_pair(method m, F&& f) {
 // ---- error norm and controller ------------------------------------------------------------------
 
 // sc_i = atol + rtol max(|x0_i|, |x1_i|) (HNW I, Eq. II.4.10).
-template <class T>
+template <scalar T>
 struct hairer_scale {
   T atol, rtol;
   template <class State>
@@ -291,7 +293,7 @@ class pi_controller {
 //                                          returns the error norm (NaN if a stage was not finite)
 //   accept(sys, out, t + h)                FSAL: k_1 of the next step
 // For MPFR, construct it inside the run's mpfr_precision_scope.
-template <class Pair, class State, class T = state_value_t<State>>
+template <class Pair, class State, scalar T = state_value_t<State>>
 class embedded_rk {
  public:
   using pair_type = Pair;
@@ -408,38 +410,33 @@ class embedded_rk {
 
 // ---- the driver ---------------------------------------------------------------------------------
 
-template <class T>
+template <scalar T>
 struct adaptive_options {
   T atol{};
   T rtol{};
   std::optional<T> h_max;         // default: the whole span
   std::optional<T> h_init;        // default: HNW's starting step
   std::optional<T> max_norm;      // divergence when the max-norm exceeds this
-  std::size_t max_steps = 0;      // 0: no limit; otherwise stop (stop_reason::max_steps)
+  std::size_t max_steps = 0;      // 0: no limit; otherwise stop (outcome_kind::step_limit)
 };
 
-enum class adaptive_stop {
-  completed,       // t_end reached
-  non_finite,      // the state or the step size became non-finite
-  norm_bound,      // an accepted state beyond options.max_norm
-  step_underflow,  // the step fell below 16 ulp of t: the problem is too stiff or singular
-  max_steps,       // options.max_steps accepted steps
-  observer,        // the observer returned false
-};
-
-template <class T>
+template <scalar T>
 struct adaptive_result {
   std::size_t accepted = 0;
   std::size_t rejected = 0;
   std::size_t rhs_evals = 0;
-  adaptive_stop stop = adaptive_stop::completed;
+  // success (t_end reached), non_finite (the state or the step size became non-finite),
+  // norm_bound (an accepted state beyond options.max_norm), step_underflow (the step fell below
+  // 16 ulp of t: the problem is too stiff or singular), step_limit (options.max_steps accepted
+  // steps) or observer_stop.
+  outcome_kind stop = outcome_kind::success;
   T t{};                        // the time of the returned state (t_hi of the compensated time)
   std::optional<T> failed_at;   // where a run that did not complete stopped
 };
 
 namespace detail {
 // t_hi + t_lo <- t_hi + t_lo + h (TwoSum).
-template <class T>
+template <scalar T>
 void advance_time(T& hi, T& lo, const T& h) {
   const T s = hi + h;
   const T bb = s - hi;
@@ -449,7 +446,7 @@ void advance_time(T& hi, T& lo, const T& h) {
   lo = err - (hi - s);
 }
 
-template <class Observer, class T, class State>
+template <class Observer, scalar T, class State>
 bool notify_adaptive(Observer& obs, std::size_t step, const T& t, const T& t_lo, const State& x) {
   if constexpr (std::is_same_v<std::invoke_result_t<Observer&, std::size_t, const T&, const T&, const State&>, void>) {
     obs(step, t, t_lo, x);
@@ -460,14 +457,14 @@ bool notify_adaptive(Observer& obs, std::size_t step, const T& t, const T& t_lo,
 }
 
 struct no_adaptive_observer {
-  template <class T, class State>
+  template <scalar T, class State>
   void operator()(std::size_t, const T&, const T&, const State&) const {}
 };
 }  // namespace detail
 
 // HNW's starting step (HNW I, II.4, "Starting step size"), capped at h_max. Uses two
 // evaluations of the system, counted in *evals.
-template <class Pair, class System, class State, class T, class Scale>
+template <class Pair, class System, class State, scalar T, class Scale>
 T initial_step(System& sys, const State& x0, const T& t0, const State& f0, const T& h_max, Scale& scale,
                std::size_t& evals) {
   using std::abs;
@@ -504,7 +501,7 @@ T initial_step(System& sys, const State& x0, const T& t0, const State& f0, const
 //     bool (false stops the run).
 //   - A run that cannot continue (non-finite state, beyond options.max_norm, step underflow)
 //     keeps x at the last accepted state and says why and where (failed_at).
-template <class Pair, class System, class State, class T, class Observer = detail::no_adaptive_observer,
+template <class Pair, class System, class State, scalar T, class Observer = detail::no_adaptive_observer,
           class Scale = hairer_scale<T>>
 adaptive_result<T> integrate_adaptive(System&& sys, State& x, const T& t0, const T& t_end,
                                       const adaptive_options<T>& o, Observer&& observer = {}, Scale scale = {}) {
@@ -520,10 +517,10 @@ adaptive_result<T> integrate_adaptive(System&& sys, State& x, const T& t0, const
   state_traits<State>::for_each_index(comp, [&](auto i) { state_traits<State>::get(comp, i) = T(0); });
   T t = t0, t_lo = T(0);
   std::size_t extra = 0;  // evaluations of the starting-step estimate
-  adaptive_stop stop = adaptive_stop::completed;
+  outcome_kind stop = outcome_kind::success;
   if (!detail::notify_adaptive(observer, std::size_t{0}, static_cast<const T&>(t), static_cast<const T&>(t_lo),
                                static_cast<const State&>(cur))) {
-    stop = adaptive_stop::observer;
+    stop = outcome_kind::observer_stop;
   } else if (t_end - t0 > 0) {
     const T h_max = o.h_max ? *o.h_max : T(t_end - t0);
     stepper.prime(sys, cur, t);
@@ -535,7 +532,7 @@ adaptive_result<T> integrate_adaptive(System&& sys, State& x, const T& t0, const
       const bool last = h >= left;
       const T h_try = last ? left : h;
       if (!(h_try > T(16) * std::numeric_limits<T>::epsilon() * abs(t)) || !is_finite_value(h_try)) {
-        stop = is_finite_value(h_try) ? adaptive_stop::step_underflow : adaptive_stop::non_finite;
+        stop = is_finite_value(h_try) ? outcome_kind::step_underflow : outcome_kind::non_finite;
         break;
       }
       comp_next = comp;
@@ -547,7 +544,7 @@ adaptive_result<T> integrate_adaptive(System&& sys, State& x, const T& t0, const
       }
       if (o.max_norm && exceeds_max_norm(next, *o.max_norm)) [[unlikely]] {
         r.failed_at = T(t + h_try);
-        stop = adaptive_stop::norm_bound;
+        stop = outcome_kind::norm_bound;
         break;
       }
       swap(cur, next);
@@ -563,17 +560,17 @@ adaptive_result<T> integrate_adaptive(System&& sys, State& x, const T& t0, const
       if (h > h_max) h = h_max;
       stepper.accept(sys, cur, t);
       if (!all_finite(stepper.derivative())) [[unlikely]] {
-        stop = adaptive_stop::non_finite;
+        stop = outcome_kind::non_finite;
         break;
       }
       if (!detail::notify_adaptive(observer, r.accepted, static_cast<const T&>(t), static_cast<const T&>(t_lo),
                                    static_cast<const State&>(cur))) {
-        stop = adaptive_stop::observer;
+        stop = outcome_kind::observer_stop;
         break;
       }
       if (last) break;
       if (o.max_steps && r.accepted >= o.max_steps) {
-        stop = adaptive_stop::max_steps;
+        stop = outcome_kind::step_limit;
         break;
       }
     }
@@ -581,7 +578,7 @@ adaptive_result<T> integrate_adaptive(System&& sys, State& x, const T& t0, const
   r.stop = stop;
   r.t = t;
   r.rhs_evals = stepper.rhs_evaluations() + extra;
-  if (stop != adaptive_stop::completed && stop != adaptive_stop::observer && !r.failed_at) r.failed_at = t;
+  if (stop != outcome_kind::success && stop != outcome_kind::observer_stop && !r.failed_at) r.failed_at = t;
   swap(x, cur);
   return r;
 }

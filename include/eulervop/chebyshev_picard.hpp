@@ -3,7 +3,7 @@
 // Each segment [tau_a, tau_a + L] carries the degree-N interpolant of Omega' at the N+1
 // Chebyshev-Gauss-Lobatto nodes; its exact integral gives Omega at the nodes (the Picard map,
 // Clenshaw & Norton 1963; Bai & Junkins 2011). The fixed point is reached by mixed precision
-// defect correction (DESIGN.md section 5):
+// defect correction (docs/design.md section 3.2):
 //   1. the residual of the Picard map, r = x0 + (L/2) S f(X) - X, is computed in T;
 //   2. the correction delta solves delta = r + (L/2) S [f(X + delta) - f(X)] in double. Eq. 5 is
 //      quadratic, so f(X + delta) - f(X) = J(X) delta + f_2(delta) exactly, and the double
@@ -22,15 +22,17 @@
 #include <eulervop/detail/chebyshev_basis.hpp>
 #include <eulervop/detail/double_double_matvec.hpp>
 #include <eulervop/model.hpp>
+#include <eulervop/numerical_failure.hpp>
+#include <eulervop/outcome.hpp>
 #include <eulervop/scalar.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <functional>
 #include <limits>
 #include <stdexcept>
-#include <string>
 #include <vector>
 
 namespace eulervop {
@@ -53,29 +55,10 @@ struct picard_stats {
   std::size_t double_sweeps = 0;   // Picard sweeps of the double-precision correction
 };
 
-// A numerical failure of the integrator: where (tau) and why. The CLI maps it to exit code 3.
-class numerical_failure : public std::runtime_error {
- public:
-  numerical_failure(double tau, const std::string& why)
-      : std::runtime_error("numerical failure at tau=" + format_tau(tau) + ": " + why), tau_(tau),
-        why_(why) {}
-  double tau() const { return tau_; }
-  const std::string& why() const { return why_; }
-
- private:
-  static std::string format_tau(double tau) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.9g", tau);
-    return buf;
-  }
-  double tau_;
-  std::string why_;
-};
-
 // One segment of the dense output: Omega(tau) = base + (base_lo + p(s)), where p is the
 // polynomial through the increments `values` at the Chebyshev-Lobatto nodes s_j = -cos(j pi/N)
 // and s = (tau - tau_begin) / half_length - 1 in [-1, 1]. base_lo is the TwoSum compensation.
-template <class T>
+template <scalar T>
 struct chebyshev_segment {
   T tau_begin, tau_end, half_length;
   vec3<T> base, base_lo;
@@ -86,7 +69,7 @@ struct chebyshev_segment {
 // Evaluation is barycentric Lagrange interpolation (second form) on the Lobatto nodes, with
 // weights (-1)^j, halved at the ends: backward stable for these nodes (Higham 2004, Berrut &
 // Trefethen 2004) and O(N) per call.
-template <class T>
+template <scalar T>
 class dense_trajectory {
  public:
   dense_trajectory() = default;
@@ -142,7 +125,7 @@ using progress_callback = std::function<void(double tau_reached)>;
 namespace detail {
 
 // log|x| in double for any T, also where |x| underflows double (MPFR at thousands of bits).
-template <class T>
+template <scalar T>
 double log_abs(const T& x) {
   using std::frexp;
   using std::abs;
@@ -161,10 +144,59 @@ inline unsigned default_degree(unsigned bits) {
   return static_cast<unsigned>(std::clamp(std::lround(1.2 * digits), 12L, 600L));
 }
 
+// The segment length of the reference integrator (its step-size control). After a converged
+// segment the length follows the tail estimate's excess over the tolerance: the terms decay like
+// rho^-(N+1), so the length scales by exp(-excess / (N+1)), aiming at 0.9 of the tolerance
+// (0.8 after a refusal). After a failed iteration it halves, and the length that failed caps
+// growth, relaxing by 5% per accepted segment, so the tail estimate cannot push segments back
+// into non-convergence every step.
+class segment_length_control {
+ public:
+  segment_length_control(double first, std::size_t degree)
+      : length_(first), nodes_(static_cast<double>(degree + 1)) {}
+
+  double length() const { return length_; }
+
+  // A segment of length `used` converged with the tail estimate's excess (the log of estimate
+  // over tolerance): accepted unless the excess exceeds 8.
+  bool converged(double used, double excess_log) {
+    if (excess_log > std::log(8.0)) {
+      next_ = used * std::max(0.2, 0.8 * std::exp(-excess_log / nodes_));
+      return false;
+    }
+    next_ = used * std::clamp(0.9 * std::exp(-excess_log / nodes_), 0.5, 2.0);
+    return true;
+  }
+  // The Picard iteration did not converge on a segment of length `used`.
+  void failed(double used) {
+    next_ = used * 0.5;
+    cap_ = 0.8 * used;
+  }
+  // After a refused segment starting at tau: takes the shorter length, or returns false when the
+  // length collapsed (below 1e-14 relative) or more than 40 segments in a row were refused.
+  bool retry(double tau) {
+    if (++refusals_ > 40 || next_ < 1e-14 * std::max(1.0, std::abs(tau))) return false;
+    length_ = next_;
+    return true;
+  }
+  void accepted() {
+    refusals_ = 0;
+    cap_ *= 1.05;
+    length_ = std::min(next_, cap_);
+  }
+
+ private:
+  double length_;
+  double nodes_;  // N + 1
+  double next_ = 0;
+  double cap_ = std::numeric_limits<double>::infinity();
+  int refusals_ = 0;
+};
+
 }  // namespace detail
 
 // The integrator and its workspace. One instance per thread; run() may be called many times.
-template <class T>
+template <scalar T>
 class chebyshev_picard {
  public:
   explicit chebyshev_picard(const picard_settings& settings = {})
@@ -172,7 +204,6 @@ class chebyshev_picard {
         N_(settings.degree ? settings.degree : detail::default_degree(effective_bits(settings))),
         n1_(N_ + 1),
         basis_(N_) {
-    eps_ = static_cast<double>(epsilon<T>());  // 0 for MPFR beyond double's range is harmless
     eps_log_ = detail::log_abs(epsilon<T>());
     tol_log_ = settings.tolerance > 0 ? std::log(settings.tolerance) : eps_log_;
     S_dt_.resize(n1_ * n1_);  // transposed: column k of S is contiguous
@@ -184,7 +215,7 @@ class chebyshev_picard {
     for (std::size_t k = 0; k < n1_ * n1_; ++k) C_d_[k] = static_cast<double>(basis_.coeffs[k]);
     if constexpr (!std::is_same_v<T, double>) S_dd_ = detail::double_double_matrix(basis_.integral, n1_, n1_);
     for (int i = 0; i < 3; ++i) {
-      X_[i].resize(n1_); F_[i].resize(n1_); Yc_[i].resize(n1_); Yn_[i].resize(n1_);
+      F_[i].resize(n1_); Yc_[i].resize(n1_); Yn_[i].resize(n1_);
       r_[i].resize(n1_); delta_[i].resize(n1_); delta_new_[i].resize(n1_); g_[i].resize(n1_);
       Xd_[i].resize(n1_); warm_[i].resize(n1_);
     }
@@ -208,108 +239,44 @@ class chebyshev_picard {
     return static_cast<unsigned>(std::clamp(tol_bits, 8.0, static_cast<double>(bits)));
   }
 
+  // Integrates Eq. 5 from problem.tau0 to tau_end (> tau0) segment by segment: each solved from
+  // the previous one's extrapolation (attempt_segment), shortened and retried until it passes,
+  // then stored (accept_segment). Throws numerical_failure when the segments cannot pass.
   dense_trajectory<T> run(const normalized_problem<T>& problem, const T& tau_end,
                           const progress_callback& progress = {}, picard_stats* stats = nullptr) {
-    using std::abs;
-    using std::sqrt;
     picard_stats st;
     st.degree = static_cast<unsigned>(N_);
     st.tolerance = std::exp(tol_log_);
     G_ = problem.G;
     if (!(tau_end > problem.tau0))
       throw std::invalid_argument("integrate_reference: tau_end must exceed tau0");
-
-    std::vector<chebyshev_segment<T>> segs;
-    vec3<T> x0 = problem.Omega0, c0{T(0), T(0), T(0)};
-    T tau = problem.tau0;
+    origin at{problem.Omega0, {T(0), T(0), T(0)}, problem.tau0};
     for (int i = 0; i < 3; ++i)
-      if (!isfinite_(x0[i])) throw numerical_failure(to_d(tau), "initial state is not finite");
-
-    double L = settings_.initial_step;
-    if (!(L > 0)) {
-      double rate = 0;
-      for (int i = 0; i < 3; ++i)
-        rate = std::max({rate, std::abs(to_d(x0[i])), std::sqrt(std::abs(to_d(G_[i])))});
-      L = rate > 0 ? 0.5 / rate : 1.0;
-    }
-    bool have_prev = false;
-    int consecutive_rejects = 0;
-    // Length at which the iteration last failed to converge: growth stays below it, relaxing
-    // slowly, so the tail estimate cannot push segments back into non-convergence every step.
-    double L_cap = std::numeric_limits<double>::infinity();
+      if (!isfinite_(at.x[i])) throw numerical_failure({outcome_kind::initial_non_finite, to_d(at.tau)});
+    detail::segment_length_control length(first_length(at.x), N_);
+    std::vector<chebyshev_segment<T>> segs;
     std::size_t since_progress = 0;
-
-    while (tau < tau_end) {
-      // Segment end in T; the final segment ends exactly at tau_end.
-      T tau_b = tau + T(L);
+    while (at.tau < tau_end) {
       bool last = false;
-      if (!(tau_b < tau_end) || to_d(tau_end - tau_b) < 1e-3 * L) {
-        tau_b = tau_end;
-        last = true;
-      }
-      const T hl = (tau_b - tau) / 2;
-      const double L_used = to_d(tau_b - tau);
-      make_warm_start(have_prev ? &segs.back() : nullptr, hl);
-
-      const solve_result res = solve_segment(x0, c0, hl, st);
-      double next_L = L_used;
-      bool accept = res.converged;
-      if (accept) {
-        const tail_estimate te = estimate_tail(hl, res.scale_log);
-        if (te.excess_log > std::log(8.0)) {
-          accept = false;
-          next_L = L_used * std::max(0.2, 0.8 * std::exp(-te.excess_log / double(N_ + 1)));
-        } else {
-          next_L = L_used * std::clamp(0.9 * std::exp(-te.excess_log / double(N_ + 1)), 0.5, 2.0);
-        }
-      } else {
-        next_L = L_used * 0.5;
-        L_cap = 0.8 * L_used;
-      }
-      if (!accept) {
+      const T tau_b = segment_end(at.tau, tau_end, length.length(), last);
+      const T hl = (tau_b - at.tau) / 2;
+      make_warm_start(segs.empty() ? nullptr : &segs.back(), hl);
+      outcome verdict = attempt_segment(at, hl, to_d(tau_b - at.tau), length, st);
+      if (!verdict.ok()) {
         ++st.rejected;
-        if (++consecutive_rejects > 40 || next_L < 1e-14 * std::max(1.0, std::abs(to_d(tau))))
-          throw numerical_failure(
-              to_d(tau), res.converged ? "segment length collapsed while the Chebyshev series would not converge"
-                                       : "Picard iteration does not converge: " + res.why);
-        L = next_L;
+        verdict.tau = to_d(at.tau);
+        if (!length.retry(*verdict.tau)) throw numerical_failure(verdict);
         continue;
       }
-      consecutive_rejects = 0;
-
-      // Accept: store the segment and advance with compensated summation (TwoSum).
-      chebyshev_segment<T> seg;
-      seg.tau_begin = tau;
-      seg.tau_end = tau_b;
-      seg.half_length = hl;
-      seg.base = x0;
-      seg.base_lo = c0;
-      seg.values.resize(n1_);
-      for (std::size_t j = 0; j < n1_; ++j)
-        for (int i = 0; i < 3; ++i) seg.values[j][i] = Yn_[i][j];
-      vec3<T> x1, c1;
-      for (int i = 0; i < 3; ++i) {
-        const T y = Yn_[i][N_] + c0[i];
-        const T s = x0[i] + y;
-        const T bb = s - x0[i];
-        c1[i] = (x0[i] - (s - bb)) + (y - bb);
-        x1[i] = s;
-        if (!isfinite_(s)) throw numerical_failure(to_d(tau_b), "state is not finite");
-      }
-      segs.push_back(std::move(seg));
-      have_prev = true;
-      x0 = x1;
-      c0 = c1;
-      tau = tau_b;
-      ++st.segments;
-      if (st.segments > settings_.max_segments)
-        throw numerical_failure(to_d(tau), "more than " + std::to_string(settings_.max_segments) + " segments");
+      segs.push_back(accept_segment(at, tau_b, hl));
+      if (++st.segments > settings_.max_segments)
+        throw numerical_failure(
+            {.kind = outcome_kind::segment_limit, .tau = to_d(at.tau), .count = settings_.max_segments});
       if (progress && (++since_progress >= 64 || last)) {
-        progress(to_d(tau));
+        progress(to_d(at.tau));
         since_progress = 0;
       }
-      L_cap *= 1.05;
-      L = std::min(next_L, L_cap);
+      length.accepted();
       if (last) break;
     }
     if (stats) *stats = st;
@@ -317,10 +284,14 @@ class chebyshev_picard {
   }
 
  private:
+  // Where the next segment starts: Omega = x + x_lo (TwoSum compensation) at tau.
+  struct origin {
+    vec3<T> x, x_lo;
+    T tau;
+  };
   struct solve_result {
-    bool converged = false;
+    outcome failure;       // success when the iteration converged
     double scale_log = 0;  // log of the state scale max |Omega| on the segment
-    std::string why;
   };
   struct tail_estimate {
     double excess_log = 0;  // log(estimated truncation / (tol * scale)); <= 0 is within tolerance
@@ -331,6 +302,67 @@ class chebyshev_picard {
     using std::isfinite;
     using boost::multiprecision::isfinite;
     return isfinite(x);
+  }
+  static double log_of(double r) { return r > 0 ? std::log(r) : -std::numeric_limits<double>::infinity(); }
+
+  // The end of the segment of length L from tau, in T; the last segment (`last`) ends exactly at
+  // tau_end, also when it would leave a sliver of less than L / 1000.
+  static T segment_end(const T& tau, const T& tau_end, double L, bool& last) {
+    const T tau_b = tau + T(L);
+    last = !(tau_b < tau_end) || to_d(tau_end - tau_b) < 1e-3 * L;
+    return last ? tau_end : tau_b;
+  }
+
+  // The first segment length: from the settings, or half a turn of the fastest rate in sight
+  // (|Omega_i|, and sqrt|G_i| for the spin-up from rest).
+  double first_length(const vec3<T>& x0) const {
+    if (settings_.initial_step > 0) return settings_.initial_step;
+    double rate = 0;
+    for (int i = 0; i < 3; ++i)
+      rate = std::max({rate, std::abs(to_d(x0[i])), std::sqrt(std::abs(to_d(G_[i])))});
+    return rate > 0 ? 0.5 / rate : 1.0;
+  }
+
+  // Solves the segment of half length hl from `at` (warm start in warm_) and judges its length:
+  // success to accept it, otherwise why it is refused, as the failure to report should the
+  // segments shrink to nothing (no_convergence, or segment_collapse for a tail too large).
+  outcome attempt_segment(const origin& at, const T& hl, double length_used,
+                          detail::segment_length_control& length, picard_stats& st) {
+    const solve_result res = solve_segment(at.x, at.x_lo, hl, st);
+    if (!res.failure.ok()) {
+      length.failed(length_used);
+      return {.kind = outcome_kind::no_convergence, .cause = res.failure.kind, .value = res.failure.value,
+              .count = res.failure.count};
+    }
+    if (length.converged(length_used, estimate_tail(hl, res.scale_log).excess_log)) return {};
+    return {outcome_kind::segment_collapse};
+  }
+
+  // The solved segment [at.tau, tau_b] (increments in Yn_), stored; `at` moves to its end, the
+  // last increment added with compensated summation (TwoSum).
+  chebyshev_segment<T> accept_segment(origin& at, const T& tau_b, const T& hl) const {
+    chebyshev_segment<T> seg;
+    seg.tau_begin = at.tau;
+    seg.tau_end = tau_b;
+    seg.half_length = hl;
+    seg.base = at.x;
+    seg.base_lo = at.x_lo;
+    seg.values.resize(n1_);
+    for (std::size_t j = 0; j < n1_; ++j)
+      for (int i = 0; i < 3; ++i) seg.values[j][i] = Yn_[i][j];
+    vec3<T> x1, c1;
+    for (int i = 0; i < 3; ++i) {
+      const T y = Yn_[i][N_] + at.x_lo[i];
+      const T s = at.x[i] + y;
+      const T bb = s - at.x[i];
+      c1[i] = (at.x[i] - (s - bb)) + (y - bb);
+      x1[i] = s;
+      if (!isfinite_(s)) throw numerical_failure({outcome_kind::segment_non_finite, to_d(tau_b)});
+    }
+    at.x = x1;
+    at.x_lo = c1;
+    at.tau = tau_b;
+    return seg;
   }
 
   // Increments at the new nodes extrapolated from the previous segment's interpolant, in double.
@@ -369,23 +401,99 @@ class chebyshev_picard {
         }
   }
 
-  // Solves for the correction of the residual in r_ (largest entry r_max) and applies it to Yc.
-  // Returns log(r_max), or NaN (with why) when the residual or the correction is not usable.
-  double correct_from_residual(double r_max, double hl_d, picard_stats& st, std::string& why) {
-    if (!std::isfinite(r_max)) {
-      why = "non-finite residual";
-      return std::numeric_limits<double>::quiet_NaN();
-    }
-    if (!solve_correction(hl_d, st, why)) return std::numeric_limits<double>::quiet_NaN();
+  // Solves the collocation problem on one segment from the warm start. On success Yn_ holds the
+  // increments at the nodes and F_ the derivative there.
+  solve_result solve_segment(const vec3<T>& x0, const vec3<T>& c0, const T& hl, picard_stats& st) {
+    const double hl_d = to_d(hl);
     for (int i = 0; i < 3; ++i)
-      for (std::size_t j = 1; j < n1_; ++j) Yc_[i][j] += T(delta_[i][j]);
-    return r_max > 0 ? std::log(r_max) : -std::numeric_limits<double>::infinity();
+      for (std::size_t j = 0; j < n1_; ++j) Yc_[i][j] = T(warm_[i][j]);
+    double r_prev_log = std::numeric_limits<double>::infinity();
+    if constexpr (!std::is_same_v<T, double>) {
+      if (const outcome o = narrow_passes(x0, c0, hl, st, r_prev_log); !o.ok()) return {o};
+    }
+    const std::size_t max_passes = 4 + significand_bits<T>() / 40;
+    for (std::size_t pass = 1;; ++pass) {
+      const double scale = evaluate_nodes(x0, c0);
+      if (!std::isfinite(scale)) return {{outcome_kind::iterate_non_finite}};
+      solve_result out;
+      out.scale_log = std::log(std::max(scale, 1e-300));
+      ++st.wide_residuals;
+      const double r_max = wide_residual(hl);
+      if (!std::isfinite(r_max)) return {{outcome_kind::residual_non_finite}};
+      const double r_log = log_of(r_max);
+      if (converged(r_log, r_prev_log, out.scale_log)) return out;
+      if (pass >= max_passes || (r_prev_log < std::numeric_limits<double>::infinity() &&
+                                 r_log > r_prev_log - std::log(2.0)))
+        return {{.kind = outcome_kind::residual_stalled, .value = r_max, .count = pass}};
+      r_prev_log = r_log;
+      if (const outcome o = correct(r_max, hl_d, st); !o.ok()) return {o};
+    }
   }
 
-  // The first pass from the warm start, all in double: its residual is far above double
-  // rounding, so computing it in T would buy nothing (for T = double this is the T pass itself).
-  // Returns log of the residual, or NaN on failure.
-  double double_pass(const vec3<T>& x0, const vec3<T>& c0, double hl_d, picard_stats& st, std::string& why) {
+  // Converged: residual within the tolerance or at the rounding level of one residual
+  // evaluation (a sum of N+1 rounded terms: ~sqrt(N+1) eps), or stagnant near that floor.
+  bool converged(double r_log, double r_prev_log, double scale_log) const {
+    const double rounding_log = eps_log_ + std::log(4.0 * std::sqrt(double(n1_))) + scale_log;
+    const double floor_log = eps_log_ + std::log(64.0 * n1_) + scale_log;
+    return r_log <= std::max(tol_log_ + scale_log, rounding_log) ||
+           (r_log <= floor_log && r_log > r_prev_log - std::log(16.0));
+  }
+
+  // For wide T, the passes before the first residual in T: one in double from the warm start
+  // and one in double-double, each followed by its correction. Sets r_log to the log of the
+  // last residual.
+  outcome narrow_passes(const vec3<T>& x0, const vec3<T>& c0, const T& hl, picard_stats& st, double& r_log) {
+    const double hl_d = to_d(hl);
+    const double r_double = double_residual(x0, c0, hl_d);
+    if (const outcome o = correct(r_double, hl_d, st); !o.ok()) return o;
+    const double r_dd = double_double_residual(x0, c0, hl);
+    if (const outcome o = correct(r_dd, hl_d, st); !o.ok()) return o;
+    if (log_of(r_dd) > log_of(r_double) - std::log(2.0)) return {outcome_kind::residual_not_decreasing};
+    r_log = log_of(r_dd);
+    return {};
+  }
+
+  // X = x0 + (c0 + Yc) and F = f(X) (Eq. 5) at the nodes, X also in double (Xd_). Returns the
+  // state scale max |X|.
+  double evaluate_nodes(const vec3<T>& x0, const vec3<T>& c0) {
+    double scale = 0;
+    for (std::size_t j = 0; j < n1_; ++j) {
+      vec3<T> x, dx;
+      for (int i = 0; i < 3; ++i) {
+        x[i] = x0[i] + (c0[i] + Yc_[i][j]);
+        Xd_[i][j] = to_d(x[i]);
+        scale = std::max(scale, std::abs(Xd_[i][j]));
+      }
+      euler_rhs(x, G_, dx);
+      for (int i = 0; i < 3; ++i) F_[i][j] = dx[i];
+    }
+    return scale;
+  }
+
+  // The Picard map Yn = hl S F in T, and the residual r = Yn - Yc. Returns max |r|.
+  double wide_residual(const T& hl) {
+    double r_max = 0;
+    for (int i = 0; i < 3; ++i) {
+      Yn_[i][0] = 0;
+      for (std::size_t j = 1; j < n1_; ++j) {
+        const T* row = &basis_.integral[j * n1_];
+        acc_ = 0;
+        for (std::size_t k = 0; k < n1_; ++k) acc_ += row[k] * F_[i][k];
+        acc_ *= hl;
+        Yn_[i][j] = acc_;
+        acc_ -= Yc_[i][j];
+        r_[i][j] = to_d(acc_);
+        r_max = std::max(r_max, std::abs(r_[i][j]));
+      }
+      r_[i][0] = 0;
+    }
+    return r_max;
+  }
+
+  // The residual from the warm start, all in double: it is far above double rounding, so
+  // computing it in T would buy nothing (for T = double the first wide residual is this pass).
+  // Returns max |r|.
+  double double_residual(const vec3<T>& x0, const vec3<T>& c0, double hl_d) {
     vec3<double> x0d, dx;
     for (int i = 0; i < 3; ++i) x0d[i] = to_d(x0[i]) + to_d(c0[i]);
     const vec3<double> Gd{to_d(G_[0]), to_d(G_[1]), to_d(G_[2])};
@@ -404,15 +512,13 @@ class chebyshev_picard {
         r_max = std::max(r_max, std::abs(r_[i][j]));
       }
     }
-    return correct_from_residual(r_max, hl_d, st, why);
+    return r_max;
   }
 
-  // The second pass, for wide T: the residual in double-double (~1e-32 relative), enough to
-  // drive the correction that follows to that level, at a fraction of a residual in T. The next
-  // residual, in T, decides convergence. Returns log of the residual, or NaN on failure.
-  double double_double_pass(const vec3<T>& x0, const vec3<T>& c0, const T& hl, picard_stats& st,
-                            std::string& why) {
-    const double hl_d = to_d(hl);
+  // The second residual, for wide T: in double-double (~1e-32 relative), enough to drive the
+  // correction that follows to that level, at a fraction of a residual in T. The next residual,
+  // in T, decides convergence. Returns max |r|.
+  double double_double_residual(const vec3<T>& x0, const vec3<T>& c0, const T& hl) {
     for (std::size_t j = 0; j < n1_; ++j) {
       vec3<T> x, dx;
       for (int i = 0; i < 3; ++i) {
@@ -438,90 +544,16 @@ class chebyshev_picard {
         r_max = std::max(r_max, std::abs(r_[i][j]));
       }
     }
-    return correct_from_residual(r_max, hl_d, st, why);
+    return r_max;
   }
 
-  // Solves the collocation problem on one segment from the warm start. On success Yn_ holds the
-  // increments at the nodes and F_ the derivative there.
-  solve_result solve_segment(const vec3<T>& x0, const vec3<T>& c0, const T& hl, picard_stats& st) {
-    using std::abs;
-    solve_result out;
-    const double hl_d = to_d(hl);
-    const std::size_t max_outer = 4 + significand_bits<T>() / 40;
+  // Solves for the correction of the residual in r_ (largest entry r_max) and adds it to Yc_.
+  outcome correct(double r_max, double hl_d, picard_stats& st) {
+    if (!std::isfinite(r_max)) return {outcome_kind::residual_non_finite};
+    if (const outcome o = solve_correction(hl_d, st); !o.ok()) return o;
     for (int i = 0; i < 3; ++i)
-      for (std::size_t j = 0; j < n1_; ++j) Yc_[i][j] = T(warm_[i][j]);
-
-    double r_prev_log = std::numeric_limits<double>::infinity();
-    if constexpr (!std::is_same_v<T, double>) {
-      r_prev_log = double_pass(x0, c0, hl_d, st, out.why);
-      if (std::isnan(r_prev_log)) return out;
-      const double r_dd_log = double_double_pass(x0, c0, hl, st, out.why);
-      if (std::isnan(r_dd_log)) return out;
-      if (r_dd_log > r_prev_log - std::log(2.0)) {
-        out.why = "residual does not decrease";
-        return out;
-      }
-      r_prev_log = r_dd_log;
-    }
-    for (std::size_t outer = 0;; ++outer) {
-      // X = x0 + (c0 + Yc);  F = f(X)  (Eq. 5).
-      double scale = 0;
-      for (std::size_t j = 0; j < n1_; ++j) {
-        vec3<T> x, dx;
-        for (int i = 0; i < 3; ++i) {
-          x[i] = x0[i] + (c0[i] + Yc_[i][j]);
-          Xd_[i][j] = to_d(x[i]);
-          scale = std::max(scale, std::abs(Xd_[i][j]));
-        }
-        euler_rhs(x, G_, dx);
-        for (int i = 0; i < 3; ++i) F_[i][j] = dx[i];
-      }
-      if (!std::isfinite(scale)) {
-        out.why = "non-finite state in the iteration";
-        return out;
-      }
-      scale = std::max(scale, 1e-300);
-      out.scale_log = std::log(scale);
-      // Yn = hl S F in T; r = Yn - Yc.
-      ++st.wide_residuals;
-      double r_max = 0;
-      for (int i = 0; i < 3; ++i) {
-        Yn_[i][0] = 0;
-        for (std::size_t j = 1; j < n1_; ++j) {
-          const T* row = &basis_.integral[j * n1_];
-          acc_ = 0;
-          for (std::size_t k = 0; k < n1_; ++k) acc_ += row[k] * F_[i][k];
-          acc_ *= hl;
-          Yn_[i][j] = acc_;
-          acc_ -= Yc_[i][j];
-          r_[i][j] = to_d(acc_);
-          r_max = std::max(r_max, std::abs(r_[i][j]));
-        }
-        r_[i][0] = 0;
-      }
-      if (!std::isfinite(r_max)) {
-        out.why = "non-finite residual";
-        return out;
-      }
-      const double r_log = r_max > 0 ? std::log(r_max) : -std::numeric_limits<double>::infinity();
-      // Converged: residual within the tolerance or at the rounding level of one residual
-      // evaluation (a sum of N+1 rounded terms: ~sqrt(N+1) eps), or stagnant near that floor.
-      const double rounding_log = eps_log_ + std::log(4.0 * std::sqrt(double(n1_))) + out.scale_log;
-      const double floor_log = eps_log_ + std::log(64.0 * n1_) + out.scale_log;
-      if (r_log <= std::max(tol_log_ + out.scale_log, rounding_log) ||
-          (r_log <= floor_log && r_log > r_prev_log - std::log(16.0))) {
-        out.converged = true;
-        break;
-      }
-      if (outer + 1 >= max_outer || (r_prev_log < std::numeric_limits<double>::infinity() &&
-                                     r_log > r_prev_log - std::log(2.0))) {
-        out.why = "residual " + std::to_string(r_max) + " after " + std::to_string(outer + 1) + " passes";
-        return out;
-      }
-      r_prev_log = r_log;
-      if (std::isnan(correct_from_residual(r_max, hl_d, st, out.why))) return out;
-    }
-    return out;
+      for (std::size_t j = 1; j < n1_; ++j) Yc_[i][j] += T(delta_[i][j]);
+    return {};
   }
 
   // y_i = S g_i (rows 1..N) for the three components in double. Column order (y += S[:,k] g[k])
@@ -539,81 +571,63 @@ class chebyshev_picard {
     }
   }
 
-  // delta = r + hl S [J(Xd) delta + f_2(delta)] by Picard sweeps in double, where for Eq. 5
-  // f(x + d) - f(x) = (-(x2 d3 + x3 d2 + d2 d3), x1 d3 + x3 d1 + d1 d3, -(x1 d2 + x2 d1 + d1 d2)).
-  bool solve_correction(double hl_d, picard_stats& st, std::string& why) {
+  // delta = r + hl S [J(Xd) delta + f_2(delta)] by Picard sweeps in double (correction_sweep).
+  // Done when the sweep's change is at double rounding, or stagnant near it; a growing change
+  // means the segment is too long.
+  outcome solve_correction(double hl_d, picard_stats& st) {
+    constexpr std::size_t max_sweeps = 200;
     for (int i = 0; i < 3; ++i) delta_[i] = r_[i];
     double prev_diff = std::numeric_limits<double>::infinity();
     double first_diff = -1;
-    for (int sweep = 0; sweep < 200; ++sweep) {
+    for (std::size_t sweep = 0; sweep < max_sweeps; ++sweep) {
       ++st.double_sweeps;
-      for (std::size_t k = 0; k < n1_; ++k) {
-        const double d1 = delta_[0][k], d2 = delta_[1][k], d3 = delta_[2][k];
-        const double x1 = Xd_[0][k], x2 = Xd_[1][k], x3 = Xd_[2][k];
-        g_[0][k] = -(x2 * d3 + x3 * d2 + d2 * d3);
-        g_[1][k] = x1 * d3 + x3 * d1 + d1 * d3;
-        g_[2][k] = -(x1 * d2 + x2 * d1 + d1 * d2);
-      }
-      double diff = 0, dmax = 0;
-      double_integral(g_, delta_new_);
-      for (int i = 0; i < 3; ++i) {
-        delta_new_[i][0] = 0;
-        for (std::size_t j = 1; j < n1_; ++j) {
-          const double v = r_[i][j] + hl_d * delta_new_[i][j];
-          diff = std::max(diff, std::abs(v - delta_[i][j]));
-          dmax = std::max(dmax, std::abs(v));
-          delta_new_[i][j] = v;
-        }
-      }
-      std::swap(delta_, delta_new_);
-      if (!std::isfinite(diff)) {
-        why = "double-precision correction diverged";
-        return false;
-      }
+      double dmax = 0;
+      const double diff = correction_sweep(hl_d, dmax);
+      if (!std::isfinite(diff)) return {outcome_kind::correction_diverged};
       if (first_diff < 0) first_diff = diff;
-      if (diff <= 4e-16 * dmax) return true;
-      // Stagnant at double rounding: done. Growing: the segment is too long.
+      if (diff <= 4e-16 * dmax) return {};
       if (sweep > 4 && diff >= 0.7 * prev_diff) {
-        if (diff <= 1e-12 * dmax) return true;
-        if (diff > first_diff) {
-          why = "double-precision correction diverged";
-          return false;
-        }
+        if (diff <= 1e-12 * dmax) return {};
+        if (diff > first_diff) return {outcome_kind::correction_diverged};
       }
       prev_diff = diff;
     }
-    why = "double-precision correction did not converge in 200 sweeps";
-    return false;
+    return {.kind = outcome_kind::correction_stalled, .count = max_sweeps};
+  }
+
+  // One sweep delta <- r + hl S g(delta), where for Eq. 5
+  // g = f(x + d) - f(x) = (-(x2 d3 + x3 d2 + d2 d3), x1 d3 + x3 d1 + d1 d3, -(x1 d2 + x2 d1 + d1 d2)).
+  // Returns the largest change; dmax is the largest entry of the new delta.
+  double correction_sweep(double hl_d, double& dmax) {
+    for (std::size_t k = 0; k < n1_; ++k) {
+      const double d1 = delta_[0][k], d2 = delta_[1][k], d3 = delta_[2][k];
+      const double x1 = Xd_[0][k], x2 = Xd_[1][k], x3 = Xd_[2][k];
+      g_[0][k] = -(x2 * d3 + x3 * d2 + d2 * d3);
+      g_[1][k] = x1 * d3 + x3 * d1 + d1 * d3;
+      g_[2][k] = -(x1 * d2 + x2 * d1 + d1 * d2);
+    }
+    double diff = 0;
+    double_integral(g_, delta_new_);
+    for (int i = 0; i < 3; ++i) {
+      delta_new_[i][0] = 0;
+      for (std::size_t j = 1; j < n1_; ++j) {
+        const double v = r_[i][j] + hl_d * delta_new_[i][j];
+        diff = std::max(diff, std::abs(v - delta_[i][j]));
+        dmax = std::max(dmax, std::abs(v));
+        delta_new_[i][j] = v;
+      }
+    }
+    std::swap(delta_, delta_new_);
+    return diff;
   }
 
   // Truncation estimate from the decay of the Chebyshev coefficients b_k of the increment
   // (b = hl Q F): a least-squares line through log max_i |b_k| over the coefficients above their
   // rounding floor, evaluated at k = N+1, and the last coefficients themselves; compared with
-  // tol * scale. The head b_0..b_{N-3} is formed in double (it only has to show the decay rate);
-  // the last four in T, since they must be resolved down to the tolerance.
+  // tol * scale.
   tail_estimate estimate_tail(const T& hl, double scale_log) {
     const std::size_t nb = N_ + 2, tail_from = N_ - 2;
-    const double hl_d = to_d(hl);
-    std::fill(coeff_log_.begin(), coeff_log_.end(), -std::numeric_limits<double>::infinity());
-    double head_max = 0;
-    for (int i = 0; i < 3; ++i) {
-      for (std::size_t j = 0; j < n1_; ++j) Fd_[j] = to_d(F_[i][j]);
-      for (std::size_t k = 1; k < tail_from; ++k) {
-        const double* row = &Q_d_[k * n1_];
-        double a = 0;
-        for (std::size_t j = 0; j < n1_; ++j) a += row[j] * Fd_[j];
-        a = std::abs(a * hl_d);
-        head_max = std::max(head_max, a);
-        coeff_log_[k] = std::max(coeff_log_[k], a > 0 ? std::log(a) : -std::numeric_limits<double>::infinity());
-      }
-      for (std::size_t k = tail_from; k < nb; ++k) {
-        const T* row = &basis_.to_coeffs[k * n1_];
-        acc_ = 0;
-        for (std::size_t j = 0; j < n1_; ++j) acc_ += row[j] * F_[i][j];
-        acc_ *= hl;
-        coeff_log_[k] = std::max(coeff_log_[k], detail::log_abs(acc_));
-      }
-    }
+    const double head_max = coefficient_logs(hl, tail_from);
     const double head_noise = std::log(std::max(head_max, 1e-300) * 8.0 * n1_ * 2.2e-16);
     const double tail_noise = eps_log_ + scale_log + std::log(4.0 * n1_);
     for (std::size_t k = 0; k < nb; ++k) noise_log_[k] = k < tail_from ? std::max(head_noise, tail_noise) : tail_noise;
@@ -647,23 +661,66 @@ class chebyshev_picard {
     return te;
   }
 
+  // coeff_log_[k] = log max_i |b_k| for k >= 1. The head b_1..b_{tail_from - 1} is formed in
+  // double (it only has to show the decay rate); the tail in T, since it must be resolved down
+  // to the tolerance. Returns the largest head coefficient.
+  double coefficient_logs(const T& hl, std::size_t tail_from) {
+    const std::size_t nb = N_ + 2;
+    const double hl_d = to_d(hl);
+    std::fill(coeff_log_.begin(), coeff_log_.end(), -std::numeric_limits<double>::infinity());
+    double head_max = 0;
+    for (int i = 0; i < 3; ++i) {
+      for (std::size_t j = 0; j < n1_; ++j) Fd_[j] = to_d(F_[i][j]);
+      for (std::size_t k = 1; k < tail_from; ++k) {
+        const double* row = &Q_d_[k * n1_];
+        double a = 0;
+        for (std::size_t j = 0; j < n1_; ++j) a += row[j] * Fd_[j];
+        a = std::abs(a * hl_d);
+        head_max = std::max(head_max, a);
+        coeff_log_[k] = std::max(coeff_log_[k], a > 0 ? std::log(a) : -std::numeric_limits<double>::infinity());
+      }
+      for (std::size_t k = tail_from; k < nb; ++k) {
+        const T* row = &basis_.to_coeffs[k * n1_];
+        acc_ = 0;
+        for (std::size_t j = 0; j < n1_; ++j) acc_ += row[j] * F_[i][j];
+        acc_ *= hl;
+        coeff_log_[k] = std::max(coeff_log_[k], detail::log_abs(acc_));
+      }
+    }
+    return head_max;
+  }
+
   picard_settings settings_;
-  std::size_t N_, n1_;
+  std::size_t N_, n1_;  // the degree, and the number of nodes N + 1
   detail::chebyshev_basis<T> basis_;
-  double eps_ = 0, eps_log_ = 0, tol_log_ = 0;
-  std::vector<double> S_dt_;
+  double eps_log_ = 0, tol_log_ = 0;  // log epsilon of T; log of the relative tolerance
   vec3<T> G_{};
-  std::array<std::vector<T>, 3> X_, F_, Yc_, Yn_;
+  // The workspace. Per component i of Omega and node j (arrays of three vectors over the nodes):
+  //   Yc_    the iterate: increments X - x0 at the nodes, in T (X the state at the nodes)
+  //   Yn_    the Picard map hl S f(X) of the iterate, in T: the segment's values once converged
+  //   F_     f(X) by Eq. 5, in T (times hl in the double-double residual)
+  //   Xd_    X in double, where the correction linearizes f
+  //   warm_  the warm start's increments, in double
+  //   r_     the residual hl S f(X) - Yc, in double
+  //   delta_, delta_new_  the correction of Yc and its next sweep, in double
+  //   g_     f(X + delta) - f(X) in a sweep (f(X) in the double residual), in double
+  std::array<std::vector<T>, 3> F_, Yc_, Yn_;
   std::array<std::vector<double>, 3> r_, delta_, delta_new_, g_, Xd_, warm_;
-  std::vector<double> Q_d_, C_d_;
+  // The basis matrices in double: S transposed (column k contiguous), Q (values to the
+  // integral's coefficients) and C (values to the interpolant's coefficients); S in
+  // double-double for wide T.
+  std::vector<double> S_dt_, Q_d_, C_d_;
   detail::double_double_matrix S_dd_;
+  // One component at a time: F and S F split into double-double hi + lo; F in double and its
+  // Chebyshev coefficients bd_ (warm start); log |b_k| of the increment's coefficients and
+  // their rounding floor (tail estimate).
   std::vector<double> F_hi_, F_lo_, Y_hi_, Y_lo_;
   std::vector<double> bd_, Fd_, coeff_log_, noise_log_;
-  T acc_;
+  T acc_;  // accumulator in T: in place, no temporary per operation for MPFR
 };
 
 // Integrates Eq. 5 from problem.tau0 to tau_end (> tau0). Throws numerical_failure.
-template <class T>
+template <scalar T>
 dense_trajectory<T> integrate_reference(const normalized_problem<T>& problem, const T& tau_end,
                                         const picard_settings& settings = {},
                                         const progress_callback& progress = {},

@@ -42,6 +42,7 @@
 
 #include <eulervop/adaptive_runge_kutta.hpp>
 #include <eulervop/model.hpp>
+#include <eulervop/outcome.hpp>
 #include <eulervop/runge_kutta.hpp>
 #include <eulervop/vop.hpp>
 
@@ -52,7 +53,6 @@
 #include <cstddef>
 #include <limits>
 #include <optional>
-#include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -122,9 +122,8 @@ struct run_result {
   std::size_t rejected = 0;                       // rejected steps (adaptive runs)
   std::size_t rhs_evals = 0;
   double seconds = 0;                             // wall time of the integration itself
-  bool diverged = false;
-  std::optional<double> diverged_at;              // tau of the first bad step
-  std::string why;                                // why it diverged
+  outcome status;                                 // success, or why the run stopped and the
+                                                  // tau of the first bad step
   // VOP formulations: the stretches stepped with Eq. 5, (tau entered, tau left); a stretch still
   // open when the run stops ends at the run's last tau. Near the separatrix (min(k, 1/k) > 1/2
   // on entry), and near c1 = 0 (small k).
@@ -133,11 +132,20 @@ struct run_result {
   std::size_t direct_steps = 0;                   // steps taken with Eq. 5 inside those stretches
   std::size_t regime_changes = 0;                 // element re-derivations into the other regime (k <-> 1/k)
   long long phase_turns = 0;                      // vop-theta: whole turns of theta at the end
+
+  bool diverged() const { return !status.ok(); }
+  std::optional<double> diverged_at() const { return status.tau; }
 };
 
 namespace detail {
 
 using V = vec3<double>;
+
+// Eq. 5 as a system of the Runge-Kutta drivers.
+struct euler_system {
+  V G;
+  void operator()(const V& Om, V& dOm, double) const { euler_rhs(Om, G, dOm); }
+};
 
 // Beyond this max-norm a run has "exploded": a thousand times the largest |Omega| a bounded
 // torque can produce over the span, |Omega0| + |G| tau_end (and the VOP phase u up to that times
@@ -154,8 +162,9 @@ inline bool finite_within(const V& v, double bound) {
   return true;
 }
 
-inline const char* divergence_reason(const V& v) {
-  return std::isfinite(v[0] + v[1] + v[2]) ? "state exploded beyond the bound" : "state became non-finite";
+// How a state that is not finite_within the bound failed.
+inline outcome_kind divergence_kind(const V& v) {
+  return std::isfinite(v[0] + v[1] + v[2]) ? outcome_kind::norm_bound : outcome_kind::non_finite;
 }
 
 // Keeps about `target` samples of an adaptive run: every m-th accepted step, m doubling (and the
@@ -230,11 +239,7 @@ void run_with(run_result& out, Sys&& sys, vec3<double> x, const normalized_probl
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.steps = r.steps;
   out.rhs_evals = r.rhs_evals;
-  out.diverged = r.diverged;
-  if (r.diverged) {
-    out.diverged_at = r.diverged_at;
-    out.why = r.stop == rk::stop_reason::non_finite ? "state became non-finite" : "state exploded beyond the bound";
-  }
+  if (r.diverged()) out.status = {r.stop, r.failed_at};
 }
 
 // Euler under error control.
@@ -268,15 +273,7 @@ void run_euler_adaptive(run_result& out, const normalized_problem<double>& p, co
   out.steps = r.accepted;
   out.rejected = r.rejected;
   out.rhs_evals = r.rhs_evals;
-  if (r.stop != rk::adaptive_stop::completed) {
-    out.diverged = true;
-    out.diverged_at = r.failed_at ? static_cast<double>(*r.failed_at) : last_tau;
-    switch (r.stop) {
-      case rk::adaptive_stop::norm_bound: out.why = "state exploded beyond the bound"; break;
-      case rk::adaptive_stop::step_underflow: out.why = "the step size fell below the rounding of tau"; break;
-      default: out.why = "state became non-finite"; break;
-    }
-  }
+  if (r.stop != outcome_kind::success) out.status = {r.stop, r.failed_at ? *r.failed_at : last_tau};
 }
 
 // The state machine of a VOP run: elements in a vop_frame while the state is away from k = 1 and
@@ -440,164 +437,234 @@ class vop_run_state {
   double open_at_ = 0;
 };
 
-// The VOP formulations at a fixed step. One explicit_rk stepper (the same tableau and compensated
-// summation as rk::integrate_fixed) serves both representations, so the method and step never
-// change.
+// The VOP formulations at a fixed step: vop_run_state's representations stepped with one
+// explicit_rk stepper (the same tableau and compensated summation as rk::integrate_fixed), so
+// the method and step never change.
 template <class Tableau, bool Theta>
-void run_vop(run_result& out, const normalized_problem<double>& p, const fixed_run_settings& s, double bound) {
-  const std::size_t every = std::max<std::size_t>(s.sample_every, 1);
-  out.sample_steps.reserve(s.n_steps / every + 2);
-  out.Omega.reserve(s.n_steps / every + 2);
-  V state{}, comp{0, 0, 0};
-  vop_run_state<Theta> run(out, p, s.bands, state);
-  rk::explicit_rk<Tableau, V> stepper;
-  const V G = p.G;
-  auto euler_sys = [G](const V& Om, V& dOm, double) { euler_rhs(Om, G, dOm); };
-  out.sample_steps.push_back(0);
-  out.Omega.push_back(run.Omega(state));
+class vop_fixed_run {
+ public:
+  vop_fixed_run(run_result& out, const normalized_problem<double>& p, const fixed_run_settings& s, double bound)
+      : out_(out), s_(s), tau0_(p.tau0), bound_(bound), every_(std::max<std::size_t>(s.sample_every, 1)),
+        run_(out, p, s.bands, first_), euler_{p.G} {}
 
-  const auto start = std::chrono::steady_clock::now();
-  double t = p.tau0;
-  std::size_t n = 0;
-  V next{}, comp_next{};
-  while (n < s.n_steps) {
-    const double t_next = p.tau0 + s.h * static_cast<double>(n + 1);
-    comp_next = comp;
-    if (run.in_elements()) {
-      stepper.do_step(run.system(), state, t, s.h, next, comp_next);
-      if (!run.element_step_in_domain(next)) [[unlikely]] {
-        state = run.leave_elements(t, state);
+  void operator()() {
+    out_.sample_steps.reserve(s_.n_steps / every_ + 2);
+    out_.Omega.reserve(s_.n_steps / every_ + 2);
+    V state = first_, comp{0, 0, 0};
+    sample(0, state);
+    const auto start = std::chrono::steady_clock::now();
+    // The loop reads its constants from locals, not through `this` (which it would reload).
+    const double tau0 = tau0_, h = s_.h, bound = bound_;
+    const std::size_t n_steps = s_.n_steps, every = every_;
+    double t = tau0;
+    std::size_t n = 0;
+    V next{}, comp_next{};
+    while (n < n_steps) {
+      const double t_next = tau0 + h * static_cast<double>(n + 1);
+      comp_next = comp;
+      if (!step(state, t, h, next, comp_next)) [[unlikely]] {
+        state = run_.leave_elements(t, state);
         comp = V{0, 0, 0};
         continue;
       }
-    } else {
-      stepper.do_step(euler_sys, state, t, s.h, next, comp_next);
+      if (!finite_within(next, bound)) [[unlikely]] {
+        out_.status = {divergence_kind(next), t_next};
+        break;
+      }
+      state = next;
+      comp = comp_next;
+      ++n;
+      t = t_next;
+      run_.after_step(t, state, comp);
+      if (n % every == 0 || n == n_steps) [[unlikely]]
+        sample(n, state);
     }
-    if (!finite_within(next, bound)) [[unlikely]] {
-      out.diverged = true;
-      out.diverged_at = t_next;
-      out.why = divergence_reason(next);
-      break;
-    }
-    state = next;
-    comp = comp_next;
-    ++n;
-    t = t_next;
-    run.after_step(t, state, comp);
-    if (n % every == 0 || n == s.n_steps) [[unlikely]] {
-      out.sample_steps.push_back(n);
-      out.Omega.push_back(run.Omega(state));
-    }
+    out_.steps = n;
+    out_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out_.rhs_evals = stepper_.rhs_evaluations();
+    run_.finish(t);
   }
-  out.steps = n;
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  out.rhs_evals = stepper.rhs_evaluations();
-  run.finish(t);
-}
 
-// The VOP formulations under error control: the embedded pair and the PI controller carry over
-// between the representations (the derivative is re-evaluated after a change).
-template <class Pair, bool Theta>
-void run_vop_adaptive(run_result& out, const normalized_problem<double>& p, const adaptive_run_settings& s,
-                      double bound) {
-  V state{}, comp{0, 0, 0};
-  vop_run_state<Theta> run(out, p, s.bands, state);
-  rk::embedded_rk<Pair, V> stepper;
-  rk::pi_controller controller(Pair::estimate_order + 1);
-  const V G = p.G;
-  auto euler_sys = [G](const V& Om, V& dOm, double) { euler_rhs(Om, G, dOm); };
-  const rk::hairer_scale<double> omega_scale{s.atol, s.rtol};
-  auto element_scale = [&](const V& y0, const V& y1, V& sc) {
-    const double c1 = std::max(std::abs(y0[0]), std::abs(y1[0]));
-    sc[0] = s.atol + s.rtol * c1;
-    sc[1] = s.atol + s.rtol * std::max(std::abs(y0[1]), std::abs(y1[1]));
-    const double w = run.phase_weight(c1);
-    sc[2] = w > 0 ? sc[0] / w : std::numeric_limits<double>::infinity();
-  };
-  sample_thinner samples(out, s.samples);
-  double t = p.tau0, t_lo = 0;
-  samples.put(0, t, t_lo, run.Omega(state));
-  const auto prime = [&] {
-    if (run.in_elements()) stepper.prime(run.system(), state, t);
-    else stepper.prime(euler_sys, state, t);
-  };
-
-  const auto start = std::chrono::steady_clock::now();
-  std::size_t n = 0;
-  std::size_t extra = 0;
-  V next{}, comp_next{};
-  const double span = s.tau_end - p.tau0;
-  const double h_max = s.h_max > 0 ? std::min(s.h_max, span) : span;
-  prime();
-  double h = run.in_elements()
-                 ? rk::initial_step<Pair>(run.system(), state, t, stepper.derivative(), h_max, element_scale, extra)
-                 : rk::initial_step<Pair>(euler_sys, state, t, stepper.derivative(), h_max, omega_scale, extra);
-  while (span > 0) {
-    const double left = (s.tau_end - t) - t_lo;
-    if (!(left > 0)) break;
-    const bool last = h >= left;
-    const double h_try = last ? left : h;
-    if (!(h_try > 16 * std::numeric_limits<double>::epsilon() * std::abs(t)) || !std::isfinite(h_try)) {
-      out.diverged = true;
-      out.diverged_at = t;
-      out.why = std::isfinite(h_try) ? "the step size fell below the rounding of tau" : "state became non-finite";
-      break;
+ private:
+  // One step of h of the current representation from (t, state). False when an element step left
+  // the elements' domain: the caller redoes it with Eq. 5.
+  [[gnu::always_inline]] bool step(const V& state, double t, double h, V& next, V& comp_next) {
+    if (run_.in_elements()) {
+      stepper_.do_step(run_.system(), state, t, h, next, comp_next);
+      return run_.element_step_in_domain(next);
     }
-    comp_next = comp;
+    stepper_.do_step(euler_, state, t, h, next, comp_next);
+    return true;
+  }
+  void sample(std::size_t n, V state) {
+    out_.sample_steps.push_back(n);
+    out_.Omega.push_back(run_.Omega(state));
+  }
+
+  run_result& out_;
+  const fixed_run_settings& s_;
+  double tau0_, bound_;
+  std::size_t every_;  // sample_every, at least 1
+  V first_{};          // the starting state, in the representation vop_run_state chose
+  vop_run_state<Theta> run_;
+  rk::explicit_rk<Tableau, V> stepper_;
+  euler_system euler_;
+};
+
+// The error scale of the element steps: the scaled elements of the header note.
+template <bool Theta>
+struct element_scale {
+  double atol, rtol;
+  const vop_run_state<Theta>* run;
+  void operator()(const V& y0, const V& y1, V& sc) const {
+    const double c1 = std::max(std::abs(y0[0]), std::abs(y1[0]));
+    sc[0] = atol + rtol * c1;
+    sc[1] = atol + rtol * std::max(std::abs(y0[1]), std::abs(y1[1]));
+    const double w = run->phase_weight(c1);
+    sc[2] = w > 0 ? sc[0] / w : std::numeric_limits<double>::infinity();
+  }
+};
+
+// The VOP formulations under error control: vop_run_state's representations stepped with one
+// embedded pair, whose PI controller carries over between them (the derivative is re-evaluated
+// after a change).
+template <class Pair, bool Theta>
+class vop_adaptive_run {
+ public:
+  vop_adaptive_run(run_result& out, const normalized_problem<double>& p, const adaptive_run_settings& s,
+                   double bound)
+      : out_(out), s_(s), tau0_(p.tau0), bound_(bound), span_(s.tau_end - p.tau0),
+        h_max_(s.h_max > 0 ? std::min(s.h_max, span_) : span_), run_(out, p, s.bands, first_),
+        euler_{p.G}, omega_scale_{s.atol, s.rtol}, element_scale_{s.atol, s.rtol, &run_},
+        samples_(out, s.samples) {}
+
+  void operator()() {
+    V state = first_, comp{0, 0, 0};
+    step_clock at{tau0_, 0, 0};
+    samples_.put(0, at.t, at.t_lo, run_.Omega(state));
+    const auto start = std::chrono::steady_clock::now();
+    prime(state, at.t);
+    double h = first_step(state, at.t);
+    while (span_ > 0) {
+      const double left = (s_.tau_end - at.t) - at.t_lo;
+      if (!(left > 0)) break;
+      const bool last = h >= left;
+      const attempt_result r = advance(state, comp, at, h, last ? left : h, last);
+      if (r == attempt_result::stopped || (r == attempt_result::accepted && last)) break;
+    }
+    out_.steps = at.n;
+    out_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (samples_.lacks_last(at.n)) samples_.put(at.n, at.t, at.t_lo, run_.Omega(state));
+    out_.rhs_evals = stepper_.rhs_evaluations() + extra_evals_;
+    run_.finish(at.t);
+  }
+
+ private:
+  // The time reached, t + t_lo, after n accepted steps. Apart from the state and its
+  // compensation (elements or Omega), whose addresses the stepper takes: kept together, all
+  // five would live in memory.
+  struct step_clock {
+    double t, t_lo;
+    std::size_t n;
+  };
+  enum class attempt_result { accepted, retry, stopped };
+
+  // One attempt of a step of h_try (the last one if `last`): accepted (state and clock advanced,
+  // h the next step), retry (h shorter, or the representation changed) or stopped (out_.status).
+  [[gnu::always_inline]] attempt_result advance(V& state, V& comp, step_clock& at, double& h, double h_try,
+                                                bool last) {
+    if (!(h_try > 16 * std::numeric_limits<double>::epsilon() * std::abs(at.t)) || !std::isfinite(h_try)) {
+      out_.status = {std::isfinite(h_try) ? outcome_kind::step_underflow : outcome_kind::non_finite, at.t};
+      return attempt_result::stopped;
+    }
+    V next{}, comp_next = comp;
     double err = 0;
-    if (run.in_elements()) {
-      err = stepper.attempt(run.system(), state, t, h_try, next, comp, comp_next, element_scale);
-      if (!run.element_step_in_domain(next)) [[unlikely]] {
-        state = run.leave_elements(t, state);
-        comp = V{0, 0, 0};
-        controller.reset();
-        prime();
-        continue;
-      }
-    } else {
-      err = stepper.attempt(euler_sys, state, t, h_try, next, comp, comp_next, omega_scale);
+    if (!attempt(state, comp, at.t, h_try, next, comp_next, err)) [[unlikely]] {
+      leave_elements(state, comp, at.t);
+      return attempt_result::retry;
     }
     const bool finite = std::isfinite(next[0] + next[1] + next[2]);
     if (!(err <= 1) || !finite) [[unlikely]] {
-      ++out.rejected;
-      h = h_try * controller.rejected(finite ? err : std::numeric_limits<double>::infinity());
-      continue;
+      ++out_.rejected;
+      h = h_try * controller_.rejected(finite ? err : std::numeric_limits<double>::infinity());
+      return attempt_result::retry;
     }
-    if (!finite_within(next, bound)) [[unlikely]] {
-      out.diverged = true;
-      out.diverged_at = t + h_try;
-      out.why = divergence_reason(next);
-      break;
+    if (!finite_within(next, bound_)) [[unlikely]] {
+      out_.status = {divergence_kind(next), at.t + h_try};
+      return attempt_result::stopped;
     }
     state = next;
     comp = comp_next;
     if (last) {
-      t = s.tau_end;
-      t_lo = 0;
+      at.t = s_.tau_end;
+      at.t_lo = 0;
     } else {
-      rk::detail::advance_time(t, t_lo, h_try);
+      rk::detail::advance_time(at.t, at.t_lo, h_try);
     }
-    ++n;
-    h = std::min(h_try * controller.accepted(err), h_max);
-    const bool was_elements = run.in_elements();
-    if (run.after_step(t, state, comp)) [[unlikely]] {
-      controller.reset();
-      prime();
-    } else if (was_elements) {
-      stepper.accept(run.system(), state, t);
-    } else {
-      stepper.accept(euler_sys, state, t);
-    }
-    if (samples.wants(n)) [[unlikely]]
-      samples.put(n, t, t_lo, run.Omega(state));
-    if (last) break;
+    ++at.n;
+    h = std::min(h_try * controller_.accepted(err), h_max_);
+    accept(state, comp, at);
+    return attempt_result::accepted;
   }
-  out.steps = n;
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (samples.lacks_last(n)) samples.put(n, t, t_lo, run.Omega(state));
-  out.rhs_evals = stepper.rhs_evaluations() + extra;
-  run.finish(t);
-}
+
+  // The embedded step of h of the current representation from (t, state) (error norm in err).
+  // False when an element step left the elements' domain.
+  [[gnu::always_inline]] bool attempt(const V& state, const V& comp, double t, double h, V& next, V& comp_next,
+                                      double& err) {
+    if (run_.in_elements()) {
+      err = stepper_.attempt(run_.system(), state, t, h, next, comp, comp_next, element_scale_);
+      return run_.element_step_in_domain(next);
+    }
+    err = stepper_.attempt(euler_, state, t, h, next, comp, comp_next, omega_scale_);
+    return true;
+  }
+  // After an accepted step: band entry or exit (a new representation is primed afresh), the
+  // derivative at the new state (FSAL), the sample.
+  [[gnu::always_inline]] void accept(V& state, V& comp, const step_clock& at) {
+    const bool was_elements = run_.in_elements();
+    if (run_.after_step(at.t, state, comp)) [[unlikely]] {
+      controller_.reset();
+      prime(state, at.t);
+    } else if (was_elements) {
+      stepper_.accept(run_.system(), state, at.t);
+    } else {
+      stepper_.accept(euler_, state, at.t);
+    }
+    if (samples_.wants(at.n)) [[unlikely]]
+      samples_.put(at.n, at.t, at.t_lo, run_.Omega(state));
+  }
+  // A stage left the elements' domain: the step is redone directly from its start (t, state).
+  void leave_elements(V& state, V& comp, double t) {
+    state = run_.leave_elements(t, state);
+    comp = V{0, 0, 0};
+    controller_.reset();
+    prime(state, t);
+  }
+  void prime(const V& state, double t) {
+    if (run_.in_elements()) stepper_.prime(run_.system(), state, t);
+    else stepper_.prime(euler_, state, t);
+  }
+  double first_step(const V& state, double t) {
+    if (run_.in_elements())
+      return rk::initial_step<Pair>(run_.system(), state, t, stepper_.derivative(), h_max_, element_scale_,
+                                    extra_evals_);
+    return rk::initial_step<Pair>(euler_, state, t, stepper_.derivative(), h_max_, omega_scale_, extra_evals_);
+  }
+
+  run_result& out_;
+  const adaptive_run_settings& s_;
+  double tau0_, bound_;
+  double span_, h_max_;  // tau_end - tau0; the largest step
+  V first_{};            // the starting state, in the representation vop_run_state chose
+  vop_run_state<Theta> run_;
+  rk::embedded_rk<Pair, V> stepper_;
+  rk::pi_controller controller_{Pair::estimate_order + 1};
+  euler_system euler_;
+  rk::hairer_scale<double> omega_scale_;
+  element_scale<Theta> element_scale_;
+  sample_thinner samples_;
+  std::size_t extra_evals_ = 0;  // those of the starting-step estimate
+};
 
 }  // namespace detail
 
@@ -610,8 +677,7 @@ inline run_result run_fixed(formulation f, rk::method m, const normalized_proble
   const double tau_end = p.tau0 + s.h * static_cast<double>(s.n_steps);
   switch (f) {
     case formulation::euler: {
-      auto sys = [G = p.G](const vec3<double>& x, vec3<double>& dx, double) { euler_rhs(x, G, dx); };
-      detail::run_with(out, sys, p.Omega0, p, s, detail::explosion_bound(p, tau_end, false),
+      detail::run_with(out, detail::euler_system{p.G}, p.Omega0, p, s, detail::explosion_bound(p, tau_end, false),
                        [](const vec3<double>& x) { return x; });
       break;
     }
@@ -620,9 +686,9 @@ inline run_result run_fixed(formulation f, rk::method m, const normalized_proble
       const double bound = detail::explosion_bound(p, tau_end, f == formulation::vop);
       rk::dispatch_method(m, [&](auto tag) {
         if (f == formulation::vop)
-          detail::run_vop<decltype(tag), false>(out, p, s, bound);
+          detail::vop_fixed_run<decltype(tag), false>(out, p, s, bound)();
         else
-          detail::run_vop<decltype(tag), true>(out, p, s, bound);
+          detail::vop_fixed_run<decltype(tag), true>(out, p, s, bound)();
       });
       break;
     }
@@ -643,8 +709,8 @@ inline run_result run_adaptive(formulation f, rk::method m, const normalized_pro
     using Pair = decltype(pair);
     switch (f) {
       case formulation::euler: detail::run_euler_adaptive<Pair>(out, p, s, bound); break;
-      case formulation::vop: detail::run_vop_adaptive<Pair, false>(out, p, s, bound); break;
-      case formulation::vop_theta: detail::run_vop_adaptive<Pair, true>(out, p, s, bound); break;
+      case formulation::vop: detail::vop_adaptive_run<Pair, false>(out, p, s, bound)(); break;
+      case formulation::vop_theta: detail::vop_adaptive_run<Pair, true>(out, p, s, bound)(); break;
     }
   });
   return out;

@@ -13,7 +13,7 @@
 //             c_n = (a_{n-1}-b_{n-1})/2 computed without cancellation: as k_n a_n with
 //             k_n = 1 - b_{n-1}/a_n while k_n > 1/2, then as c_{n-1}^2 / (4 a_n).
 //             Stops on the relative test c_N <= eps a_N (A&S 16.4, 17.6).  An absolute test
-//             would never stop for k -> 1 in wide types (DESIGN.md section 2).
+//             would never stop for k -> 1 in wide types (docs/design.md section 2).
 //   K         pi / (2 a_N)                                                        (A&S 17.6.3)
 //   E/K       1 - sum_{n>=0} 2^{n-1} c_n^2                                        (A&S 17.6.4)
 //             evaluated without its cancellation (it loses log2 K bits as k -> 1):
@@ -28,7 +28,7 @@
 //               dn = (1 - k_n s^2) / D        where k_n s^2 <= 1/2,
 //               dn = ((1-k_n) + k_n c^2) / D  elsewhere,
 //             with 1 - k_n = b_{n-1}/a_n.  The dn forms are DLMF 22.7.3 rewritten without the
-//             0/0 of a ratio at odd multiples of K (DESIGN.md section 2) and without the
+//             0/0 of a ratio at odd multiples of K (docs/design.md section 2) and without the
 //             cancellation of 1 - k_n s^2 near s = 1.  Bottom level: sin, cos, 1 of a_N u
 //             (error O(k_N^2) <= eps^2), or equivalently level N-1 to first order in
 //             k_{N-1}^2 (A&S 16.13), which is what the code does.
@@ -82,7 +82,7 @@ namespace eulervop {
 namespace detail {
 
 // Nearest integer (ties either way; for double, off by one when x + 1/2 rounds up), as a T.
-template <class T>
+template <scalar T>
 inline T elliptic_nearest(const T& x) {
   if constexpr (std::is_same_v<T, double>) {
     // Truncation of x +- 1/2 is one inline instruction; std::nearbyint and std::round are libm
@@ -97,7 +97,7 @@ inline T elliptic_nearest(const T& x) {
 }
 
 // True when the integer-valued x is odd.
-template <class T>
+template <scalar T>
 inline bool elliptic_is_odd(const T& x) {
   if constexpr (std::is_same_v<T, double>) {
     if (std::fabs(x) < 0x1p62) return (static_cast<long long>(x) & 1) != 0;
@@ -131,8 +131,50 @@ class elliptic_modulus {
     kc2_ = (1 - k) * (1 + k);  // 1 - k is exact for k >= 1/2 (Sterbenz), so kc^2 keeps its bits
     kc_ = sqrt(kc2_);
     pi_ = boost::math::constants::pi<T>();
-    const T eps = epsilon<T>();
+    levels_ = descend(k);
+    const int n = levels_;
+    zw_[0] = 0;
+    {
+      T p = 1;
+      for (int j = 1; j <= n; ++j) {
+        p *= 2;
+        zw_[j] = c_[j] * p;
+      }
+    }
+    const T& aN = a_[n];
+    K_ = pi_ / (2 * aN);
+    two_K_ = 2 * K_;  // exact
+    inv_two_K_ = aN * boost::math::constants::one_div_pi<T>();
+    if (kc_ * 16 >= 1)
+      e_over_k_ = e_over_k_from_descent();
+    else
+      e_over_k_ = e_over_k_complementary(k);
+    E_ = e_over_k_ * K_;
+  }
 
+  const T& k() const { return k_; }
+  const T& kc() const { return kc_; }          // sqrt(1 - k^2)
+  const T& kc2() const { return kc2_; }        // 1 - k^2, computed as (1-k)(1+k)
+  const T& K() const { return K_; }            // complete integral of the first kind K(k)
+  const T& E() const { return E_; }            // complete integral of the second kind E(k)
+  const T& e_over_k() const { return e_over_k_; }  // E(k)/K(k)
+  const T& two_K() const { return two_K_; }    // 2K, the period of dn and Z
+  const T& pi() const { return pi_; }
+  int levels() const { return levels_; }       // N: the AGM index at which c_N <= eps a_N
+  // The AGM sequence (A&S 17.6.1), n = 0..levels().
+  const T& a(int n) const { return a_[n]; }
+  const T& b(int n) const { return b_[n]; }
+  const T& c(int n) const { return c_[n]; }
+  const T& k_level(int n) const { return kn_[n]; }              // k_n = c_n / a_n, n >= 1
+  const T& one_minus_k_level(int n) const { return omkn_[n]; }  // 1 - k_n = b_{n-1} / a_n
+  const T& inv_two_K() const { return inv_two_K_; }              // 1 / (2K) = a_N / pi
+  const T& z_weight(int n) const { return zw_[n]; }              // 2^n c_n, weights of Z
+
+ private:
+  // The AGM descent from (a_0, b_0, c_0) = (1, kc, k): a_n, b_n, c_n, k_n and 1 - k_n until the
+  // stopping test. Returns the last level N.
+  int descend(const T& k) {
+    using std::sqrt;
     a_[0] = 1;
     b_[0] = kc_;
     c_[0] = k;
@@ -145,7 +187,7 @@ class elliptic_modulus {
     // L = N-1 is evaluated to first order in k_L^2 ~ 4 c_N / a_N (error O(k_L^4) <= eps/256),
     // and a_N differs from the AGM limit by ~c_N^2 / (4 a_N) <= eps a_N / 16384. For most k
     // this saves one level of the descent (measured against the eps test: within 8 ulp still).
-    const T stop = sqrt(eps) / 64;
+    const T stop = sqrt(epsilon<T>()) / 64;
     while (n == 0 ? c_[0] > 0 : c_[n] > stop * a_[n]) {
       if (n + 1 >= max_levels)
         throw std::runtime_error("eulervop::elliptic_modulus: AGM did not converge in " +
@@ -171,67 +213,43 @@ class elliptic_modulus {
       // ~ c_n^2 / (2 a_n) <= eps^2 a_n, so b_n = a_n to rounding and the square root is saved.
       b_[n] = c_[n] > stop * a_[n] ? T(sqrt(a_[n - 1] * b_[n - 1])) : a_[n];
     }
-    levels_ = n;
-    zw_[0] = 0;
-    {
-      T p = 1;
-      for (int j = 1; j <= n; ++j) {
-        p *= 2;
-        zw_[j] = c_[j] * p;
-      }
-    }
-    const T& aN = a_[n];
-    K_ = pi_ / (2 * aN);
-    two_K_ = 2 * K_;  // exact
-    inv_two_K_ = aN * boost::math::constants::one_div_pi<T>();
-
-    if (kc_ * 16 >= 1) {
-      T d = aN * aN;
-      T p = 1;  // 2^{j-1}
-      for (int j = 2; j <= n; ++j) {
-        p *= 2;
-        d += c_[j] * (a_[j - 1] + a_[j] - p * c_[j]);
-      }
-      e_over_k_ = d;
-    } else {
-      // Complementary AGM, streamed (only a'_N and the sum are needed).
-      T a = 1, b = k, c = kc_;
-      T s = c * c / 2;  // 2^{-1} c'_0^2
-      T p = T(1) / 2;
-      for (int j = 0; c > eps * a; ++j) {
-        if (j + 1 >= max_levels)
-          throw std::runtime_error("eulervop::elliptic_modulus: complementary AGM did not converge");
-        T an = (a + b) / 2;
-        b = sqrt(a * b);
-        c = c * c / (4 * an);
-        a = an;
-        p *= 2;
-        s += p * c * c;
-      }
-      e_over_k_ = 2 * aN * a / pi_ + s;
-    }
-    E_ = e_over_k_ * K_;
+    return n;
   }
 
-  const T& k() const { return k_; }
-  const T& kc() const { return kc_; }          // sqrt(1 - k^2)
-  const T& kc2() const { return kc2_; }        // 1 - k^2, computed as (1-k)(1+k)
-  const T& K() const { return K_; }            // complete integral of the first kind K(k)
-  const T& E() const { return E_; }            // complete integral of the second kind E(k)
-  const T& e_over_k() const { return e_over_k_; }  // E(k)/K(k)
-  const T& two_K() const { return two_K_; }    // 2K, the period of dn and Z
-  const T& pi() const { return pi_; }
-  int levels() const { return levels_; }       // N: the AGM index at which c_N <= eps a_N
-  // The AGM sequence (A&S 17.6.1), n = 0..levels().
-  const T& a(int n) const { return a_[n]; }
-  const T& b(int n) const { return b_[n]; }
-  const T& c(int n) const { return c_[n]; }
-  const T& k_level(int n) const { return kn_[n]; }              // k_n = c_n / a_n, n >= 1
-  const T& one_minus_k_level(int n) const { return omkn_[n]; }  // 1 - k_n = b_{n-1} / a_n
-  const T& inv_two_K() const { return inv_two_K_; }              // 1 / (2K) = a_N / pi
-  const T& z_weight(int n) const { return zw_[n]; }              // 2^n c_n, weights of Z
+  // E/K for kc >= 1/16: the telescoped A&S 17.6.4 of the header note,
+  // a_N^2 + sum_{j>=2} c_j (a_{j-1} + a_j - 2^{j-1} c_j).
+  T e_over_k_from_descent() const {
+    const int n = levels_;
+    const T& aN = a_[n];
+    T d = aN * aN;
+    T p = 1;  // 2^{j-1}
+    for (int j = 2; j <= n; ++j) {
+      p *= 2;
+      d += c_[j] * (a_[j - 1] + a_[j] - p * c_[j]);
+    }
+    return d;
+  }
 
- private:
+  // E/K for kc < 1/16: Legendre's relation (A&S 17.3.13) with the complementary AGM of the
+  // header note, streamed (only a'_N and the sum are needed).
+  T e_over_k_complementary(const T& k) const {
+    using std::sqrt;
+    const T eps = epsilon<T>();
+    T a = 1, b = k, c = kc_;
+    T s = c * c / 2;  // 2^{-1} c'_0^2
+    T p = T(1) / 2;
+    for (int j = 0; c > eps * a; ++j) {
+      if (j + 1 >= max_levels)
+        throw std::runtime_error("eulervop::elliptic_modulus: complementary AGM did not converge");
+      T an = (a + b) / 2;
+      b = sqrt(a * b);
+      c = c * c / (4 * an);
+      a = an;
+      p *= 2;
+      s += p * c * c;
+    }
+    return 2 * a_[levels_] * a / pi_ + s;
+  }
 
   T k_, kc_, kc2_, pi_, K_, E_, e_over_k_, two_K_, inv_two_K_;
   int levels_ = 0;
@@ -241,43 +259,24 @@ class elliptic_modulus {
   std::array<T, max_levels> zw_;    // 2^n c_n
 };
 
-// Everything one evaluation at u returns.
+namespace detail {
+
+// sn, cn, dn of one level of the Gauss transformation in homogeneous coordinates,
+// (s, c, d) = (S, C, D) / W, and the partial sum z of Z(r) over the levels below.
 template <scalar T>
-struct jacobi_values {
-  T sn, cn, dn;
-  T am;  // amplitude, continuous in u: am(u + 2K) = am(u) + pi
-  T Z;   // Jacobi zeta function Z(u), period 2K
-  T E;   // Jacobi's epsilon function E(u) = integral_0^u dn^2 = E(am u | k) = Z(u) + (E/K) u
+struct gauss_level {
+  T S, C, D, W, z;
 };
 
-// Evaluates sn, cn, dn, am, Z and E(u) at u for the cached modulus m, in place.
-// Which outputs a caller needs: the amplitude costs an atan2 (about a fifth of an evaluation in
-// double) that right-hand sides such as Eq. 16 never use.
-enum class jacobi_outputs { all, without_amplitude };
-
-template <scalar T, jacobi_outputs Outputs = jacobi_outputs::all>
-void jacobi_eval(const T& u, const elliptic_modulus<T>& m, jacobi_values<T>& out) {
-  using std::atan2;
+// The bottom of jacobi_eval at the reduced argument r (N = m.levels() >= 1): level L = N-1,
+// whose modulus k_L ~ 2 sqrt(k_N) <= 2 sqrt(eps) (the AGM stopped at k_N <= eps), argument
+// a_L r, first order in m = k_L^2 (A&S 16.13.1-16.13.3); the remainder is O(m^2) <= 16 eps^2.
+// This saves the last Gauss step.
+template <scalar T>
+[[gnu::always_inline]] inline gauss_level<T> jacobi_bottom(const T& r, const elliptic_modulus<T>& m) {
   using std::cos;
   using std::sin;
-  using std::sqrt;
   const int N = m.levels();
-  if (N == 0) {  // k == 0 exactly: circular functions, no reduction needed
-    out.sn = sin(u);
-    out.cn = cos(u);
-    out.dn = 1;
-    out.am = u;
-    out.Z = 0;
-    out.E = u;
-    return;
-  }
-  // Reduce u modulo 2K first, in T: r in about [-K, K], where cn(r) >= 0.
-  const T q = detail::elliptic_nearest<T>(u * m.inv_two_K());
-  const T r = u - q * m.two_K();
-
-  // Bottom: level L = N-1, whose modulus k_L ~ 2 sqrt(k_N) <= 2 sqrt(eps) (the AGM stopped at
-  // k_N <= eps), argument a_L r, first order in m = k_L^2 (A&S 16.13.1-16.13.3); the remainder
-  // is O(m^2) <= 16 eps^2. This saves the last Gauss step.
   const int L = N - 1;
   const T v = m.a(L) * r;
   const T sv = sin(v), cv = cos(v);
@@ -300,17 +299,25 @@ void jacobi_eval(const T& u, const elliptic_modulus<T>& m, jacobi_values<T>& out
   const T delta = -m.c(N) * r;
   const T sN = sv + delta * cv, cN = cv - delta * sv;
   T z = m.z_weight(N) * sN * cN * (1 + m.k_level(N) * ((cN - sN) * (cN + sN)) / 2);
-  // Up the Gauss transformation (DLMF 22.7.1-22.7.3), level L -> 0, in homogeneous coordinates
-  // (s, c, d) = (S, C, D)/W so that no division sits on the dependency chain: with
-  // W' = W^2 + k_n S^2 (that is, D = 1 + k_n s^2 times W^2),
-  //   S' = (1 + k_n) S W,   C' = C D,   D' = W^2 - k_n S^2  or  (1 - k_n) W^2 + k_n C^2.
-  // All four are homogeneous of degree 2, so a power-of-two rescaling is exact and harmless.
-  // dn: the first form, (1 - k_n s^2)/D, depends on s alone and is used while it has no
-  // cancellation. Computing d from c everywhere feeds the error of c back into d, so that
-  // (s, c, d) drift off sn^2 + cn^2 = 1 and the error doubles at every level with k_n ~ 1
-  // (k -> 1). Where k_n s^2 > 1/2, c^2 < 1/2 and that feedback gain stays below ~1.
-  T S = s, C = c, D = d, W = 1;
-  for (int n = L; n >= 1; --n) {
+  return {s, c, d, T(1), z};
+}
+
+// Up the Gauss transformation (DLMF 22.7.1-22.7.3), level L -> 0, in homogeneous coordinates
+// (s, c, d) = (S, C, D)/W so that no division sits on the dependency chain: with
+// W' = W^2 + k_n S^2 (that is, D = 1 + k_n s^2 times W^2),
+//   S' = (1 + k_n) S W,   C' = C D,   D' = W^2 - k_n S^2  or  (1 - k_n) W^2 + k_n C^2.
+// All four are homogeneous of degree 2, so a power-of-two rescaling is exact and harmless.
+// dn: the first form, (1 - k_n s^2)/D, depends on s alone and is used while it has no
+// cancellation. Computing d from c everywhere feeds the error of c back into d, so that
+// (s, c, d) drift off sn^2 + cn^2 = 1 and the error doubles at every level with k_n ~ 1
+// (k -> 1). Where k_n s^2 > 1/2, c^2 < 1/2 and that feedback gain stays below ~1.
+template <scalar T>
+[[gnu::always_inline]] inline void jacobi_ascend(gauss_level<T>& g, const elliptic_modulus<T>& m) {
+  T& S = g.S;
+  T& C = g.C;
+  T& D = g.D;
+  T& W = g.W;
+  for (int n = m.levels() - 1; n >= 1; --n) {
     const T& kn = m.k_level(n);
     const T kS2 = kn * (S * S);
     const T W2 = W * W;
@@ -322,7 +329,7 @@ void jacobi_eval(const T& u, const elliptic_modulus<T>& m, jacobi_values<T>& out
     else
       D = m.one_minus_k_level(n) * W2 + kn * (C * C);
     // Z term 2^n c_n sn_n cn_n dn_n / (1 + k_n sn_n^2) = 2^n c_n s_n c_{n-1}: off the chain.
-    z += m.z_weight(n) * S * Cn / (W * Wn);
+    g.z += m.z_weight(n) * S * Cn / (W * Wn);
     S = Sn;
     C = Cn;
     W = Wn;
@@ -334,16 +341,54 @@ void jacobi_eval(const T& u, const elliptic_modulus<T>& m, jacobi_values<T>& out
       W *= scale;
     }
   }
-  const T inv_w = 1 / W;
+}
+
+}  // namespace detail
+
+// Everything one evaluation at u returns.
+template <scalar T>
+struct jacobi_values {
+  T sn, cn, dn;
+  T am;  // amplitude, continuous in u: am(u + 2K) = am(u) + pi
+  T Z;   // Jacobi zeta function Z(u), period 2K
+  T E;   // Jacobi's epsilon function E(u) = integral_0^u dn^2 = E(am u | k) = Z(u) + (E/K) u
+};
+
+// Evaluates sn, cn, dn, am, Z and E(u) at u for the cached modulus m, in place.
+// Which outputs a caller needs: the amplitude costs an atan2 (about a fifth of an evaluation in
+// double) that right-hand sides such as Eq. 16 never use.
+enum class jacobi_outputs { all, without_amplitude };
+
+template <scalar T, jacobi_outputs Outputs = jacobi_outputs::all>
+void jacobi_eval(const T& u, const elliptic_modulus<T>& m, jacobi_values<T>& out) {
+  using std::atan2;
+  using std::cos;
+  using std::sin;
+  const int N = m.levels();
+  if (N == 0) {  // k == 0 exactly: circular functions, no reduction needed
+    out.sn = sin(u);
+    out.cn = cos(u);
+    out.dn = 1;
+    out.am = u;
+    out.Z = 0;
+    out.E = u;
+    return;
+  }
+  // Reduce u modulo 2K first, in T: r in about [-K, K], where cn(r) >= 0.
+  const T q = detail::elliptic_nearest<T>(u * m.inv_two_K());
+  const T r = u - q * m.two_K();
+  detail::gauss_level<T> g = detail::jacobi_bottom(r, m);
+  detail::jacobi_ascend(g, m);
+  const T inv_w = 1 / g.W;
   const bool odd = detail::elliptic_is_odd(q);
-  if constexpr (Outputs == jacobi_outputs::all) out.am = q * m.pi() + atan2(S, C);
-  s = S * inv_w;
-  c = C * inv_w;
+  if constexpr (Outputs == jacobi_outputs::all) out.am = q * m.pi() + atan2(g.S, g.C);
+  const T s = g.S * inv_w;
+  const T c = g.C * inv_w;
   out.sn = odd ? T(-s) : s;
   out.cn = odd ? T(-c) : c;
-  out.dn = D * inv_w;
-  out.E = z + m.e_over_k() * u;
-  out.Z = z;
+  out.dn = g.D * inv_w;
+  out.E = g.z + m.e_over_k() * u;
+  out.Z = g.z;
 }
 
 template <scalar T>

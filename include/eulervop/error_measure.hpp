@@ -11,7 +11,7 @@ namespace eulervop {
 
 // Eq. 20 between a reference state (in T) and a state of another precision U (converted
 // exactly into T: double and quad values are exact in every wider type).
-template <class T, class U>
+template <scalar T, scalar U>
 T eq20_error(const vec3<T>& reference, const vec3<U>& state) {
   using std::sqrt;
   T sum = 0;

@@ -14,6 +14,8 @@ template <class T>
 using vec3 = std::array<T, 3>;
 
 // Eq. 5: Omega1' = -Omega2 Omega3 + G1, Omega2' = Omega1 Omega3 + G2, Omega3' = -Omega1 Omega2 + G3.
+// Any arithmetic T, not only a `scalar`: the benchmarks' Boost.Odeint peers evaluate it on their own
+// number types (benchmarks/bench_reference.cpp).
 template <class T>
 inline void euler_rhs(const vec3<T>& Om, const vec3<T>& G, vec3<T>& dOm) {
   dOm[0] = G[0] - Om[1] * Om[2];
@@ -22,7 +24,7 @@ inline void euler_rhs(const vec3<T>& Om, const vec3<T>& G, vec3<T>& dOm) {
 }
 
 // A normalized problem: Omega' = f(Omega) + G on [tau0, ...], Omega(tau0) = Omega0 (Eq. 5).
-template <class T>
+template <scalar T>
 struct normalized_problem {
   vec3<T> G{};       // constant normalized torque
   vec3<T> Omega0{};  // state at tau0
@@ -30,22 +32,22 @@ struct normalized_problem {
 };
 
 // Eq. 7: c1^2 = Omega1^2 + Omega2^2, c2^2 = Omega2^2 + Omega3^2, constant when G = 0.
-template <class T>
+template <scalar T>
 T c1_squared(const vec3<T>& Om) { return Om[0] * Om[0] + Om[1] * Om[1]; }
-template <class T>
+template <scalar T>
 T c2_squared(const vec3<T>& Om) { return Om[1] * Om[1] + Om[2] * Om[2]; }
 
 // Principal moments of inertia, I1 < I2 < I3 (paper Eq. 3 requires the strict order).
-template <class T>
+template <scalar T>
 struct inertia {
   T I1, I2, I3;
 };
 
-// The change of variables of Eqs. 3-4 and the torque mapping of DESIGN.md section 1.1:
+// Eqs. 3-4 (the change of variables) and the torque mapping derived in docs/design.md section 1.1:
 //   A1 = (I3-I2)/I1, A2 = (I3-I1)/I2, A3 = (I2-I1)/I3,
 //   Omega_i = omega_i / sqrt(A_i),  dtau/dt = sqrt(A1 A2 A3),
 //   G_i = M_i / (I_i sqrt(A_i) sqrt(A1 A2 A3)).
-template <class T>
+template <scalar T>
 class physical_scaling {
  public:
   explicit physical_scaling(const inertia<T>& I) : I_(I) {
@@ -86,7 +88,7 @@ class physical_scaling {
 
   // Eqs. 8-9 from the kinetic energy T = (1/2) sum I_i w_i^2 and H^2 = sum (I_i w_i)^2.
   // Eq. 9 as printed has the denominator (I2-I1)(I2-I1); the right one is (I3-I1)(I2-I1)
-  // (DESIGN.md section 1.2).
+  // (docs/design.md section 1.2).
   T c1_squared_from_energy(const vec3<T>& w) const {
     const auto [twoT, H2] = energy_and_momentum(w);
     return (twoT * I_.I3 - H2) / ((I_.I3 - I_.I1) * (I_.I3 - I_.I2));

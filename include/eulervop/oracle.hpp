@@ -1,4 +1,4 @@
-// The reference as a test oracle for other tools (issue 6, section 3): build a problem, get a
+// The reference as a test oracle for other tools: build a problem, get a
 // dense reference in a chosen precision, evaluate it at any tau, and measure a double
 // trajectory against it by Eq. 20.
 //
@@ -25,12 +25,12 @@
 // Scene files (TOML, data/scenes/) are read by the optional library eulervop::scene
 // (find_package(eulervop REQUIRED COMPONENTS scene); needs fmt and toml++), not by this
 // header-only core:
-//   #include <scene_problem.hpp>                       // installed in include/eulervop/scene/
-//   const eulervop::app::scene s = eulervop::app::load_scene_file("paper-fig1.toml");
-//   const auto p = eulervop::app::to_problem<quad>(s);  // decimals converted directly in quad
-//   const quad tau_end = eulervop::app::tau_end_of<quad>(s);
+//   #include <eulervop/scene/scene_problem.hpp>
+//   const eulervop::scene::scene s = eulervop::scene::load_scene_file("paper-fig1.toml");
+//   const auto p = eulervop::scene::to_problem<quad>(s);  // decimals converted directly in quad
+//   const quad tau_end = eulervop::scene::tau_end_of<quad>(s);
 //   eulervop::oracle::reference<quad> ref(p, tau_end);
-// load_scene_file throws eulervop::app::input_error (a std::runtime_error) naming the bad field.
+// load_scene_file throws eulervop::scene::input_error (a std::runtime_error) naming the bad field.
 #pragma once
 
 #if defined(__GNUC__) && !defined(__clang__) && defined(__STRICT_ANSI__)

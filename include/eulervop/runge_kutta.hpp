@@ -35,6 +35,8 @@
 #pragma once
 
 #include <eulervop/detail/butcher_dop853.hpp>
+#include <eulervop/outcome.hpp>
+#include <eulervop/scalar.hpp>
 
 #include <boost/pfr.hpp>
 
@@ -51,7 +53,7 @@ namespace eulervop::rk {
 // ---- Butcher tableaux ---------------------------------------------------------------------------
 
 // a is strictly lower triangular (explicit method); entries not set are zero.
-template <class T, std::size_t S>
+template <scalar T, std::size_t S>
 struct butcher_tableau {
   static constexpr std::size_t stages = S;
   std::array<std::array<T, S>, S> a{};
@@ -99,7 +101,7 @@ struct rk4_tableau {
     return p;
   }();
 
-  template <class T>
+  template <scalar T>
   static butcher_tableau<T, stages> coefficients() {
     butcher_tableau<T, stages> t;
     const auto q = [](int n, int d) { return T(n) / T(d); };
@@ -121,7 +123,7 @@ struct rkf45_tableau {
   static constexpr std::size_t stages = 6;
   static constexpr sparsity<stages> nonzero = sparsity<stages>::dense({1});
 
-  template <class T>
+  template <scalar T>
   static butcher_tableau<T, stages> coefficients() {
     butcher_tableau<T, stages> t;
     const auto q = [](int n, int d) { return T(n) / T(d); };
@@ -145,7 +147,7 @@ struct rkf45_tableau {
     return t;
   }
   // The 4th-order weights (25/216, 0, 1408/2565, 2197/4104, -1/5, 0).
-  template <class T>
+  template <scalar T>
   static std::array<T, stages> embedded_weights() {
     const auto q = [](int n, int d) { return T(n) / T(d); };
     return {q(25, 216), T(0), q(1408, 2565), q(2197, 4104), q(-1, 5), T(0)};
@@ -160,7 +162,7 @@ struct dp45_tableau {
   static constexpr std::size_t stages = 6;
   static constexpr sparsity<stages> nonzero = sparsity<stages>::dense({1});
 
-  template <class T>
+  template <scalar T>
   static butcher_tableau<T, stages> coefficients() {
     butcher_tableau<T, stages> t;
     const auto q = [](int n, int d) { return T(n) / T(d); };
@@ -185,7 +187,7 @@ struct dp45_tableau {
   }
   // The 4th-order weights of the 7-stage pair (the 7th stage is f at the new state):
   // (5179/57600, 0, 7571/16695, 393/640, -92097/339200, 187/2100, 1/40).
-  template <class T>
+  template <scalar T>
   static std::array<T, stages + 1> embedded_weights() {
     const auto q = [](int n, int d) { return T(n) / T(d); };
     return {q(5179, 57600), T(0), q(7571, 16695), q(393, 640), q(-92097, 339200), q(187, 2100), q(1, 40)};
@@ -214,7 +216,7 @@ struct rk8_tableau {
     return p;
   }();
 
-  template <class T>
+  template <scalar T>
   static butcher_tableau<T, stages> coefficients() {
     butcher_tableau<T, stages> t;
     detail::fill_dop853<butcher_tableau<T, stages>, T>(t);
@@ -332,7 +334,7 @@ template <class State>
 using state_value_t = std::remove_cvref_t<decltype(state_traits<State>::get(
     std::declval<State&>(), std::declval<typename detail::first_index<State>::type>()))>;
 
-template <class T>
+template <scalar T>
 bool is_finite_value(const T& v) {
   using std::isfinite;
   return static_cast<bool>(isfinite(v));  // unqualified: ADL finds boost::multiprecision::isfinite
@@ -350,7 +352,7 @@ bool all_finite(const State& x) {
 
 namespace detail {
 // True when some component lies outside [lo, hi]. NaN is never outside.
-template <class State, class T>
+template <class State, scalar T>
 bool outside_band(const State& x, const T& lo, const T& hi) {
   bool out = false;
   state_traits<State>::for_each_index(x, [&](auto i) __attribute__((always_inline)) {
@@ -362,7 +364,7 @@ bool outside_band(const State& x, const T& lo, const T& hi) {
 }  // namespace detail
 
 // True when some component has |x_i| > bound, i.e. the max-norm exceeds bound.
-template <class State, class T>
+template <class State, scalar T>
 bool exceeds_max_norm(const State& x, const T& bound) {
   const T lo = -bound;
   return detail::outside_band(x, lo, bound);
@@ -393,7 +395,7 @@ constexpr std::size_t first_set(const std::array<bool, S>& mask, std::size_t beg
 // scalar (double, std::array<double, N>) gets a fresh work area on the stack for every step:
 // the compiler then sees that nothing else can touch it and keeps it in registers. Other types
 // (MPFR values allocate) use one kept for the stepper's lifetime.
-template <class State, class T, std::size_t S>
+template <class State, scalar T, std::size_t S>
 struct stage_work {
   std::array<State, S> k;  // stage derivatives
   State tmp;               // stage input
@@ -402,14 +404,14 @@ struct stage_work {
   explicit stage_work(const State& shape) : tmp(shape) { k.fill(shape); }
 };
 
-template <class State, class T>
+template <class State, scalar T>
 inline constexpr bool work_on_stack = std::is_trivially_copyable_v<State> && std::is_trivially_copyable_v<T>;
 
 // k[0..S) at (t, x) for the tableau `tab` with non-zero pattern `nz`:
 //   k_s = f(t + c_s h, x + h sum_{j<s} a_sj k_j),
 // the sum in increasing j and formed in place (no MPFR temporary). Only stages From..S-1 are
 // evaluated; k[0..From) must hold already (FSAL).
-template <std::size_t S, const sparsity<S>& nz, std::size_t From = 0, class System, class State, class T>
+template <std::size_t S, const sparsity<S>& nz, std::size_t From = 0, class System, class State, scalar T>
 [[gnu::always_inline]] inline void compute_stages(System& sys, const butcher_tableau<T, S>& tab, const State& x, const T& t, const T& h,
                     stage_work<State, T, S>& w) {
   using traits = state_traits<State>;
@@ -439,7 +441,7 @@ template <std::size_t S, const sparsity<S>& nz, std::size_t From = 0, class Syst
 // because sum_j b_j = 1 (consistency), but the second is exact when all stages agree: a
 // constant derivative (torque-free VOP: u' = c2) then advances by exactly h k_1 instead of
 // h k_1 (sum_j b_j rounded), which would drift systematically over 1e5 steps.
-template <std::size_t S, const sparsity<S>& nz, class State, class T, class Index>
+template <std::size_t S, const sparsity<S>& nz, class State, scalar T, class Index>
 [[gnu::always_inline]] inline void weighted_increment(const std::array<T, S>& b, Index i, const T& h, stage_work<State, T, S>& w, T& y) {
   using traits = state_traits<State>;
   const T& k1 = traits::get(w.k[0], i);
@@ -469,7 +471,7 @@ template <std::size_t S, const sparsity<S>& nz, class State, class T, class Inde
 // One explicit Runge-Kutta method, fixed step, generic over state, scalar and system.
 // For MPFR, construct it inside the mpfr_precision_scope of the run: the coefficients and the
 // stage storage take the thread's precision at construction.
-template <class Tableau, class State, class T = state_value_t<State>>
+template <class Tableau, class State, scalar T = state_value_t<State>>
 class explicit_rk {
  public:
   using tableau_type = Tableau;
@@ -562,37 +564,33 @@ class explicit_rk {
 
 // ---- the fixed-step driver ----------------------------------------------------------------------
 
-enum class stop_reason {
-  completed,    // all n_steps taken
-  non_finite,   // a step produced Inf or NaN
-  norm_bound,   // a step produced a state beyond options.max_norm ("explodes")
-  observer,     // the observer returned false
-};
-
-template <class T>
+template <scalar T>
 struct fixed_step_options {
   // Declare divergence when the max-norm of the state exceeds this bound.
   std::optional<T> max_norm;
 };
 
-template <class T>
+template <scalar T>
 struct fixed_step_result {
   std::size_t steps = 0;      // accepted steps; the returned state is at t = t0 + steps*h
   std::size_t rhs_evals = 0;  // right-hand-side evaluations, including those of a rejected step
-  bool diverged = false;      // stop == non_finite or norm_bound
-  std::optional<T> diverged_at;  // end time of the step that produced the bad state
-  stop_reason stop = stop_reason::completed;
+  // success (all n_steps taken), observer_stop, non_finite (a step produced Inf or NaN) or
+  // norm_bound (a step produced a state beyond options.max_norm: "explodes").
+  outcome_kind stop = outcome_kind::success;
+  std::optional<T> failed_at;  // non_finite, norm_bound: the end time of the step that did it
   T t{};  // time of the returned state
+
+  bool diverged() const { return stop == outcome_kind::non_finite || stop == outcome_kind::norm_bound; }
 };
 
 // An observer that does nothing.
 struct no_observer {
-  template <class T, class State>
+  template <scalar T, class State>
   void operator()(std::size_t, const T&, const State&) const {}
 };
 
 namespace detail {
-template <class Observer, class T, class State>
+template <class Observer, scalar T, class State>
 bool notify(Observer& obs, std::size_t step, const T& t, const State& x) {
   if constexpr (std::is_same_v<std::invoke_result_t<Observer&, std::size_t, const T&, const State&>,
                                void>) {
@@ -608,10 +606,10 @@ bool notify(Observer& obs, std::size_t step, const T& t, const State& x) {
 //   - observer(step, t, x) is called with step = 0 at the start, then after every accepted step
 //     with its index 1..n. It may return void, or bool (false stops the run).
 //   - A step whose result is non-finite, or beyond options.max_norm, is not accepted: x keeps the
-//     last good state (never NaN), diverged = true and diverged_at = the end time of that step.
+//     last good state (never NaN), stop says which and failed_at = the end time of that step.
 //   - Times are t0 + n*h (no accumulated sum), and the state is summed with compensation.
 // On return x holds the state at result.t.
-template <class Tableau, class System, class State, class T, class Observer = no_observer>
+template <class Tableau, class System, class State, scalar T, class Observer = no_observer>
 fixed_step_result<T> integrate_fixed(System&& sys, State& x, const T& t0, const T& h,
                                      std::size_t n_steps, Observer&& observer = {},
                                      const fixed_step_options<T>& options = {}) {
@@ -632,17 +630,17 @@ fixed_step_result<T> integrate_fixed(System&& sys, State& x, const T& t0, const 
   const T hi = bounded ? *options.max_norm : T(0);
   const T lo = -hi;
   std::size_t n = 0;
-  const auto finish = [&](stop_reason why) {
+  const auto finish = [&](outcome_kind stop) {
     r.steps = n;
     r.t = t;
     r.rhs_evals = stepper.rhs_evaluations();
-    r.stop = why;
+    r.stop = stop;
     using std::swap;
     swap(x, cur);
     return r;
   };
   if (!detail::notify(observer, std::size_t{0}, static_cast<const T&>(t), static_cast<const State&>(cur)))
-    return finish(stop_reason::observer);
+    return finish(outcome_kind::observer_stop);
   for (; n < n_steps;) {
     comp_next = comp;
     stepper.do_step(sys, static_cast<const State&>(cur), static_cast<const T&>(t), h, next, comp_next);
@@ -654,9 +652,8 @@ fixed_step_result<T> integrate_fixed(System&& sys, State& x, const T& t0, const 
     t_next += t0;
     const bool finite = all_finite(next);
     if (!finite || (bounded && detail::outside_band(next, lo, hi))) [[unlikely]] {
-      r.diverged = true;
-      r.diverged_at = t_next;
-      return finish(finite ? stop_reason::norm_bound : stop_reason::non_finite);
+      r.failed_at = t_next;
+      return finish(finite ? outcome_kind::norm_bound : outcome_kind::non_finite);
     }
     using std::swap;
     swap(cur, next);
@@ -664,13 +661,13 @@ fixed_step_result<T> integrate_fixed(System&& sys, State& x, const T& t0, const 
     swap(t, t_next);
     ++n;
     if (!detail::notify(observer, n, static_cast<const T&>(t), static_cast<const State&>(cur)))
-      return finish(stop_reason::observer);
+      return finish(outcome_kind::observer_stop);
   }
-  return finish(stop_reason::completed);
+  return finish(outcome_kind::success);
 }
 
 // Run-time method choice: one dispatch, then the statically typed loop above.
-template <class System, class State, class T, class Observer = no_observer>
+template <class System, class State, scalar T, class Observer = no_observer>
 fixed_step_result<T> integrate_fixed(method m, System&& sys, State& x, const T& t0, const T& h,
                                      std::size_t n_steps, Observer&& observer = {},
                                      const fixed_step_options<T>& options = {}) {

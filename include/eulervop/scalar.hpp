@@ -1,6 +1,6 @@
 // Scalar types, the command-line precision names, and full-precision text I/O.
 //
-// eulervop computes in three scalar types (issue 2, section 2):
+// eulervop computes in three scalar types:
 //   - double                      "double"
 //   - quad (IEEE binary128)       "quad"      boost::multiprecision::float128 over __float128
 //   - MPFR at run-time precision  "mpfr:BITS" boost::multiprecision::mpfr_float
@@ -160,7 +160,7 @@ std::optional<T> from_text(std::string_view text) {
 }
 
 // Converts between scalar types (explicitly, so narrowing is always visible at the call site).
-template <class To, class From>
+template <scalar To, scalar From>
 To convert(const From& x) {
   if constexpr (std::is_same_v<To, From>) {
     return x;

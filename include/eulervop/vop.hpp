@@ -45,7 +45,7 @@ namespace eulervop {
 
 // pi / (2 K(k)) = a_N, the AGM mean (K = pi / (2 a_N), A&S 17.6.3): the rate of
 // theta = pi u / (2K) per unit u, without rounding K or pi.
-template <class T>
+template <scalar T>
 const T& pi_over_2K(const elliptic_modulus<T>& m) {
   return m.a(m.levels());
 }
@@ -54,7 +54,7 @@ const T& pi_over_2K(const elliptic_modulus<T>& m) {
 // For |j| = 1 (the only case in a run) theta - 2 pi is exact (Sterbenz), so the reduced phase
 // carries no rounding beyond its own ulp; the theta right-hand side has period 2 pi exactly in
 // the value of pi used here, so nothing drifts.
-template <class T>
+template <scalar T>
 void reduce_phase(T& theta, long long& turns) {
   using std::floor;
   const T pi = boost::math::constants::pi<T>();
@@ -73,7 +73,7 @@ void reduce_phase(T& theta, long long& turns) {
 
 // The frame W = P Omega of one regime (see the header note) and the conversions
 // Omega <-> (d1, d2, u) and Omega <-> (d1, d2, theta) in it.
-template <class T>
+template <scalar T>
 class vop_frame {
  public:
   // The paper's regime only (k < 1, Omega3 != 0), sigma = sign(Omega3(0)). Throws
@@ -177,7 +177,7 @@ class vop_frame {
 namespace detail {
 
 // Domain bookkeeping shared by the two element systems.
-template <class T>
+template <scalar T>
 class vop_domain {
  public:
   bool left_domain() const { return left_; }
@@ -219,7 +219,7 @@ class vop_domain {
 // recomputed only when k changes (between the stages of a Runge-Kutta step it does; within a
 // stage it is reused). Values are held here so that MPFR values are reused rather than
 // allocated per call.
-template <class T>
+template <scalar T>
 class agm_cache {
  public:
   void set(const T& k) {
@@ -243,7 +243,7 @@ class agm_cache {
 
 // What the two element systems share: the torque (in the vop_frame), the elliptic functions of
 // Eqs. 13-16 at the current modulus, Eq. 13 and the torque bracket of Eq. 16.
-template <class T>
+template <scalar T>
 class vop_equations : public vop_domain<T> {
  public:
   // pi / (2K) of the modulus of the last evaluation (the adaptive runs' error weight).
@@ -321,7 +321,7 @@ class vop_equations : public vop_domain<T> {
 // Outside 0 < k < 1 the equations are singular. The system then returns NaN derivatives, which
 // stops the fixed-step driver, and records the first tau where it happened and why. Without
 // torque, c1 = 0 is allowed (u' = c2 exactly).
-template <class T>
+template <scalar T>
 class vop_system : public detail::vop_equations<T> {
  public:
   explicit vop_system(const vec3<T>& G) : detail::vop_equations<T>(G) {}
@@ -360,7 +360,7 @@ class vop_system : public detail::vop_equations<T> {
 // Every term has period 2 pi in theta (sn, cn: 4K in u; dn, Z: 2K), so the run keeps theta in
 // [-pi, pi) and counts whole turns apart (reduce_phase). pi/(2K) is a_N, the AGM mean, and
 // torque-free motion advances theta by exactly a_N c2 per unit tau (c2 in Eq. 16, times a_N).
-template <class T>
+template <scalar T>
 class vop_theta_system : public detail::vop_equations<T> {
  public:
   explicit vop_theta_system(const vec3<T>& G) : detail::vop_equations<T>(G) {}

@@ -2,7 +2,7 @@
 // quad problem and integrates a short span. Exit 0 if it runs and the initial state is the
 // scene's; 1 otherwise.
 #include <eulervop/oracle.hpp>
-#include <scene_problem.hpp>
+#include <eulervop/scene/scene_problem.hpp>
 
 #include <cstdio>
 #include <exception>
@@ -11,8 +11,8 @@ int main(int argc, char** argv) {
   if (argc != 2) return 1;
   try {
     using eulervop::quad;
-    const eulervop::app::scene s = eulervop::app::load_scene_file(argv[1]);
-    const eulervop::normalized_problem<quad> p = eulervop::app::to_problem<quad>(s);
+    const eulervop::scene::scene s = eulervop::scene::load_scene_file(argv[1]);
+    const eulervop::normalized_problem<quad> p = eulervop::scene::to_problem<quad>(s);
     const eulervop::oracle::reference<quad> ref(p, quad(1));
     const eulervop::vec3<quad> Om0 = ref(quad(0));
     const double d = static_cast<double>(eulervop::eq20_error(p.Omega0, Om0));

@@ -21,6 +21,8 @@
 //     1e-30 * (span) * |f|, whatever the precision. The tests measure it.
 #pragma once
 
+#include <eulervop/scalar.hpp>
+
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -32,7 +34,7 @@ namespace eulervop::rk::detail {
 
 // A decimal string parsed correctly rounded in T (strtod for double; the multiprecision
 // string constructors otherwise).
-template <class T>
+template <scalar T>
 T decimal(const char* text) {
   if constexpr (std::is_same_v<T, double>) {
     return std::strtod(text, nullptr);
@@ -41,15 +43,14 @@ T decimal(const char* text) {
   }
 }
 
-template <class Tableau, class T>
-void fill_dop853(Tableau& tab) {
+// The nodes c and the rows 2-7 of A: exact in Q(sqrt 6), built from integers and sqrt(T(6)).
+template <class Tableau, scalar T>
+void fill_dop853_exact(Tableau& tab) {
   using std::sqrt;
   const T s6 = sqrt(T(6));
   auto q = [](int num, int den) { return T(num) / T(den); };
   auto& a = tab.a;
-  auto& b = tab.b;
   auto& c = tab.c;
-  const auto d = [](const char* text) { return decimal<T>(text); };
 
   c[0] = T(0);
   c[1] = (T(12) - T(2) * s6) / T(135);
@@ -79,6 +80,15 @@ void fill_dop853(Tableau& tab) {
   a[6][3] = (T(118) + T(23) * s6) / T(1024);
   a[6][4] = (T(118) - T(23) * s6) / T(1024);
   a[6][5] = q(-9, 512);
+}
+
+// The rows 8-12 of A (a87 is exact) and the weights b: the decimals of dop853.f, parsed in T.
+template <class Tableau, scalar T>
+void fill_dop853_decimal(Tableau& tab) {
+  auto q = [](int num, int den) { return T(num) / T(den); };
+  auto& a = tab.a;
+  auto& b = tab.b;
+  const auto d = [](const char* text) { return decimal<T>(text); };
 
   a[7][0] = d("3.70920001185047927108779319836e-02");
   a[7][3] = d("1.70383925712239993810214054705e-01");
@@ -128,6 +138,12 @@ void fill_dop853(Tableau& tab) {
   b[9] = d("-1.52160949662516078556178806805e-01");
   b[10] = d("2.01365400804030348374776537501e-01");
   b[11] = d("4.47106157277725905176885569043e-02");
+}
+
+template <class Tableau, scalar T>
+void fill_dop853(Tableau& tab) {
+  fill_dop853_exact<Tableau, T>(tab);
+  fill_dop853_decimal<Tableau, T>(tab);
 }
 
 }  // namespace eulervop::rk::detail

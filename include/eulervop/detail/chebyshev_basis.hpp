@@ -1,6 +1,8 @@
 // Chebyshev-Gauss-Lobatto nodes and the matrices of the Picard iteration, built in the scalar T.
 #pragma once
 
+#include <eulervop/scalar.hpp>
+
 #include <boost/math/constants/constants.hpp>
 
 #include <cmath>
@@ -16,10 +18,12 @@ namespace eulervop::detail {
 //   degree-N interpolant of the values F at the nodes (the Picard map of Clenshaw-Norton and
 //   Bai-Junkins, here applied to node values directly).
 // to_coeffs: the (N+2)x(N+1) matrix Q with (Q F)_k = coefficient k of that same integral in
-//   T_0..T_{N+1} (the integral of a degree-N polynomial has degree N+1), used for dense output.
-// tail: the (N+1)x(N+1) matrix giving the Chebyshev coefficients a_k of p itself, whose decay
-//   drives the segment length.
-template <class T>
+//   T_0..T_{N+1} (the integral of a degree-N polynomial has degree N+1), whose decay drives the
+//   segment length (the integrator's truncation estimate).
+// coeffs: the (N+1)x(N+1) matrix giving the Chebyshev coefficients a_k of p itself; the
+//   integrator extrapolates a segment's values with them into the next one's warm start.
+// (Dense output needs none of these: it interpolates the node values directly.)
+template <scalar T>
 struct chebyshev_basis {
   std::size_t degree = 0;
   std::vector<T> nodes;      // s_j
@@ -82,7 +86,7 @@ struct chebyshev_basis {
 };
 
 // Clenshaw evaluation of sum_{k=0}^{n-1} c[k] T_k(s).
-template <class T, class C>
+template <scalar T, scalar C>
 T clenshaw(const C* c, std::size_t n, std::size_t stride, const T& s) {
   T b1 = 0, b2 = 0;
   const T two_s = s + s;

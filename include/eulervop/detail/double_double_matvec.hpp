@@ -4,12 +4,14 @@
 // Used by the reference integrator for the wide residual whose only job is to drive the next
 // correction to ~1e-32 relative: double-double is an order of magnitude cheaper than soft-float
 // quad there, and the following residual in the full wide type decides convergence, so the
-// result never rests on this one (DESIGN.md section 5, mixed precision).
+// result never rests on this one (docs/design.md section 3.2, mixed precision).
 //
 // Products are exact by Dekker's splitting (Dekker 1971; no hardware FMA assumed), sums by
 // Knuth's TwoSum; the low-order cross terms are accumulated in plain double (Ogita, Rump &
 // Oishi 2005, "Dot2"): error ~ n u^2 sum |a_k x_k| + u^2 |y|.
 #pragma once
+
+#include <eulervop/scalar.hpp>
 
 #include <cstddef>
 #include <vector>
@@ -21,7 +23,7 @@ class double_double_matrix {
   double_double_matrix() = default;
   // Entries of a row-major rows x cols matrix, from any type convertible to double whose value
   // minus its double rounding is again convertible (quad, MPFR).
-  template <class T>
+  template <scalar T>
   double_double_matrix(const std::vector<T>& a, std::size_t rows, std::size_t cols)
       : rows_(rows), cols_(cols), hi_(a.size()), lo_(a.size()), h1_(a.size()), h2_(a.size()),
         x1_(cols), x2_(cols) {

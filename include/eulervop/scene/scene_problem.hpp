@@ -7,7 +7,7 @@
 // current at their creation.
 #pragma once
 
-#include "scene.hpp"
+#include <eulervop/scene/scene.hpp>
 
 #include <eulervop/model.hpp>
 #include <eulervop/scalar.hpp>
@@ -18,7 +18,7 @@
 #include <variant>
 #include <vector>
 
-namespace eulervop::app {
+namespace eulervop::scene {
 
 template <scalar T>
 vec3<T> to_vec3(const decimal3& d) {
@@ -42,7 +42,7 @@ vec3<T> Omega_of_elements(const initial_elements& e) {
   const T k = c1 / c2;
   T cn, dn_ratio;
   const T sn = boost::math::jacobi_elliptic(k, u, &cn, &dn_ratio);
-  // Boost's dn is a ratio that is 0/0 at odd multiples of K (DESIGN.md section 2);
+  // Boost's dn is a ratio that is 0/0 at odd multiples of K (docs/design.md section 2);
   // dn^2 = kc^2 + k^2 cn^2 has no cancellation, and kc^2 = (c2-c1)(c2+c1)/c2^2 keeps digits near k = 1.
   const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
   const T dn = sqrt(kc2 + k * k * cn * cn);
@@ -120,4 +120,4 @@ sample_times<T> sample_times_of(const scene& s) {
   return out;
 }
 
-}  // namespace eulervop::app
+}  // namespace eulervop::scene

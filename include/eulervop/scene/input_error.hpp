@@ -1,14 +1,14 @@
 // The one exception type for bad input (scene files and command-line flags).
 //
-// Issue 2 section 6: bad input exits with code 2 and a one-line message that names the field
-// or flag and the offending value. Everything that validates user input throws this type, so
-// main() can map it to that exit code without guessing.
+// Bad input exits with code 2 and a one-line message that names the field or flag and the
+// offending value (docs/design.md section 5.3). Everything that validates user input throws
+// this type, so main() can map it to that exit code without guessing.
 #pragma once
 
 #include <stdexcept>
 #include <string>
 
-namespace eulervop::app {
+namespace eulervop::scene {
 
 class input_error : public std::runtime_error {
  public:
@@ -22,4 +22,4 @@ class input_error : public std::runtime_error {
   }
 };
 
-}  // namespace eulervop::app
+}  // namespace eulervop::scene

@@ -1,4 +1,4 @@
-#include "scene.hpp"
+#include <eulervop/scene/scene.hpp>
 
 #include <default_scene.hpp>
 
@@ -16,7 +16,7 @@
 #include <limits>
 #include <sstream>
 
-namespace eulervop::app {
+namespace eulervop::scene {
 
 namespace {
 
@@ -156,7 +156,7 @@ class scene_reader {
   }
 
   // ---- structure ---------------------------------------------------------------------------
-  // Rejects keys other than `allowed` in `table` (issue 2: unknown keys are errors).
+  // Rejects keys other than `allowed` in `table`: a misspelt key must not be silently ignored.
   void only_keys(const toml::table& table, std::string_view table_name,
                  std::initializer_list<std::string_view> allowed) const {
     for (const auto& [key, node] : table) {
@@ -405,4 +405,4 @@ scene load_default_scene() {
   return parse_scene(default_scene_toml, std::string(default_scene_origin));
 }
 
-}  // namespace eulervop::app
+}  // namespace eulervop::scene

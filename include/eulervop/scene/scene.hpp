@@ -1,4 +1,4 @@
-// A scene: one problem of Eq. 5 as the user describes it in TOML (issue 2, section 5).
+// A scene: one problem of Eq. 5 as the user describes it in TOML (format: README, "Scenes").
 //
 // A scene is either normalized (G, Omega or c1/c2/u, tau) or physical ([body] inertia, M,
 // omega, t; converted by Eqs. 2-4). Numbers are kept as exact decimal text (decimal.hpp) and
@@ -7,8 +7,8 @@
 // one-line message names the field and the value.
 #pragma once
 
-#include "decimal.hpp"
-#include "input_error.hpp"
+#include <eulervop/scene/decimal.hpp>
+#include <eulervop/scene/input_error.hpp>
 
 #include <eulervop/scalar.hpp>
 
@@ -21,7 +21,7 @@
 #include <variant>
 #include <vector>
 
-namespace eulervop::app {
+namespace eulervop::scene {
 
 using decimal3 = std::array<decimal, 3>;
 
@@ -106,4 +106,4 @@ scene load_scene_file(const std::filesystem::path& path);
 // The paper's scene embedded in the binary (data/scenes/paper-fig1.toml).
 scene load_default_scene();
 
-}  // namespace eulervop::app
+}  // namespace eulervop::scene

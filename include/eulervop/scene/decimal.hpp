@@ -1,8 +1,8 @@
 // A number as the user wrote it: its exact decimal text plus the nearest double.
 //
 // Quad and MPFR runs must see the decimal the user typed, not the double nearest to it:
-// "0.1" has to become 0.1 to 36 digits in quad (issue 2, section 2). So every number from a
-// scene or a flag is kept as text and converted once, in the target type, by to_scalar<T>.
+// "0.1" has to become 0.1 to 36 digits in quad. So every number from a scene or a flag is kept
+// as text and converted once, in the target type, by to_scalar<T>.
 #pragma once
 
 #include <eulervop/scalar.hpp>
@@ -12,7 +12,7 @@
 #include <string>
 #include <string_view>
 
-namespace eulervop::app {
+namespace eulervop::scene {
 
 struct decimal {
   std::string text;    // canonical decimal text: [-]digits[.digits][e[+-]digits], no '+' or '_'
@@ -54,4 +54,4 @@ std::optional<decimal> decimal_product(const decimal& a, const decimal& b);
 // Human-readable reason for a decimal_problem, for error messages.
 std::string_view describe(decimal_problem problem);
 
-}  // namespace eulervop::app
+}  // namespace eulervop::scene

@@ -1,4 +1,4 @@
-#include "decimal.hpp"
+#include <eulervop/scene/decimal.hpp>
 
 #include <fmt/format.h>
 
@@ -7,7 +7,7 @@
 #include <cmath>
 #include <vector>
 
-namespace eulervop::app {
+namespace eulervop::scene {
 
 namespace {
 
@@ -148,4 +148,4 @@ std::string_view describe(decimal_problem problem) {
   return "invalid";
 }
 
-}  // namespace eulervop::app
+}  // namespace eulervop::scene

@@ -1,0 +1,102 @@
+// The reference CSV of `eulervop reference`: its '#' metadata block, its header and its rows.
+//
+// One writer and one streaming reader, so the format has one owner (the layout is described in
+// the README, "Command line"). `reference` and `batch` write it; `report --reference` and
+// `check` read it. Numbers stay numbers: the estimated error is a decimal (its text as written,
+// three significant digits, and the nearest double), the precision a parsed precision.
+#pragma once
+
+#include "csv_rows.hpp"
+#include "scene_library.hpp"
+
+#include <eulervop/model.hpp>
+#include <eulervop/scalar.hpp>
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cstddef>
+#include <istream>
+#include <optional>
+#include <string>
+
+namespace eulervop::app {
+
+// The '#' lines of a reference file, in the order they are written.
+struct reference_metadata {
+  std::string scene_name;                        // # scene
+  std::string scene_source;                      // # scene_source
+  std::string command;                           // # command (none if empty)
+  std::string overrides;                         // # overrides (none if empty)
+  eulervop::precision precision = eulervop::precision::binary128();  // # precision
+  std::string method;                            // # method
+  std::optional<double> wall_seconds;            // # wall_seconds
+  std::optional<decimal> estimated_max_error;    // # estimated_max_error (--verify)
+  std::optional<eulervop::precision> verify_precision;  // # verify_precision (with --verify)
+  std::string verify_method;                     // # verify_method (with --verify)
+  std::optional<double> wall_seconds_verify;     // # wall_seconds_verify
+  std::string scene_text;                        // # scene_text lines, each ending in '\n'
+
+  // The precision to read the rows in: double values are exact in quad, MPFR at its bits.
+  eulervop::precision reading_precision() const;
+};
+
+// "mpfr:256 (effective_bits=257)": the precision as the metadata states it.
+std::string precision_text(const eulervop::precision& p);
+
+// Builds a reference file in memory: the metadata block and the header first, then rows.
+class reference_csv_writer {
+ public:
+  reference_csv_writer(const reference_metadata& m, bool physical);
+
+  template <scalar T>
+  void row(const T& tau, const vec3<T>& Omega) {
+    cells(tau, Omega);
+    buffer_.push_back('\n');
+  }
+  // A physical scene's row: the normalized state, then the time in seconds and omega in rad/s.
+  template <scalar T>
+  void row(const T& tau, const vec3<T>& Omega, const T& t, const vec3<T>& omega) {
+    cells(tau, Omega);
+    buffer_.push_back(',');
+    cells(t, omega);
+    buffer_.push_back('\n');
+  }
+  std::string text() const { return fmt::to_string(buffer_); }
+
+ private:
+  template <scalar T>
+  void cells(const T& time, const vec3<T>& v) {
+    fmt::format_to(std::back_inserter(buffer_), "{},{},{},{}", to_text(time), to_text(v[0]), to_text(v[1]),
+                   to_text(v[2]));
+  }
+
+  fmt::memory_buffer buffer_;
+};
+
+// Streams a reference file: the metadata and the header on construction, then one row per
+// next(). Every problem is an input_error naming `where`, the line and the cell.
+class reference_csv_reader {
+ public:
+  reference_csv_reader(std::istream& in, std::string where);
+
+  const reference_metadata& metadata() const { return meta_; }
+  // The column named `name`; input_error ("the header has no column `name`{why}") if absent.
+  std::size_t column(const std::string& name, std::string_view why = "") const;
+  csv_rows& rows() { return rows_; }
+  const csv_rows& rows() const { return rows_; }
+
+  // The current row's cells as numbers in T.
+  template <scalar T>
+  vec3<T> Omega() const {
+    return {rows_.number(Omega_[0]).template to_scalar<T>(), rows_.number(Omega_[1]).template to_scalar<T>(),
+            rows_.number(Omega_[2]).template to_scalar<T>()};
+  }
+
+ private:
+  csv_rows rows_;
+  reference_metadata meta_;
+  std::array<std::size_t, 3> Omega_{};
+};
+
+}  // namespace eulervop::app

@@ -1,0 +1,30 @@
+// The scene library (eulervop::scene: scene files, exact decimals, the input_error of bad input)
+// as the program names it: the program layer uses these names on nearly every line that reads
+// or validates input, so it takes them into its namespace here, once, rather than qualifying each.
+#pragma once
+
+#include <eulervop/scene/decimal.hpp>
+#include <eulervop/scene/input_error.hpp>
+#include <eulervop/scene/scene.hpp>
+#include <eulervop/scene/scene_problem.hpp>
+
+namespace eulervop::app {
+
+using eulervop::scene::decimal;
+using eulervop::scene::decimal_problem;
+using eulervop::scene::decimal_product;
+using eulervop::scene::input_error;
+using eulervop::scene::load_default_scene;
+using eulervop::scene::load_scene_file;
+using eulervop::scene::parse_decimal;
+using eulervop::scene::parse_scene;
+using eulervop::scene::sample_times;
+using eulervop::scene::sample_times_of;
+using eulervop::scene::scaling_of;
+using eulervop::scene::scene;
+using eulervop::scene::scene_limits;
+using eulervop::scene::step_spec;
+using eulervop::scene::tau_end_of;
+using eulervop::scene::to_problem;
+
+}  // namespace eulervop::app
