@@ -2,22 +2,8 @@
 #       [-DCONFIG=<Release>] -P run_consumer_test.cmake
 # Installs the build into WORK_DIR/prefix, configures and builds the consumer against it with
 # CMAKE_PREFIX_PATH, and runs it (and the scene consumer if the package has eulervop::scene).
-foreach(v BUILD_DIR SOURCE_DIR WORK_DIR SCENE)
-  if(NOT DEFINED ${v})
-    message(FATAL_ERROR "run_consumer_test.cmake: -D${v}=... is required")
-  endif()
-endforeach()
-if(NOT CONFIG)
-  set(CONFIG Release)
-endif()
-
-function(run_step what)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  message("${out}")
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "${what} failed (${rc}):\n${err}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/../cmake_script_support.cmake)
+require_script_variables(run_consumer_test.cmake BUILD_DIR SOURCE_DIR WORK_DIR SCENE)
 
 file(REMOVE_RECURSE ${WORK_DIR})
 set(prefix ${WORK_DIR}/prefix)

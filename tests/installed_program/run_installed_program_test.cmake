@@ -9,21 +9,8 @@
 # fig1.png with the plot script installed in share/eulervop. Where matplotlib is missing (the
 # script was found and ran, but cannot draw) it prints "SKIPPED: ...", which CTest reports as a
 # skip (SKIP_REGULAR_EXPRESSION); any other outcome without fig1.png is a failure.
-foreach(v SOURCE_DIR WORK_DIR)
-  if(NOT DEFINED ${v})
-    message(FATAL_ERROR "run_installed_program_test.cmake: -D${v}=... is required")
-  endif()
-endforeach()
-if(NOT CONFIG)
-  set(CONFIG Release)
-endif()
-
-function(run_step what)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "${what} failed (${rc}):\n${out}\n${err}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/../cmake_script_support.cmake)
+require_script_variables(run_installed_program_test.cmake SOURCE_DIR WORK_DIR)
 
 file(REMOVE_RECURSE ${WORK_DIR})
 set(build ${WORK_DIR}/build)
