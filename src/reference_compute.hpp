@@ -72,18 +72,32 @@ vec3<T> sample_dense(const dense_trajectory<T>& trajectory, const T& tau) {
   return Om;
 }
 
-// Integrates the problem to tau_end and evaluates the dense output at every tau (each within
-// [tau0, tau_end]).
+// Integrates the problem to tau_end and evaluates the dense output at every tau (non-decreasing,
+// each within [tau0, tau_end]) as the segments are accepted: memory grows with the samples, not
+// with the span. A non-finite sample is a numerical_failure at its tau.
 template <scalar T>
 sampled_reference<T> integrate_and_sample(const normalized_problem<T>& problem, const T& tau_end,
                                           const std::vector<T>& taus, const picard_settings& settings,
                                           const std::string& label) {
   const auto start = std::chrono::steady_clock::now();
-  dense_reference<T> dense = integrate_dense<T>(problem, tau_end, settings, label);
   sampled_reference<T> out;
-  out.stats = dense.stats;
   out.Omega.reserve(taus.size());
-  for (const T& tau : taus) out.Omega.push_back(sample_dense(dense.trajectory, tau));
+  std::optional<progress_line> progress;
+  if (!label.empty()) progress.emplace(label, static_cast<double>(tau_end));
+  integrate_reference_samples<T>(
+      problem, tau_end, taus,
+      [&](std::size_t, const T& tau, const vec3<T>& Om) {
+        for (const T& x : Om)
+          if (!(boost::math::isfinite)(x))
+            throw numerical_failure({outcome_kind::dense_output_non_finite, static_cast<double>(tau)});
+        out.Omega.push_back(Om);
+      },
+      settings,
+      [&](double tau) {
+        if (progress) progress->update(tau);
+      },
+      &out.stats);
+  if (progress) progress->clear();
   out.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

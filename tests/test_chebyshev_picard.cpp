@@ -7,8 +7,10 @@
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -171,6 +173,33 @@ TEST(Determinism, RepeatedRunsAreIdentical) {
     const quad t = quad(5) * i / 50;
     EXPECT_EQ(eulervop::to_text(a(t)[0]), eulervop::to_text(b(t)[0]));
   }
+}
+
+// Streaming samples (constant memory) equal the dense trajectory's values bit for bit, also at
+// segment boundaries (where both take the segment that starts there) and at the span's end;
+// samples out of order or beyond the span are refused.
+TEST(StreamingSamples, EqualDenseOutputBitForBit) {
+  eulervop::normalized_problem<quad> p;
+  p.G = {quad(1), quad(1), quad(1)};
+  p.Omega0 = {quad(0.5), quad(0), quad(1)};
+  const auto dense = eulervop::integrate_reference<quad>(p, quad(5));
+  std::vector<quad> taus;
+  for (int i = 0; i <= 40; ++i) taus.push_back(quad(5) * i / 40);
+  for (std::size_t s = 1; s < dense.segments(); s += 3) taus.push_back(dense.segment_list()[s].tau_begin);
+  std::sort(taus.begin(), taus.end());
+  std::size_t count = 0;
+  eulervop::integrate_reference_samples<quad>(p, quad(5), taus, [&](std::size_t i, const quad& tau, const vec3<quad>& Om) {
+    ASSERT_EQ(i, count++);
+    const vec3<quad> want = dense(tau);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(eulervop::to_text(Om[c]), eulervop::to_text(want[c])) << "tau=" << tau;
+  });
+  EXPECT_EQ(count, taus.size());
+
+  const auto ignore = [](std::size_t, const quad&, const vec3<quad>&) {};
+  EXPECT_THROW(eulervop::integrate_reference_samples<quad>(p, quad(5), {quad(2), quad(1)}, ignore),
+               std::invalid_argument);
+  EXPECT_THROW(eulervop::integrate_reference_samples<quad>(p, quad(5), {quad(1), quad(6)}, ignore),
+               std::out_of_range);
 }
 
 }  // namespace

@@ -65,10 +65,40 @@ struct chebyshev_segment {
   std::vector<vec3<T>> values;  // Omega(tau_j) - Omega(tau_begin) at the N+1 nodes
 };
 
+// Omega(tau) on one segment (tau in [seg.tau_begin, seg.tau_end]), from its node values: by
+// barycentric Lagrange interpolation (second form) on the Lobatto nodes, with weights (-1)^j,
+// halved at the ends: backward stable for these nodes (Higham 2004, Berrut & Trefethen 2004) and
+// O(N) per call. At a node, and at the segment's start, the stored value is returned exactly.
+template <scalar T>
+vec3<T> evaluate_segment(const chebyshev_segment<T>& seg, const std::vector<T>& nodes, const T& tau) {
+  vec3<T> out;
+  const std::size_t n1 = nodes.size();
+  T s = (tau - seg.tau_begin) / seg.half_length - 1;
+  if (s > 1) s = 1;
+  std::size_t hit = n1;
+  if (tau == seg.tau_begin) hit = 0;  // the segment's start is known exactly
+  for (std::size_t j = 0; j < n1 && hit == n1; ++j)
+    if (s == nodes[j]) hit = j;
+  if (hit < n1) {
+    for (int i = 0; i < 3; ++i) out[i] = seg.base[i] + (seg.base_lo[i] + seg.values[hit][i]);
+    return out;
+  }
+  T den = 0;
+  vec3<T> num{T(0), T(0), T(0)};
+  for (std::size_t j = 0; j < n1; ++j) {
+    T w = 1 / (s - nodes[j]);
+    if (j % 2) w = -w;
+    if (j == 0 || j + 1 == n1) w /= 2;
+    den += w;
+    for (int i = 0; i < 3; ++i) num[i] += w * seg.values[j][i];
+  }
+  for (int i = 0; i < 3; ++i) out[i] = seg.base[i] + (seg.base_lo[i] + num[i] / den);
+  return out;
+}
+
 // The reference solution on [tau_begin, tau_end], evaluable anywhere in it to full precision.
-// Evaluation is barycentric Lagrange interpolation (second form) on the Lobatto nodes, with
-// weights (-1)^j, halved at the ends: backward stable for these nodes (Higham 2004, Berrut &
-// Trefethen 2004) and O(N) per call.
+// It keeps every segment, so its memory grows with the span; a caller who knows its sample
+// times in advance can use segment_sampler instead, which keeps one.
 template <scalar T>
 class dense_trajectory {
  public:
@@ -81,41 +111,73 @@ class dense_trajectory {
   std::size_t segments() const { return segs_.size(); }
   const std::vector<chebyshev_segment<T>>& segment_list() const { return segs_; }
 
-  // Omega(tau). Throws std::out_of_range outside [tau_begin, tau_end].
+  // Omega(tau), from the last segment whose start is <= tau. Throws std::out_of_range outside
+  // [tau_begin, tau_end].
   vec3<T> operator()(const T& tau) const {
     if (segs_.empty() || !(tau >= tau_begin() && tau <= tau_end()))
       throw std::out_of_range("dense_trajectory: tau outside the integrated span");
-    // The last segment whose start is <= tau.
     auto it = std::upper_bound(segs_.begin(), segs_.end(), tau,
                                [](const T& t, const chebyshev_segment<T>& s) { return t < s.tau_begin; });
-    const chebyshev_segment<T>& seg = *(it - 1);
-    vec3<T> out;
-    const std::size_t n1 = nodes_.size();
-    T s = (tau - seg.tau_begin) / seg.half_length - 1;
-    if (s > 1) s = 1;
-    std::size_t hit = n1;
-    if (tau == seg.tau_begin) hit = 0;  // the segment's start is known exactly
-    for (std::size_t j = 0; j < n1 && hit == n1; ++j)
-      if (s == nodes_[j]) hit = j;
-    if (hit < n1) {
-      for (int i = 0; i < 3; ++i) out[i] = seg.base[i] + (seg.base_lo[i] + seg.values[hit][i]);
-      return out;
-    }
-    T den = 0;
-    vec3<T> num{T(0), T(0), T(0)};
-    for (std::size_t j = 0; j < n1; ++j) {
-      T w = 1 / (s - nodes_[j]);
-      if (j % 2) w = -w;
-      if (j == 0 || j + 1 == n1) w /= 2;
-      den += w;
-      for (int i = 0; i < 3; ++i) num[i] += w * seg.values[j][i];
-    }
-    for (int i = 0; i < 3; ++i) out[i] = seg.base[i] + (seg.base_lo[i] + num[i] / den);
-    return out;
+    return evaluate_segment(*(it - 1), nodes_, tau);
   }
 
  private:
   std::vector<chebyshev_segment<T>> segs_;
+  std::vector<T> nodes_;
+};
+
+// Receives each accepted segment in order, with the Lobatto nodes s_j of the run (the same for
+// every segment). The segment is only valid during the call.
+template <scalar T>
+using segment_sink = std::function<void(const chebyshev_segment<T>& segment, const std::vector<T>& nodes)>;
+
+// Evaluates the dense output at sample times given in advance, in non-decreasing order, as the
+// segments arrive, keeping only the latest segment: memory does not grow with the span. Each
+// sample comes from the same segment dense_trajectory would use (the last one starting at or
+// before it), so the values are identical. `emit(index, tau, Omega)` receives them in order.
+template <scalar T>
+class segment_sampler {
+ public:
+  using emit_function = std::function<void(std::size_t index, const T& tau, const vec3<T>& Omega)>;
+
+  segment_sampler(const std::vector<T>& taus, emit_function emit) : taus_(taus), emit_(std::move(emit)) {
+    for (std::size_t i = 1; i < taus_.size(); ++i)
+      if (taus_[i] < taus_[i - 1]) throw std::invalid_argument("segment_sampler: sample times must not decrease");
+  }
+
+  // The sink to pass to chebyshev_picard::run_segments.
+  void operator()(const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
+    if (!held_) {
+      if (next_ < taus_.size() && taus_[next_] < seg.tau_begin)
+        throw std::out_of_range("segment_sampler: a sample time precedes the integrated span");
+      nodes_ = nodes;
+      held_ = true;
+    } else {
+      emit_before(seg.tau_begin);
+    }
+    last_ = seg;
+  }
+
+  // After the run: the samples up to the end of the last segment. Throws std::out_of_range if a
+  // sample lies beyond it.
+  void finish() {
+    if (!held_) throw std::logic_error("segment_sampler: no segment was integrated");
+    for (; next_ < taus_.size() && taus_[next_] <= last_.tau_end; ++next_)
+      emit_(next_, taus_[next_], evaluate_segment(last_, nodes_, taus_[next_]));
+    if (next_ < taus_.size()) throw std::out_of_range("segment_sampler: a sample time lies beyond the integrated span");
+  }
+
+ private:
+  void emit_before(const T& tau) {
+    for (; next_ < taus_.size() && taus_[next_] < tau; ++next_)
+      emit_(next_, taus_[next_], evaluate_segment(last_, nodes_, taus_[next_]));
+  }
+
+  const std::vector<T>& taus_;
+  emit_function emit_;
+  std::size_t next_ = 0;
+  bool held_ = false;
+  chebyshev_segment<T> last_;
   std::vector<T> nodes_;
 };
 
@@ -241,9 +303,10 @@ class chebyshev_picard {
 
   // Integrates Eq. 5 from problem.tau0 to tau_end (> tau0) segment by segment: each solved from
   // the previous one's extrapolation (attempt_segment), shortened and retried until it passes,
-  // then stored (accept_segment). Throws numerical_failure when the segments cannot pass.
-  dense_trajectory<T> run(const normalized_problem<T>& problem, const T& tau_end,
-                          const progress_callback& progress = {}, picard_stats* stats = nullptr) {
+  // then handed to `sink` (accept_segment). Only the latest segment is kept. Throws
+  // numerical_failure when the segments cannot pass.
+  void run_segments(const normalized_problem<T>& problem, const T& tau_end, const segment_sink<T>& sink,
+                    const progress_callback& progress = {}, picard_stats* stats = nullptr) {
     picard_stats st;
     st.degree = static_cast<unsigned>(N_);
     st.tolerance = std::exp(tol_log_);
@@ -254,13 +317,13 @@ class chebyshev_picard {
     for (int i = 0; i < 3; ++i)
       if (!isfinite_(at.x[i])) throw numerical_failure({outcome_kind::initial_non_finite, to_d(at.tau)});
     detail::segment_length_control length(first_length(at.x), N_);
-    std::vector<chebyshev_segment<T>> segs;
+    bool have_previous = false;
     std::size_t since_progress = 0;
     while (at.tau < tau_end) {
       bool last = false;
       const T tau_b = segment_end(at.tau, tau_end, length.length(), last);
       const T hl = (tau_b - at.tau) / 2;
-      make_warm_start(segs.empty() ? nullptr : &segs.back(), hl);
+      make_warm_start(have_previous ? &segment_ : nullptr, hl);
       outcome verdict = attempt_segment(at, hl, to_d(tau_b - at.tau), length, st);
       if (!verdict.ok()) {
         ++st.rejected;
@@ -268,7 +331,9 @@ class chebyshev_picard {
         if (!length.retry(*verdict.tau)) throw numerical_failure(verdict);
         continue;
       }
-      segs.push_back(accept_segment(at, tau_b, hl));
+      accept_segment(at, tau_b, hl);
+      have_previous = true;
+      sink(segment_, basis_.nodes);
       if (++st.segments > settings_.max_segments)
         throw numerical_failure(
             {.kind = outcome_kind::segment_limit, .tau = to_d(at.tau), .count = settings_.max_segments});
@@ -280,6 +345,15 @@ class chebyshev_picard {
       if (last) break;
     }
     if (stats) *stats = st;
+  }
+
+  // The same, keeping every segment: the dense output on the whole span.
+  dense_trajectory<T> run(const normalized_problem<T>& problem, const T& tau_end,
+                          const progress_callback& progress = {}, picard_stats* stats = nullptr) {
+    std::vector<chebyshev_segment<T>> segs;
+    run_segments(
+        problem, tau_end, [&](const chebyshev_segment<T>& seg, const std::vector<T>&) { segs.push_back(seg); },
+        progress, stats);
     return dense_trajectory<T>(std::move(segs), basis_.nodes);
   }
 
@@ -338,10 +412,10 @@ class chebyshev_picard {
     return {outcome_kind::segment_collapse};
   }
 
-  // The solved segment [at.tau, tau_b] (increments in Yn_), stored; `at` moves to its end, the
-  // last increment added with compensated summation (TwoSum).
-  chebyshev_segment<T> accept_segment(origin& at, const T& tau_b, const T& hl) const {
-    chebyshev_segment<T> seg;
+  // The solved segment [at.tau, tau_b] (increments in Yn_), stored in segment_; `at` moves to its
+  // end, the last increment added with compensated summation (TwoSum).
+  void accept_segment(origin& at, const T& tau_b, const T& hl) {
+    chebyshev_segment<T>& seg = segment_;
     seg.tau_begin = at.tau;
     seg.tau_end = tau_b;
     seg.half_length = hl;
@@ -362,7 +436,6 @@ class chebyshev_picard {
     at.x = x1;
     at.x_lo = c1;
     at.tau = tau_b;
-    return seg;
   }
 
   // Increments at the new nodes extrapolated from the previous segment's interpolant, in double.
@@ -717,6 +790,7 @@ class chebyshev_picard {
   std::vector<double> F_hi_, F_lo_, Y_hi_, Y_lo_;
   std::vector<double> bd_, Fd_, coeff_log_, noise_log_;
   T acc_;  // accumulator in T: in place, no temporary per operation for MPFR
+  chebyshev_segment<T> segment_;  // the latest accepted segment (the next one's warm start)
 };
 
 // Integrates Eq. 5 from problem.tau0 to tau_end (> tau0). Throws numerical_failure.
@@ -727,6 +801,24 @@ dense_trajectory<T> integrate_reference(const normalized_problem<T>& problem, co
                                         picard_stats* stats = nullptr) {
   chebyshev_picard<T> integrator(settings);
   return integrator.run(problem, tau_end, progress, stats);
+}
+
+// Integrates Eq. 5 from problem.tau0 to tau_end and evaluates the dense output at `taus`
+// (non-decreasing, within [tau0, tau_end]) as the run goes, in constant memory: `emit(index, tau,
+// Omega)` receives each sample in order. The values equal those of integrate_reference's
+// trajectory at the same times. Throws numerical_failure.
+template <scalar T>
+void integrate_reference_samples(const normalized_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
+                                 const typename segment_sampler<T>::emit_function& emit,
+                                 const picard_settings& settings = {}, const progress_callback& progress = {},
+                                 picard_stats* stats = nullptr) {
+  segment_sampler<T> sampler(taus, emit);
+  chebyshev_picard<T> integrator(settings);
+  integrator.run_segments(
+      problem, tau_end,
+      [&](const chebyshev_segment<T>& seg, const std::vector<T>& nodes) { sampler(seg, nodes); }, progress,
+      stats);
+  sampler.finish();
 }
 
 }  // namespace eulervop
