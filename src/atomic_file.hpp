@@ -28,6 +28,8 @@ class atomic_file {
   void commit();
 
   const std::filesystem::path& target() const { return target_; }
+  // False for a device or pipe, which is written in place.
+  bool replaces_target() const { return !temp_.empty(); }
 
  private:
   void discard() noexcept;

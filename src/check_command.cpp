@@ -275,11 +275,18 @@ check_result check_against_scene(const check_job& job) {
   const scene& s = job.scn;
   std::optional<physical_scaling<T>> scale;
   if (s.is_physical()) scale.emplace(scaling_of<T>(s));
-
-  // Pass 1: validate every row and find the last time (nothing is held).
-  std::optional<decimal> last;
-  std::size_t count = 0;
   trajectory_columns cols;
+  auto tau_of = [&](const decimal& x) {
+    const T v = x.template to_scalar<T>();
+    return cols.physical ? scale->tau_of_t(v) : v;
+  };
+  auto Omega_of = [&](const std::array<decimal, 3>& d) {
+    const vec3<T> v = {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
+    return cols.physical ? scale->Omega_of_omega(v) : v;
+  };
+
+  // Pass 1: validate every row and collect its time in tau (the values are not held).
+  std::vector<T> taus;
   {
     std::ifstream in = open_input_file("trajectory", job.trajectory_path);
     csv_rows rows(in, "trajectory " + job.trajectory_path);
@@ -290,40 +297,36 @@ check_result check_against_scene(const check_job& job) {
                                     rows.where(), rows.line(), cols.time_name, s.name));
     row_reader reader{rows, cols};
     while (rows.next()) {
-      last = reader.time();
+      taus.push_back(tau_of(reader.time()));
       reader.values();
-      ++count;
     }
-    if (!count) throw input_error(fmt::format("{}: no data rows", rows.where()));
+    if (taus.empty()) throw input_error(fmt::format("{}: no data rows", rows.where()));
   }
 
-  auto tau_of = [&](const decimal& x) {
-    const T v = x.template to_scalar<T>();
-    return cols.physical ? scale->tau_of_t(v) : v;
-  };
-  auto Omega_of = [&](const std::array<decimal, 3>& d) {
-    const vec3<T> v = {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
-    return cols.physical ? scale->Omega_of_omega(v) : v;
-  };
-
-  T tau_end = tau_of(*last);
+  T tau_end = taus.back();
   if (!(tau_end > 0)) tau_end = T(1);  // a trajectory at tau = 0 only
   errors_writer out(job.errors_out);    // an unwritable path fails before the integration
-  const dense_reference<T> ref = integrate_dense<T>(to_problem<T>(s), tau_end, job.settings, "reference");
 
-  // Pass 2: the errors.
+  // Pass 2, during the integration: each row is read again as the reference at its time
+  // arrives. Pass 1 checked that the times increase, and their conversion to tau in T is
+  // monotone, so the reference is evaluated as its segments are accepted and none is kept
+  // (integrate_at would fall back to the dense output otherwise).
   check_result r;
   r.time_name = cols.time_name;
   out.header(cols.time_name);
   std::ifstream in = open_input_file("trajectory", job.trajectory_path);
   csv_rows rows(in, "trajectory " + job.trajectory_path);
   row_reader reader{rows, cols};
-  while (rows.next()) {
-    const decimal time = reader.time();
-    const vec3<T> Om = Omega_of(reader.values());
-    record<T>(job, r.t, out, rows.line(), time, sample_dense(ref.trajectory, tau_of(time)), Om);
-  }
-  if (r.t.rows != count) throw input_error(fmt::format("{}: the file changed while it was read", rows.where()));
+  const auto changed = [&] { return input_error(fmt::format("{}: the file changed while it was read", rows.where())); };
+  const reference_run ref = integrate_at<T>(to_problem<T>(s), tau_end, taus, job.settings, "reference",
+                                            [&](std::size_t i, const vec3<T>& Omega_ref) {
+                                              if (!rows.next()) throw changed();
+                                              const decimal time = reader.time();
+                                              if (tau_of(time) != taus[i]) throw changed();
+                                              record<T>(job, r.t, out, rows.line(), time, Omega_ref,
+                                                        Omega_of(reader.values()));
+                                            });
+  if (rows.next()) throw changed();
   out.commit();
 
   r.reference_text = fmt::format("scene {} ({}, computed to tau = {:.6g} in {:.2f} s, {} segments)", s.name,

@@ -3,6 +3,7 @@
 #include "atomic_file.hpp"
 #include "reference_compute.hpp"
 #include "reference_csv.hpp"
+#include "scratch_file.hpp"
 #include "scene_library.hpp"
 #include "scene_overrides.hpp"
 #include "shell_word.hpp"
@@ -14,8 +15,12 @@
 
 #include <fmt/format.h>
 
+#include <cstdlib>
+#include <filesystem>
 #include <memory>
-#include <sstream>
+#include <optional>
+#include <string_view>
+#include <system_error>
 #include <vector>
 
 namespace eulervop::app {
@@ -50,45 +55,81 @@ reference_job make_job(const reference_options& o) {
 
 // ---- computing -------------------------------------------------------------------------------
 
-// The whole CSV of a run in T (layout in the README, "Command line").
+// Integrates the job's scene in T and writes a CSV row to `rows_out` as each sample is
+// evaluated. `kept`, if given, receives the samples too.
 template <scalar T>
-std::string run_in(const reference_job& job) {
+reference_run stream_rows(const reference_job& job, const T& tau_end, const sample_times<T>& times,
+                          scratch_file& rows_out, std::vector<vec3<T>>* kept) {
   const scene& s = job.scn;
-  const normalized_problem<T> problem = to_problem<T>(s);
-  const T tau_end = tau_end_of<T>(s);
-  const sample_times<T> times = sample_times_of<T>(s);
-  const sampled_reference<T> ref = integrate_and_sample<T>(problem, tau_end, times.tau, job.settings, "reference");
+  std::optional<physical_scaling<T>> scale;
+  if (s.is_physical()) scale.emplace(scaling_of<T>(s));
+  reference_csv_row_writer rows([&](std::string_view chunk) { rows_out.write(chunk); });
+  const reference_run run = integrate_streaming<T>(
+      to_problem<T>(s), tau_end, times.tau, job.settings, "reference", [&](std::size_t i, const vec3<T>& Om) {
+        if (scale)
+          rows.row(times.tau[i], Om, times.t[i], scale->omega_of_Omega(Om));
+        else
+          rows.row(times.tau[i], Om);
+        if (kept) kept->push_back(Om);
+      });
+  rows.flush();
+  return run;
+}
 
+// The metadata block of a finished run (without --verify's lines).
+reference_metadata metadata_of(const reference_job& job, const reference_run& run) {
   reference_metadata m;
-  m.scene_name = s.name;
-  m.scene_source = s.origin;
+  m.scene_name = job.scn.name;
+  m.scene_source = job.scn.origin;
   m.command = job.command;
   m.overrides = job.overrides;
   m.precision = job.precision;
-  m.method = method_text(job.settings, ref.stats);
-  if (!job.omit_timing) m.wall_seconds = ref.wall_seconds;
+  m.method = method_text(job.settings, run.stats);
+  if (!job.omit_timing) m.wall_seconds = run.wall_seconds;
+  m.scene_text = job.scn.source_text;
+  return m;
+}
+
+// Runs the job in T, streaming the CSV rows to `rows_out`, and returns the metadata of the
+// finished run (layout in the README, "Command line").
+template <scalar T>
+reference_metadata run_in(const reference_job& job, scratch_file& rows_out) {
+  const T tau_end = tau_end_of<T>(job.scn);
+  const sample_times<T> times = sample_times_of<T>(job.scn);
+  // --verify compares the samples with a wider run's, so it keeps them: memory then grows with
+  // the number of samples (never with the span). Without it nothing is kept.
+  std::vector<vec3<T>> kept;
+  const reference_run run = stream_rows<T>(job, tau_end, times, rows_out, job.verify ? &kept : nullptr);
+  reference_metadata m = metadata_of(job, run);
   if (job.verify) {
-    const verify_result check = verify<T>(s, tau_end, times.tau, ref.Omega, job.precision);
+    const verify_result check = verify<T>(job.scn, tau_end, times.tau, kept, job.precision);
     m.estimated_max_error = check.max_error;
     m.verify_precision = check.precision;
     m.verify_method = check.method;
     if (!job.omit_timing) m.wall_seconds_verify = check.wall_seconds;
   }
-  m.scene_text = s.source_text;
-
-  reference_csv_writer out(m, s.is_physical());
-  if (s.is_physical()) {
-    const physical_scaling<T> scale = scaling_of<T>(s);
-    for (std::size_t i = 0; i < times.tau.size(); ++i)
-      out.row(times.tau[i], ref.Omega[i], times.t[i], scale.omega_of_Omega(ref.Omega[i]));
-  } else {
-    for (std::size_t i = 0; i < times.tau.size(); ++i) out.row(times.tau[i], ref.Omega[i]);
-  }
-  return out.text();
+  return m;
 }
 
-std::string run_job(const reference_job& job) {
-  return with_scalar(job.precision, [&](auto zero) { return run_in<decltype(zero)>(job); });
+reference_metadata run_job(const reference_job& job, scratch_file& rows_out) {
+  return with_scalar(job.precision, [&](auto zero) { return run_in<decltype(zero)>(job, rows_out); });
+}
+
+// The rows wait beside the output file (its file system holds them in the end anyway); for
+// standard output or a device, in the temporary directory (TMPDIR).
+std::filesystem::path scratch_directory(const atomic_file* file) {
+  if (file && file->replaces_target()) {
+    const std::filesystem::path dir = file->target().parent_path();
+    return dir.empty() ? std::filesystem::path(".") : dir;
+  }
+  std::error_code ec;
+  std::filesystem::path tmp = std::filesystem::temp_directory_path(ec);
+  if (ec) {
+    const char* value = std::getenv("TMPDIR");
+    throw input_error(fmt::format("TMPDIR {}: not a usable directory for the rows of standard output: {}",
+                                  value ? value : "(unset)", ec.message()));
+  }
+  return tmp;
 }
 
 }  // namespace
@@ -113,12 +154,18 @@ void run_reference(const reference_options& options, std::ostream& standard_outp
   // Open the output first, so an unwritable path fails before any computation.
   std::unique_ptr<atomic_file> file;
   if (options.out) file = std::make_unique<atomic_file>(*options.out);
-  const std::string csv = run_job(job);
+  // The header states the finished run (segments, wall time, --verify's estimate) but comes
+  // first: the rows are streamed to a scratch file during the run, then copied after it.
+  scratch_file rows(scratch_directory(file.get()));
+  const std::string header = reference_csv_header(run_job(job, rows), job.scn.is_physical());
   if (file) {
-    file->write(csv);
+    file->write(header);
+    rows.copy_to([&](std::string_view chunk) { file->write(chunk); });
     file->commit();
   } else {
-    standard_output << csv << std::flush;
+    standard_output << header;
+    rows.copy_to([&](std::string_view chunk) { standard_output.write(chunk.data(), std::ssize(chunk)); });
+    standard_output << std::flush;
   }
 }
 

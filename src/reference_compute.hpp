@@ -1,6 +1,8 @@
 // The reference solution as the subcommands compute it: integrate a scene's problem with the
-// Chebyshev-Picard integrator (with a progress line), sample the dense output, and optionally
-// verify the samples one precision up (--verify). Shared by `reference` and `report`.
+// Chebyshev-Picard integrator (with a progress line), evaluate it at sample times known in
+// advance as the segments are accepted (or keep the dense output, where the times are not known
+// in advance), and optionally verify the samples one precision up (--verify). Shared by
+// `reference`, `report`, `check` and the grids of `sweep` and `map`.
 #pragma once
 
 #include "progress_line.hpp"
@@ -15,8 +17,11 @@
 #include <boost/math/special_functions/fpclassify.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -72,25 +77,36 @@ vec3<T> sample_dense(const dense_trajectory<T>& trajectory, const T& tau) {
   return Om;
 }
 
-// Integrates the problem to tau_end and evaluates the dense output at every tau (non-decreasing,
-// each within [tau0, tau_end]) as the segments are accepted: memory grows with the samples, not
-// with the span. A non-finite sample is a numerical_failure at its tau.
+// What a run leaves once its samples have gone to a callback.
+struct reference_run {
+  picard_stats stats;
+  double wall_seconds = 0;
+};
+
+// Receives sample `index` (of the taus given) and the reference there, in order.
 template <scalar T>
-sampled_reference<T> integrate_and_sample(const normalized_problem<T>& problem, const T& tau_end,
-                                          const std::vector<T>& taus, const picard_settings& settings,
-                                          const std::string& label) {
+using sample_function = std::function<void(std::size_t index, const vec3<T>& Omega)>;
+
+// Integrates the problem to tau_end and evaluates the dense output at every tau (non-decreasing,
+// each within [tau0, tau_end]) as the segments are accepted, handing each sample to `on_sample`
+// and keeping nothing (only the latest segment): memory beyond the caller's times grows with
+// neither the span nor the samples. A non-finite sample is a numerical_failure at its tau. The
+// wall time includes `on_sample`.
+template <scalar T>
+reference_run integrate_streaming(const normalized_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
+                                  const picard_settings& settings, const std::string& label,
+                                  const sample_function<T>& on_sample) {
   const auto start = std::chrono::steady_clock::now();
-  sampled_reference<T> out;
-  out.Omega.reserve(taus.size());
+  reference_run out;
   std::optional<progress_line> progress;
   if (!label.empty()) progress.emplace(label, static_cast<double>(tau_end));
   integrate_reference_samples<T>(
       problem, tau_end, taus,
-      [&](std::size_t, const T& tau, const vec3<T>& Om) {
+      [&](std::size_t index, const T& tau, const vec3<T>& Om) {
         for (const T& x : Om)
           if (!(boost::math::isfinite)(x))
             throw numerical_failure({outcome_kind::dense_output_non_finite, static_cast<double>(tau)});
-        out.Omega.push_back(Om);
+        on_sample(index, Om);
       },
       settings,
       [&](double tau) {
@@ -100,6 +116,33 @@ sampled_reference<T> integrate_and_sample(const normalized_problem<T>& problem, 
   if (progress) progress->clear();
   out.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
+}
+
+// The same, keeping the samples: memory grows with the samples, not with the span.
+template <scalar T>
+sampled_reference<T> integrate_and_sample(const normalized_problem<T>& problem, const T& tau_end,
+                                          const std::vector<T>& taus, const picard_settings& settings,
+                                          const std::string& label) {
+  sampled_reference<T> out;
+  out.Omega.reserve(taus.size());
+  const reference_run run = integrate_streaming<T>(problem, tau_end, taus, settings, label,
+                                                   [&](std::size_t, const vec3<T>& Om) { out.Omega.push_back(Om); });
+  out.stats = run.stats;
+  out.wall_seconds = run.wall_seconds;
+  return out;
+}
+
+// The same for times in any order: streamed when they do not decrease, else evaluated from the
+// dense output, which keeps every segment (memory grows with the span).
+template <scalar T>
+reference_run integrate_at(const normalized_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
+                           const picard_settings& settings, const std::string& label,
+                           const sample_function<T>& on_sample) {
+  if (std::is_sorted(taus.begin(), taus.end()))
+    return integrate_streaming<T>(problem, tau_end, taus, settings, label, on_sample);
+  const dense_reference<T> ref = integrate_dense<T>(problem, tau_end, settings, label);
+  for (std::size_t i = 0; i < taus.size(); ++i) on_sample(i, sample_dense(ref.trajectory, taus[i]));
+  return {ref.stats, ref.wall_seconds};
 }
 
 // A value of the narrower type, exactly, in the wider one (created at the current precision).
@@ -149,16 +192,17 @@ verify_result verify_in(const scene& s, const Lo& tau_end, const std::vector<Lo>
   std::vector<Hi> wide_taus;
   wide_taus.reserve(taus.size());
   for (const Lo& t : taus) wide_taus.push_back(widen<Hi>(t));
-  const sampled_reference<Hi> ref =
-      integrate_and_sample<Hi>(to_problem<Hi>(s), widen<Hi>(tau_end), wide_taus, picard_settings{}, "verify");
+  // Compared as they come: the wide samples are not kept.
   Hi worst = 0;
-  for (std::size_t i = 0; i < Omega.size(); ++i) {
-    const vec3<Hi> narrow = {widen<Hi>(Omega[i][0]), widen<Hi>(Omega[i][1]), widen<Hi>(Omega[i][2])};
-    const Hi err = eq20_error(ref.Omega[i], narrow);
-    if (err > worst) worst = err;
-  }
-  return {decimal{three_digits(worst), static_cast<double>(worst)}, wide, method_text(picard_settings{}, ref.stats),
-          ref.wall_seconds};
+  const reference_run run = integrate_streaming<Hi>(
+      to_problem<Hi>(s), widen<Hi>(tau_end), wide_taus, picard_settings{}, "verify",
+      [&](std::size_t i, const vec3<Hi>& ref) {
+        const vec3<Hi> narrow = {widen<Hi>(Omega[i][0]), widen<Hi>(Omega[i][1]), widen<Hi>(Omega[i][2])};
+        const Hi err = eq20_error(ref, narrow);
+        if (err > worst) worst = err;
+      });
+  return {decimal{three_digits(worst), static_cast<double>(worst)}, wide, method_text(picard_settings{}, run.stats),
+          run.wall_seconds};
 }
 
 // One precision up: double -> quad -> mpfr:(113+64) ; mpfr:B -> mpfr:(B+64). `narrow` is the

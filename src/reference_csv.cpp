@@ -10,6 +10,10 @@ namespace eulervop::app {
 
 namespace {
 
+// Rows are handed over in chunks of this size: large enough that writing costs far less than
+// formatting, small enough not to matter for memory.
+constexpr std::size_t row_chunk = 1 << 16;
+
 // The precision named at the start of a "# precision:" value ("mpfr:256 (effective_bits=257)").
 eulervop::precision parse_precision(const std::string& value, const std::string& where, std::size_t line) {
   const std::string name = value.substr(0, value.find(' '));
@@ -75,10 +79,11 @@ std::string precision_text(const eulervop::precision& p) {
   return p.name();
 }
 
-reference_csv_writer::reference_csv_writer(const reference_metadata& m, bool physical) {
+std::string reference_csv_header(const reference_metadata& m, bool physical) {
+  fmt::memory_buffer out;
   auto line = [&]<class... Args>(fmt::format_string<Args...> format, Args&&... args) {
-    fmt::format_to(std::back_inserter(buffer_), format, std::forward<Args>(args)...);
-    buffer_.push_back('\n');
+    fmt::format_to(std::back_inserter(out), format, std::forward<Args>(args)...);
+    out.push_back('\n');
   };
   line("# eulervop {}", EULERVOP_VERSION);
   line("# scene: {}", m.scene_name);
@@ -100,6 +105,18 @@ reference_csv_writer::reference_csv_writer(const reference_metadata& m, bool phy
     line("# scene_text: {}", l);
   }
   line("{}", physical ? "tau,Omega1,Omega2,Omega3,t,omega1,omega2,omega3" : "tau,Omega1,Omega2,Omega3");
+  return fmt::to_string(out);
+}
+
+void reference_csv_row_writer::end_row() {
+  buffer_.push_back('\n');
+  if (buffer_.size() >= row_chunk) flush();
+}
+
+void reference_csv_row_writer::flush() {
+  if (buffer_.size() == 0) return;
+  sink_(std::string_view(buffer_.data(), buffer_.size()));
+  buffer_.clear();
 }
 
 reference_csv_reader::reference_csv_reader(std::istream& in, std::string where)

@@ -1,7 +1,8 @@
 // The reference CSV of `eulervop reference`: its '#' metadata block, its header and its rows.
 //
 // One writer and one streaming reader, so the format has one owner (the layout is described in
-// the README, "Command line"). `reference` and `batch` write it; `report --reference` and
+// the README, "Command line"). `reference` and `batch` write it, streaming the rows (the header,
+// which states the finished run, is written last and placed first); `report --reference` and
 // `check` read it. Numbers stay numbers: the estimated error is a decimal (its text as written,
 // three significant digits, and the nearest double), the precision a parsed precision.
 #pragma once
@@ -16,9 +17,12 @@
 
 #include <array>
 #include <cstddef>
+#include <functional>
 #include <istream>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
 
 namespace eulervop::app {
 
@@ -44,15 +48,20 @@ struct reference_metadata {
 // "mpfr:256 (effective_bits=257)": the precision as the metadata states it.
 std::string precision_text(const eulervop::precision& p);
 
-// Builds a reference file in memory: the metadata block and the header first, then rows.
-class reference_csv_writer {
+// The metadata block and the column header of a reference file, each line ending in '\n'.
+std::string reference_csv_header(const reference_metadata& m, bool physical);
+
+// Formats the rows of a reference file and hands them to `sink` in chunks of about 64 KiB, so a
+// run streams its rows however many there are.
+class reference_csv_row_writer {
  public:
-  reference_csv_writer(const reference_metadata& m, bool physical);
+  using sink_function = std::function<void(std::string_view)>;
+  explicit reference_csv_row_writer(sink_function sink) : sink_(std::move(sink)) {}
 
   template <scalar T>
   void row(const T& tau, const vec3<T>& Omega) {
     cells(tau, Omega);
-    buffer_.push_back('\n');
+    end_row();
   }
   // A physical scene's row: the normalized state, then the time in seconds and omega in rad/s.
   template <scalar T>
@@ -60,9 +69,10 @@ class reference_csv_writer {
     cells(tau, Omega);
     buffer_.push_back(',');
     cells(t, omega);
-    buffer_.push_back('\n');
+    end_row();
   }
-  std::string text() const { return fmt::to_string(buffer_); }
+  // Hands over the rows still buffered.
+  void flush();
 
  private:
   template <scalar T>
@@ -70,8 +80,32 @@ class reference_csv_writer {
     fmt::format_to(std::back_inserter(buffer_), "{},{},{},{}", to_text(time), to_text(v[0]), to_text(v[1]),
                    to_text(v[2]));
   }
+  void end_row();
 
+  sink_function sink_;
   fmt::memory_buffer buffer_;
+};
+
+// A whole reference file in memory, header then rows: for small files and the tests.
+class reference_csv_writer {
+ public:
+  reference_csv_writer(const reference_metadata& m, bool physical)
+      : text_(reference_csv_header(m, physical)), rows_([this](std::string_view s) { text_.append(s); }) {}
+  reference_csv_writer(const reference_csv_writer&) = delete;  // rows_ appends to this->text_
+  reference_csv_writer& operator=(const reference_csv_writer&) = delete;
+
+  template <scalar T, class... Physical>
+  void row(const T& tau, const vec3<T>& Omega, const Physical&... t_and_omega) {
+    rows_.row(tau, Omega, t_and_omega...);
+  }
+  std::string text() {
+    rows_.flush();
+    return text_;
+  }
+
+ private:
+  std::string text_;
+  reference_csv_row_writer rows_;
 };
 
 // Streams a reference file: the metadata and the header on construction, then one row per

@@ -36,6 +36,7 @@
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace eulervop::app {
@@ -206,7 +207,7 @@ report_job make_job(const report_options& o) {
 // ---- the computation ---------------------------------------------------------------------------
 
 // What the summary says of a reference computed here.
-struct dense_reference_info {
+struct computed_reference_info {
   double seconds = 0;
   std::size_t segments = 0;
 };
@@ -485,7 +486,7 @@ std::string run_label(const report_job& job, const run_spec& spec) {
   return fmt::format("{} {} tol {}", formulation_name(spec.form), rk::method_name(spec.method), job.tols[*spec.tol].text);
 }
 
-nlohmann::ordered_json adaptive_summary(const report_job& job, const dense_reference_info& ref,
+nlohmann::ordered_json adaptive_summary(const report_job& job, const computed_reference_info& ref,
                                         const std::vector<run_errors>& runs) {
   nlohmann::ordered_json j;
   j["scene"] = job.scn.name;
@@ -518,7 +519,7 @@ std::string adaptive_errors_csv(const report_job& job, const std::vector<run_err
   return fmt::to_string(out);
 }
 
-std::string adaptive_table(const report_job& job, const dense_reference_info& ref,
+std::string adaptive_table(const report_job& job, const computed_reference_info& ref,
                            const std::vector<run_errors>& runs) {
   std::string out;
   out += fmt::format("scene {}{}: to tau = {:.6g} under error control (atol = rtol = tol)\n", job.scn.name,
@@ -551,12 +552,63 @@ std::string adaptive_table(const report_job& job, const dense_reference_info& re
   return out;
 }
 
+// The sample times of all adaptive runs (tau_hi + tau_lo, in T) in increasing order, and the
+// run and sample each one belongs to.
+template <scalar T>
+struct merged_sample_times {
+  std::vector<T> tau;
+  std::vector<std::pair<std::size_t, std::size_t>> owner;  // (run, sample)
+};
+
+template <scalar T>
+merged_sample_times<T> merge_sample_times(const std::vector<run_errors>& runs) {
+  merged_sample_times<T> all;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const run_result& r = runs[i].run;
+    for (std::size_t k = 0; k < r.Omega.size(); ++k) {
+      all.tau.push_back(T(r.sample_tau[k]) + T(r.sample_tau_lo[k]));
+      all.owner.emplace_back(i, k);
+    }
+  }
+  std::vector<std::size_t> order(all.tau.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return all.tau[a] < all.tau[b]; });
+  merged_sample_times<T> sorted;
+  for (std::size_t j : order) {
+    sorted.tau.push_back(all.tau[j]);
+    sorted.owner.push_back(all.owner[j]);
+  }
+  return sorted;
+}
+
+// Every adaptive run's errors against one reference. The runs are done first: their sample
+// times (their accepted steps, known only once they end) are then evaluated in increasing order
+// as the reference's segments are accepted, so no segment is kept.
+template <scalar T>
+computed_reference_info measure_adaptive(const report_job& job, const T& tau_end, std::vector<run_errors>& runs) {
+  for (run_errors& a : runs) a.error.resize(a.run.Omega.size());
+  const merged_sample_times<T> times = merge_sample_times<T>(runs);
+  const reference_run ref = integrate_at<T>(
+      to_problem<T>(job.scn), tau_end, times.tau, job.settings, "reference", [&](std::size_t j, const vec3<T>& Om) {
+        const auto [i, k] = times.owner[j];
+        const double e = static_cast<double>(eq20_error(Om, runs[i].run.Omega[k]));
+        if (std::isfinite(e)) runs[i].error[k] = e;  // never a NaN as an error value
+      });
+  for (run_errors& a : runs) {
+    for (std::size_t k = 0; k < a.error.size(); ++k) {
+      if (!a.error[k]) continue;
+      a.max_error = std::max(a.max_error.value_or(0.0), *a.error[k]);
+      a.final_tau = a.run.sample_tau[k];
+      a.final_error = a.error[k];
+    }
+  }
+  return {ref.wall_seconds, ref.stats.segments};
+}
+
 template <scalar T>
 void execute_adaptive(const report_job& job, std::ostream& standard_output) {
   output_dir dir(job.out_dir, "errors.csv");
   const T tau_end = tau_end_of<T>(job.scn);
-  const dense_reference<T> ref = integrate_dense<T>(to_problem<T>(job.scn), tau_end, job.settings, "reference");
-  const dense_reference_info info{ref.wall_seconds, ref.stats.segments};
   const normalized_problem<double> problem = to_problem<double>(job.scn);
   std::vector<run_errors> runs;
   for (const run_spec& spec : job.runs) {
@@ -567,18 +619,9 @@ void execute_adaptive(const report_job& job, std::ostream& standard_output) {
     s.samples = job.samples;
     run_errors a;
     a.run = run_adaptive(spec.form, spec.method, problem, s);
-    const run_result& r = a.run;
-    a.error.resize(r.Omega.size());
-    for (std::size_t k = 0; k < r.Omega.size(); ++k) {
-      const double e = static_cast<double>(eq20_error(sample_dense(ref.trajectory, T(r.sample_tau[k]) + T(r.sample_tau_lo[k])), r.Omega[k]));
-      if (!std::isfinite(e)) continue;  // never a NaN as an error value
-      a.error[k] = e;
-      a.max_error = std::max(a.max_error.value_or(0.0), e);
-      a.final_tau = r.sample_tau[k];
-      a.final_error = e;
-    }
     runs.push_back(std::move(a));
   }
+  const computed_reference_info info = measure_adaptive<T>(job, tau_end, runs);
   const std::string summary = adaptive_summary(job, info, runs).dump(2) + "\n";
   write_atomically(dir.path() / "errors.csv", adaptive_errors_csv(job, runs));
   write_atomically(dir.path() / "summary.json", summary);
