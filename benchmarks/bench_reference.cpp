@@ -20,7 +20,9 @@
 //   - Boost.Odeint bulirsch_stoer on MPFR at 256 bits, tol 1e-40, 1e-50, 1e-60; the sweep stops
 //     after the first row that takes more than 120 s, and a row is abandoned after --mpfr-cap s.
 //
-// Options: --quick (quad rows with tol >= 1e-24 only, tau_end = 20), --repeat N, --no-mpfr,
+// Options: --quick (quad rows with tol >= 1e-24 only, tau_end = 20), --targets (only ours in
+//          quad at the default, Odeint bulirsch_stoer<float128> at 1e-28 and ours in mpfr:256 at
+//          1e-60: the rows the speed targets compare), --repeat N, --no-mpfr,
 //          --mpfr-cap SECONDS (default 600), --recompute-truth.
 // Progress goes to standard error; the table to standard output.
 #include <eulervop/chebyshev_picard.hpp>
@@ -80,6 +82,7 @@ double seconds_since(clock_type::time_point t0) {
 
 struct options {
   bool quick = false;
+  bool targets = false;  // only the rows the speed targets compare (docs/benchmarks.md)
   bool no_mpfr = false;
   bool recompute_truth = false;
   int repeat = 1;
@@ -273,6 +276,7 @@ row run_ours(const std::string& precision_name, double tol, int tau_end, const o
   finish_row(r, values, best, truth);
   r.notes = "N=" + std::to_string(st.degree) + " segments=" + std::to_string(st.segments) +
             " rejected=" + std::to_string(st.rejected) + " wide_residuals=" + std::to_string(st.wide_residuals) +
+            " residual_updates=" + std::to_string(st.residual_updates) +
             " double_sweeps=" + std::to_string(st.double_sweeps);
   print_row_progress(r);
   return r;
@@ -384,7 +388,7 @@ void print_table(const std::vector<row>& rows, const row* baseline, int tau_end,
 
 int usage(const char* argv0) {
   std::fprintf(stderr,
-               "usage: %s [--quick] [--repeat N] [--no-mpfr] [--mpfr-cap SECONDS] [--recompute-truth]\n", argv0);
+               "usage: %s [--quick | --targets] [--repeat N] [--no-mpfr] [--mpfr-cap SECONDS] [--recompute-truth]\n", argv0);
   return 2;
 }
 
@@ -395,6 +399,7 @@ int main(int argc, char** argv) {
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
     if (arg == "--quick") opt.quick = true;
+    else if (arg == "--targets") opt.targets = true;
     else if (arg == "--no-mpfr") opt.no_mpfr = true;
     else if (arg == "--recompute-truth") opt.recompute_truth = true;
     else if (arg == "--repeat" && a + 1 < argc) {
@@ -411,10 +416,12 @@ int main(int argc, char** argv) {
   try {
     const auto truth = load_or_make_truth(tau_end, opt.recompute_truth);
     std::vector<row> rows;
-    const std::vector<double> quad_tols = opt.quick ? std::vector<double>{1e-20, 1e-24}
-                                                    : std::vector<double>{1e-20, 1e-24, 1e-28, 1e-30, 0};
-    const std::vector<double> odeint_tols =
-        opt.quick ? std::vector<double>{1e-20, 1e-24} : std::vector<double>{1e-20, 1e-24, 1e-28, 1e-32};
+    const std::vector<double> quad_tols = opt.quick     ? std::vector<double>{1e-20, 1e-24}
+                                          : opt.targets ? std::vector<double>{0}
+                                                        : std::vector<double>{1e-20, 1e-24, 1e-28, 1e-30, 0};
+    const std::vector<double> odeint_tols = opt.quick     ? std::vector<double>{1e-20, 1e-24}
+                                            : opt.targets ? std::vector<double>{1e-28}
+                                                          : std::vector<double>{1e-20, 1e-24, 1e-28, 1e-32};
 
     for (double tol : quad_tols)
       rows.push_back(run_ours<eulervop::quad>("quad", tol, tau_end, opt, truth));
@@ -428,16 +435,17 @@ int main(int argc, char** argv) {
       rows.push_back(run_odeint<eulervop::quad>("odeint bulirsch_stoer", "float128", tol, tau_end, opt, truth,
                                                 bulirsch_stoer_maker<eulervop::quad>(), 1e9));
     }
-    for (double tol : odeint_tols)
-      rows.push_back(run_odeint<eulervop::quad>("odeint rk_fehlberg78 controlled", "float128", tol, tau_end, opt,
-                                                truth, rkf78_maker<eulervop::quad>(), 60.0));
+    if (!opt.targets)
+      for (double tol : odeint_tols)
+        rows.push_back(run_odeint<eulervop::quad>("odeint rk_fehlberg78 controlled", "float128", tol, tau_end, opt,
+                                                  truth, rkf78_maker<eulervop::quad>(), 60.0));
     if (!opt.quick && !opt.no_mpfr) {
       {
         eulervop::mpfr_precision_scope scope(256);
-        for (double tol : {1e-40, 1e-50, 1e-60, 0.0})
+        for (double tol : opt.targets ? std::vector<double>{1e-60} : std::vector<double>{1e-40, 1e-50, 1e-60, 0.0})
           rows.push_back(run_ours<eulervop::mpfr_real>("mpfr:256", tol, tau_end, opt, truth));
       }
-      {
+      if (!opt.targets) {
         // The peer at 256 bits (257 effective, like ours: the same digits10 setting).
         odeint_mpfr::thread_default_precision(eulervop::mpfr_digits10_for_bits(256));
         for (double tol : {1e-40, 1e-50, 1e-60}) {

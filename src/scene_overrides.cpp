@@ -128,7 +128,8 @@ void add_scene_override_options(CLI::App& sub, scene_override_flags& o, scene_ov
     bind("--times", o.times, "Exact sample times t1,t2,... (tau, or t for physical scenes)")->type_name("LIST");
   if (which.reference) {
     bind("--degree", o.degree, "Chebyshev degree (default: from the precision)")->type_name("N");
-    bind("--tolerance", o.tolerance, "Relative tolerance per segment (default: from the precision)")
+    bind("--tolerance", o.tolerance,
+         "Relative tolerance; each segment's truncation is held to a sixteenth of it (default: from the precision)")
         ->type_name("X");
   }
 }

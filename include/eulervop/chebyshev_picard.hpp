@@ -21,6 +21,7 @@
 
 #include <eulervop/detail/chebyshev_basis.hpp>
 #include <eulervop/detail/double_double_matvec.hpp>
+#include <eulervop/detail/fixed_point_matvec.hpp>
 #include <eulervop/model.hpp>
 #include <eulervop/numerical_failure.hpp>
 #include <eulervop/outcome.hpp>
@@ -40,7 +41,7 @@ namespace eulervop {
 // Knobs of the reference integrator. Zero means "derive from the precision of T".
 struct picard_settings {
   unsigned degree = 0;       // Chebyshev degree N (N+1 Gauss-Lobatto nodes per segment)
-  double tolerance = 0;      // relative truncation bound per segment; 0: epsilon of T
+  double tolerance = 0;      // relative tolerance (truncation per segment: a sixteenth of it); 0: epsilon of T
   double initial_step = 0;   // first segment length in tau; 0: from the initial rotation rate
   std::size_t max_segments = 50'000'000;
 };
@@ -52,6 +53,7 @@ struct picard_stats {
   std::size_t segments = 0;        // accepted segments
   std::size_t rejected = 0;        // segments shrunk and retried
   std::size_t wide_residuals = 0;  // residual evaluations in T (each one matrix product in T)
+  std::size_t residual_updates = 0;  // residuals updated in double-double after a correction
   std::size_t double_sweeps = 0;   // Picard sweeps of the double-precision correction
 };
 
@@ -208,8 +210,10 @@ inline unsigned default_degree(unsigned bits) {
 
 // The segment length of the reference integrator (its step-size control). After a converged
 // segment the length follows the tail estimate's excess over the tolerance: the terms decay like
-// rho^-(N+1), so the length scales by exp(-excess / (N+1)), aiming at 0.9 of the tolerance
-// (0.8 after a refusal). After a failed iteration it halves, and the length that failed caps
+// rho^-(N+1), so the length scales by exp(-excess / (N+1)), times a safety factor of 0.85 (0.8
+// after a refusal). The tail varies along an orbit, and with 0.9 a quarter of the segments of a
+// long weakly torqued run were refused (each costing a whole solve); 0.85 refuses under 10% there
+// for 2-4% more segments on the paper scene (docs/benchmarks.md). After a failed iteration it halves, and the length that failed caps
 // growth, relaxing by 5% per accepted segment, so the tail estimate cannot push segments back
 // into non-convergence every step.
 class segment_length_control {
@@ -226,7 +230,7 @@ class segment_length_control {
       next_ = used * std::max(0.2, 0.8 * std::exp(-excess_log / nodes_));
       return false;
     }
-    next_ = used * std::clamp(0.9 * std::exp(-excess_log / nodes_), 0.5, 2.0);
+    next_ = used * std::clamp(0.85 * std::exp(-excess_log / nodes_), 0.5, 2.0);
     return true;
   }
   // The Picard iteration did not converge on a segment of length `used`.
@@ -268,6 +272,10 @@ class chebyshev_picard {
         basis_(N_) {
     eps_log_ = detail::log_abs(epsilon<T>());
     tol_log_ = settings.tolerance > 0 ? std::log(settings.tolerance) : eps_log_;
+    // Each segment's truncation is held to a sixteenth of the tolerance (never below epsilon),
+    // so that the error accumulated over thousands of segments stays near the tolerance: with
+    // the tolerance itself, mpfr:256 at 1e-60 ended 6.6e-60 from the truth on the paper scene.
+    truncation_target_log_ = std::max(tol_log_ - std::log(16.0), eps_log_);
     S_dt_.resize(n1_ * n1_);  // transposed: column k of S is contiguous
     for (std::size_t j = 0; j < n1_; ++j)
       for (std::size_t k = 0; k < n1_; ++k) S_dt_[k * n1_ + j] = static_cast<double>(basis_.integral[j * n1_ + k]);
@@ -276,16 +284,28 @@ class chebyshev_picard {
     C_d_.resize(n1_ * n1_);
     for (std::size_t k = 0; k < n1_ * n1_; ++k) C_d_[k] = static_cast<double>(basis_.coeffs[k]);
     if constexpr (!std::is_same_v<T, double>) S_dd_ = detail::double_double_matrix(basis_.integral, n1_, n1_);
+    if constexpr (std::is_same_v<T, quad>) {
+      S_fx_ = detail::fixed_point_matrix<T>(basis_.integral, n1_, n1_);
+      Q_fx_ = detail::fixed_point_matrix<T>(basis_.to_coeffs, N_ + 2, n1_);
+    } else if constexpr (std::is_same_v<T, mpfr_real>) {
+      // The products resolve the bits the run must resolve and 24 more (the sums of N+1 terms
+      // lose a few): with a tolerance looser than the precision, fewer limbs per product.
+      const unsigned bits = std::min(significand_bits<T>(), effective_bits(settings) + 24);
+      S_fx_ = detail::fixed_point_matrix<T>(basis_.integral, n1_, n1_, bits);
+      Q_fx_ = detail::fixed_point_matrix<T>(basis_.to_coeffs, N_ + 2, n1_, bits);
+    }
     for (int i = 0; i < 3; ++i) {
       F_[i].resize(n1_); Yc_[i].resize(n1_); Yn_[i].resize(n1_);
       r_[i].resize(n1_); delta_[i].resize(n1_); delta_new_[i].resize(n1_); g_[i].resize(n1_);
       Xd_[i].resize(n1_); warm_[i].resize(n1_);
+      Xl_[i].resize(n1_); df_hi_[i].resize(n1_); df_lo_[i].resize(n1_);
     }
     acc_ = T(0);
     bd_.resize(N_ + 2);
     for (auto* v : {&F_hi_, &F_lo_, &Y_hi_, &Y_lo_}) v->resize(n1_);
     Fd_.resize(n1_);
     coeff_log_.resize(N_ + 2);
+    if constexpr (!std::is_same_v<T, double>) tail_.resize(N_ + 2);
     noise_log_.resize(N_ + 2);
   }
 
@@ -376,6 +396,13 @@ class chebyshev_picard {
     using std::isfinite;
     using boost::multiprecision::isfinite;
     return isfinite(x);
+  }
+  // x += d, in place (for MPFR without a temporary, which would allocate).
+  static void add_double(T& x, double d) {
+    if constexpr (std::is_same_v<T, mpfr_real>)
+      mpfr_add_d(x.backend().data(), x.backend().data(), d, MPFR_RNDN);
+    else
+      x += d;
   }
   static double log_of(double r) { return r > 0 ? std::log(r) : -std::numeric_limits<double>::infinity(); }
 
@@ -500,6 +527,25 @@ class chebyshev_picard {
         return {{.kind = outcome_kind::residual_stalled, .value = r_max, .count = pass}};
       r_prev_log = r_log;
       if (const outcome o = correct(r_max, hl_d, st); !o.ok()) return {o};
+      if constexpr (std::is_same_v<T, mpfr_real>) {
+        // Residual updates (update_residual) instead of full residuals while their error, about
+        // 2^-100 of this residual, stays 2^-20 below the tolerance: that error repeats from
+        // segment to segment (it is mostly the rounding of S to double-double), so it must stay
+        // far below what one segment may contribute. A full residual in T when they stop
+        // decreasing. Only for MPFR, where a full residual costs several double-double ones.
+        const double update_floor_log = r_log - 100 * std::log(2.0);
+        if (update_floor_log > tol_log_ + out.scale_log - 20 * std::log(2.0)) continue;
+        for (;;) {
+          ++st.residual_updates;
+          const double r_up = update_residual(hl);
+          if (!std::isfinite(r_up)) return {{outcome_kind::residual_non_finite}};
+          const double r_up_log = log_of(r_up);
+          if (converged(r_up_log, r_prev_log, out.scale_log)) return out;
+          if (r_up_log > r_prev_log - std::log(2.0)) break;
+          r_prev_log = r_up_log;
+          if (const outcome o = correct(r_up, hl_d, st); !o.ok()) return {o};
+        }
+      }
     }
   }
 
@@ -530,12 +576,18 @@ class chebyshev_picard {
   // state scale max |X|.
   double evaluate_nodes(const vec3<T>& x0, const vec3<T>& c0) {
     double scale = 0;
+    vec3<T>& x = node_x_;
+    vec3<T>& dx = node_f_;
     for (std::size_t j = 0; j < n1_; ++j) {
-      vec3<T> x, dx;
       for (int i = 0; i < 3; ++i) {
         x[i] = x0[i] + (c0[i] + Yc_[i][j]);
         Xd_[i][j] = to_d(x[i]);
         scale = std::max(scale, std::abs(Xd_[i][j]));
+        if constexpr (!std::is_same_v<T, double>) {
+          acc_ = x[i];
+          acc_ -= Xd_[i][j];
+          Xl_[i][j] = to_d(acc_);
+        }
       }
       euler_rhs(x, G_, dx);
       for (int i = 0; i < 3; ++i) F_[i][j] = dx[i];
@@ -543,17 +595,27 @@ class chebyshev_picard {
     return scale;
   }
 
-  // The Picard map Yn = hl S F in T, and the residual r = Yn - Yc. Returns max |r|.
+  // The Picard map Yn = hl S F in T, and the residual r = Yn - Yc. Returns max |r|. For wide T
+  // the product S F is exact integer arithmetic rounded once (fixed_point_matrix), several times
+  // faster than the same sums in T and no less accurate.
   double wide_residual(const T& hl) {
     double r_max = 0;
     for (int i = 0; i < 3; ++i) {
       Yn_[i][0] = 0;
+      if constexpr (!std::is_same_v<T, double>) {
+        S_fx_.multiply(F_[i].data(), Yn_[i].data(), 1);
+        for (std::size_t j = 1; j < n1_; ++j) Yn_[i][j] *= hl;
+      } else {
+        for (std::size_t j = 1; j < n1_; ++j) {
+          const T* row = &basis_.integral[j * n1_];
+          acc_ = 0;
+          for (std::size_t k = 0; k < n1_; ++k) acc_ += row[k] * F_[i][k];
+          acc_ *= hl;
+          Yn_[i][j] = acc_;
+        }
+      }
       for (std::size_t j = 1; j < n1_; ++j) {
-        const T* row = &basis_.integral[j * n1_];
-        acc_ = 0;
-        for (std::size_t k = 0; k < n1_; ++k) acc_ += row[k] * F_[i][k];
-        acc_ *= hl;
-        Yn_[i][j] = acc_;
+        acc_ = Yn_[i][j];
         acc_ -= Yc_[i][j];
         r_[i][j] = to_d(acc_);
         r_max = std::max(r_max, std::abs(r_[i][j]));
@@ -592,8 +654,9 @@ class chebyshev_picard {
   // correction that follows to that level, at a fraction of a residual in T. The next residual,
   // in T, decides convergence. Returns max |r|.
   double double_double_residual(const vec3<T>& x0, const vec3<T>& c0, const T& hl) {
+    vec3<T>& x = node_x_;
+    vec3<T>& dx = node_f_;
     for (std::size_t j = 0; j < n1_; ++j) {
-      vec3<T> x, dx;
       for (int i = 0; i < 3; ++i) {
         x[i] = x0[i] + (c0[i] + Yc_[i][j]);
         Xd_[i][j] = to_d(x[i]);
@@ -620,25 +683,125 @@ class chebyshev_picard {
     return r_max;
   }
 
+  // For wide T, the residual after the correction delta_ (already added to Yc_) without a new
+  // residual in T. Eq. 5 is quadratic, so with X the nodes' state before the correction
+  //   f(X + delta) - f(X) = g = (-(x2 d3 + x3 d2 + d2 d3), x1 d3 + x3 d1 + d1 d3, -(x1 d2 + x2 d1 + d1 d2))
+  // exactly, and the Picard map moves by hl S g: Yn += hl S g, F += g, r = Yn - Yc. g and
+  // hl S g are formed in double-double from X in double-double (Xd_ + Xl_, moved by delta
+  // here), so the update errs by about 2^-100 |delta|: a residual at the level of the last full
+  // one times 2^-100 is resolved, at a fraction of the cost of a full residual. Returns max |r|.
+  double update_residual(const T& hl) {
+    const double hl_hi = to_d(hl);
+    acc_ = hl;
+    acc_ -= hl_hi;
+    const double hl_lo = to_d(acc_);
+    for (std::size_t j = 0; j < n1_; ++j) {
+      const double d1 = delta_[0][j], d2 = delta_[1][j], d3 = delta_[2][j];
+      const dd x1{Xd_[0][j], Xl_[0][j]}, x2{Xd_[1][j], Xl_[1][j]}, x3{Xd_[2][j], Xl_[2][j]};
+      const dd g[3] = {negate(add(add(mul(x2, d3), mul(x3, d2)), product(d2, d3))),
+                       add(add(mul(x1, d3), mul(x3, d1)), product(d1, d3)),
+                       negate(add(add(mul(x1, d2), mul(x2, d1)), product(d1, d2)))};
+      for (int i = 0; i < 3; ++i) {
+        df_hi_[i][j] = g[i].hi;
+        df_lo_[i][j] = g[i].lo;
+        const dd x = add(dd{Xd_[i][j], Xl_[i][j]}, dd{delta_[i][j], 0});
+        Xd_[i][j] = x.hi;
+        Xl_[i][j] = x.lo;
+      }
+    }
+    double r_max = 0;
+    for (int i = 0; i < 3; ++i) {
+      for (std::size_t j = 0; j < n1_; ++j) {
+        const dd hg = mul(dd{df_hi_[i][j], df_lo_[i][j]}, dd{hl_hi, hl_lo});
+        F_hi_[j] = hg.hi;
+        F_lo_[j] = hg.lo;
+        add_double(F_[i][j], df_hi_[i][j]);
+        add_double(F_[i][j], df_lo_[i][j]);
+      }
+      S_dd_.multiply(F_hi_.data(), F_lo_.data(), Y_hi_.data(), Y_lo_.data(), 1);
+      r_[i][0] = 0;
+      for (std::size_t j = 1; j < n1_; ++j) {
+        add_double(Yn_[i][j], Y_hi_[j]);
+        add_double(Yn_[i][j], Y_lo_[j]);
+        acc_ = Yn_[i][j];
+        acc_ -= Yc_[i][j];
+        r_[i][j] = to_d(acc_);
+        r_max = std::max(r_max, std::abs(r_[i][j]));
+      }
+    }
+    return r_max;
+  }
+
+  // Double-double arithmetic for update_residual: Dekker's exact product (no hardware FMA
+  // assumed) and Knuth's TwoSum (Dekker 1971; Knuth, TAOCP vol. 2, 4.2.2).
+  struct dd {
+    double hi, lo;
+  };
+  static dd quick_sum(double a, double b) {
+    const double s = a + b;
+    return {s, b - (s - a)};
+  }
+  static dd two_sum(double a, double b) {
+    const double s = a + b;
+    const double bb = s - a;
+    return {s, (a - (s - bb)) + (b - bb)};
+  }
+  static void split(double a, double& a1, double& a2) {
+    const double t = 134217729.0 * a;  // 2^27 + 1
+    a1 = t - (t - a);
+    a2 = a - a1;
+  }
+  static dd product(double a, double b) {
+    double a1, a2, b1, b2;
+    split(a, a1, a2);
+    split(b, b1, b2);
+    const double p = a * b;
+    return {p, ((a1 * b1 - p) + a1 * b2 + a2 * b1) + a2 * b2};
+  }
+  static dd mul(const dd& x, double b) {
+    const dd p = product(x.hi, b);
+    return quick_sum(p.hi, p.lo + x.lo * b);
+  }
+  static dd mul(const dd& x, const dd& y) {
+    const dd p = product(x.hi, y.hi);
+    return quick_sum(p.hi, p.lo + (x.hi * y.lo + x.lo * y.hi));
+  }
+  static dd add(const dd& x, const dd& y) {
+    const dd s = two_sum(x.hi, y.hi);
+    return quick_sum(s.hi, s.lo + (x.lo + y.lo));
+  }
+  static dd negate(const dd& x) { return {-x.hi, -x.lo}; }
+
   // Solves for the correction of the residual in r_ (largest entry r_max) and adds it to Yc_.
   outcome correct(double r_max, double hl_d, picard_stats& st) {
     if (!std::isfinite(r_max)) return {outcome_kind::residual_non_finite};
     if (const outcome o = solve_correction(hl_d, st); !o.ok()) return o;
     for (int i = 0; i < 3; ++i)
-      for (std::size_t j = 1; j < n1_; ++j) Yc_[i][j] += T(delta_[i][j]);
+      for (std::size_t j = 1; j < n1_; ++j) add_double(Yc_[i][j], delta_[i][j]);
     return {};
   }
 
   // y_i = S g_i (rows 1..N) for the three components in double. Column order (y += S[:,k] g[k])
   // keeps the rows independent, so the compiler vectorizes across them without reassociating
-  // any sum (a row-by-row dot product is bound by the latency of its serial additions).
+  // any sum (a row-by-row dot product is bound by the latency of its serial additions); four
+  // columns per pass over y quarter its loads and stores, which bound the plain column loop.
   void double_integral(const std::array<std::vector<double>, 3>& g, std::array<std::vector<double>, 3>& y) const {
     for (int i = 0; i < 3; ++i) {
       double* out = y[i].data();
+      const double* gi = g[i].data();
       std::fill(out, out + n1_, 0.0);
-      for (std::size_t k = 0; k < n1_; ++k) {
+      std::size_t k = 0;
+      for (; k + 4 <= n1_; k += 4) {
+        const double* c0 = &S_dt_[k * n1_];
+        const double* c1 = c0 + n1_;
+        const double* c2 = c1 + n1_;
+        const double* c3 = c2 + n1_;
+        const double g0 = gi[k], g1 = gi[k + 1], g2 = gi[k + 2], g3 = gi[k + 3];
+        for (std::size_t j = 0; j < n1_; ++j) out[j] += (c0[j] * g0 + c1[j] * g1) + (c2[j] * g2 + c3[j] * g3);
+      }
+      for (; k < n1_; ++k) {
         const double* col = &S_dt_[k * n1_];
-        const double gk = g[i][k];
+        const double gk = gi[k];
         for (std::size_t j = 0; j < n1_; ++j) out[j] += col[j] * gk;
       }
     }
@@ -706,7 +869,7 @@ class chebyshev_picard {
     for (std::size_t k = 0; k < nb; ++k) noise_log_[k] = k < tail_from ? std::max(head_noise, tail_noise) : tail_noise;
     // Envelope over neighbours: odd/even parts of the series vanish alternately.
     for (std::size_t k = 1; k + 1 < nb; ++k) coeff_log_[k] = std::max(coeff_log_[k], coeff_log_[k + 1]);
-    const double target = tol_log_ + scale_log;
+    const double target = truncation_target_log_ + scale_log;
     const double margin = std::log(100.0);
     double sx = 0, sy = 0, sxx = 0, sxy = 0;
     int n = 0;
@@ -752,12 +915,18 @@ class chebyshev_picard {
         head_max = std::max(head_max, a);
         coeff_log_[k] = std::max(coeff_log_[k], a > 0 ? std::log(a) : -std::numeric_limits<double>::infinity());
       }
-      for (std::size_t k = tail_from; k < nb; ++k) {
-        const T* row = &basis_.to_coeffs[k * n1_];
-        acc_ = 0;
-        for (std::size_t j = 0; j < n1_; ++j) acc_ += row[j] * F_[i][j];
-        acc_ *= hl;
-        coeff_log_[k] = std::max(coeff_log_[k], detail::log_abs(acc_));
+      if constexpr (!std::is_same_v<T, double>) {
+        Q_fx_.multiply(F_[i].data(), tail_.data(), tail_from);
+        for (std::size_t k = tail_from; k < nb; ++k)
+          coeff_log_[k] = std::max(coeff_log_[k], detail::log_abs(T(tail_[k] * hl)));
+      } else {
+        for (std::size_t k = tail_from; k < nb; ++k) {
+          const T* row = &basis_.to_coeffs[k * n1_];
+          acc_ = 0;
+          for (std::size_t j = 0; j < n1_; ++j) acc_ += row[j] * F_[i][j];
+          acc_ *= hl;
+          coeff_log_[k] = std::max(coeff_log_[k], detail::log_abs(acc_));
+        }
       }
     }
     return head_max;
@@ -767,6 +936,7 @@ class chebyshev_picard {
   std::size_t N_, n1_;  // the degree, and the number of nodes N + 1
   detail::chebyshev_basis<T> basis_;
   double eps_log_ = 0, tol_log_ = 0;  // log epsilon of T; log of the relative tolerance
+  double truncation_target_log_ = 0;  // log of the relative truncation bound per segment
   vec3<T> G_{};
   // The workspace. Per component i of Omega and node j (arrays of three vectors over the nodes):
   //   Yc_    the iterate: increments X - x0 at the nodes, in T (X the state at the nodes)
@@ -779,17 +949,27 @@ class chebyshev_picard {
   //   g_     f(X + delta) - f(X) in a sweep (f(X) in the double residual), in double
   std::array<std::vector<T>, 3> F_, Yc_, Yn_;
   std::array<std::vector<double>, 3> r_, delta_, delta_new_, g_, Xd_, warm_;
+  // For wide T: X in double-double (Xd_ + Xl_) and g = f(X + delta) - f(X) in double-double
+  // (df_hi_ + df_lo_),
+  // for the residual updates.
+  std::array<std::vector<double>, 3> Xl_, df_hi_, df_lo_;
   // The basis matrices in double: S transposed (column k contiguous), Q (values to the
   // integral's coefficients) and C (values to the interpolant's coefficients); S in
   // double-double for wide T.
   std::vector<double> S_dt_, Q_d_, C_d_;
   detail::double_double_matrix S_dd_;
+  // For wide T: S and Q in fixed point, and the coefficients Q F of one component.
+  struct no_fixed_point {};
+  using fixed_point = std::conditional_t<std::is_same_v<T, double>, no_fixed_point, detail::fixed_point_matrix<T>>;
+  fixed_point S_fx_, Q_fx_;
+  std::vector<T> tail_;
   // One component at a time: F and S F split into double-double hi + lo; F in double and its
   // Chebyshev coefficients bd_ (warm start); log |b_k| of the increment's coefficients and
   // their rounding floor (tail estimate).
   std::vector<double> F_hi_, F_lo_, Y_hi_, Y_lo_;
   std::vector<double> bd_, Fd_, coeff_log_, noise_log_;
   T acc_;  // accumulator in T: in place, no temporary per operation for MPFR
+  vec3<T> node_x_, node_f_;  // the state and f at one node, reused (no allocation per node)
   chebyshev_segment<T> segment_;  // the latest accepted segment (the next one's warm start)
 };
 

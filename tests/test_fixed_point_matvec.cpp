@@ -1,0 +1,118 @@
+// The fixed-point matrix-vector product of the wide residual (detail/fixed_point_matvec.hpp),
+// on the reference integrator's own Picard matrix S.
+//
+// Provenance of the reference values: the same products with the entries of A and x taken
+// exactly into MPFR at 400 decimal digits (1330 bits: enough for every product of two 600-bit
+// numbers and the sum of 73 of them to be exact), so the comparison measures the kernel's error alone. The bound checked is the one the
+// header derives: 2^-(p+3) n max_k |A_rk| max|x| + ulp(y_r) (the quad form, 2^-116 n ... +
+// 2 ulp, is tighter than this for p = 113).
+#include <eulervop/detail/chebyshev_basis.hpp>
+#include <eulervop/detail/fixed_point_matvec.hpp>
+#include <eulervop/scalar.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace {
+
+using eulervop::mpfr_real;
+using eulervop::quad;
+
+using exact = boost::multiprecision::number<boost::multiprecision::mpfr_float_backend<400>>;
+
+template <class T>
+exact to_exact(const T& x) {
+  if constexpr (std::is_same_v<T, quad>)
+    return exact(x);
+  else
+    return exact(x.backend().data());
+}
+
+// Vectors like the integrator's f(X): smooth node values, an offset, a small part below the
+// leading digits, zeros, and entries far below the largest (which the kernel may truncate).
+template <class T>
+std::vector<T> test_vector(std::mt19937_64& rng, std::size_t n, int kind) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<T> x(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    x[k] = T(u(rng)) + T(u(rng)) * T(1e-17) + T(u(rng)) * T(1e-34);
+    if (kind == 1) x[k] += T(3);
+    if (kind == 2 && k % 3 == 0) x[k] = 0;
+    if (kind == 3 && k % 2 == 0) x[k] *= T(1e-40);
+  }
+  return x;
+}
+
+// Largest error in units of the derived bound (must be <= 1), over several vectors.
+template <class T>
+// `bits` is the precision of T; the matrix resolves matrix_bits (default: the same).
+double worst_error_over_bound(std::size_t degree, unsigned bits, unsigned matrix_bits = 0) {
+  if (matrix_bits == 0) matrix_bits = bits;
+  const std::size_t n1 = degree + 1;
+  const eulervop::detail::chebyshev_basis<T> basis(degree);
+  eulervop::detail::fixed_point_matrix<T> fx = [&] {
+    if constexpr (std::is_same_v<T, quad>)
+      return eulervop::detail::fixed_point_matrix<T>(basis.integral, n1, n1);
+    else
+      return eulervop::detail::fixed_point_matrix<T>(basis.integral, n1, n1, matrix_bits);
+  }();
+  std::mt19937_64 rng(7);
+  double worst = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const std::vector<T> x = test_vector<T>(rng, n1, trial % 4);
+    std::vector<T> y(n1);
+    fx.multiply(x.data(), y.data(), 1);
+    exact xmax = 0;
+    for (const T& v : x) xmax = std::max(xmax, exact(abs(to_exact(v))));
+    for (std::size_t r = 1; r < n1; ++r) {
+      exact sum = 0, amax = 0;
+      for (std::size_t k = 0; k < n1; ++k) {
+        const exact a = to_exact(basis.integral[r * n1 + k]);
+        sum += a * to_exact(x[k]);
+        amax = std::max(amax, exact(abs(a)));
+      }
+      const exact err = abs(to_exact(y[r]) - sum);
+      const exact ulp = ldexp(abs(sum), 1 - static_cast<int>(bits));
+      const exact bound = ldexp(exact(n1) * amax * xmax, -static_cast<int>(matrix_bits) - 3) + ulp;
+      worst = std::max(worst, static_cast<double>(err / bound));
+    }
+  }
+  return worst;
+}
+
+TEST(FixedPointMatvec, QuadWithinDerivedBound) {
+  EXPECT_LE(worst_error_over_bound<quad>(41, 113), 1.0);
+}
+
+// 64, 256, 320 bits: 2, 5 and 6 limbs (the unrolled kernels); 600 bits: 10 limbs (mpn_mul_n).
+TEST(FixedPointMatvec, MpfrWithinDerivedBound) {
+  for (unsigned requested : {64u, 256u, 320u, 600u}) {
+    eulervop::mpfr_precision_scope scope(requested);
+    const unsigned bits = eulervop::significand_bits<mpfr_real>();
+    EXPECT_LE(worst_error_over_bound<mpfr_real>(72, bits), 1.0) << bits << " bits";
+  }
+}
+
+// The integrator's case of a tolerance looser than the precision: 256-bit numbers, products
+// resolved to 223 bits (4 limbs), 130 bits (3 limbs) and 100 bits (2 limbs).
+TEST(FixedPointMatvec, MpfrWithFewerMatrixBitsWithinDerivedBound) {
+  eulervop::mpfr_precision_scope scope(256);
+  const unsigned bits = eulervop::significand_bits<mpfr_real>();
+  for (unsigned matrix_bits : {223u, 130u, 100u})
+    EXPECT_LE(worst_error_over_bound<mpfr_real>(72, bits, matrix_bits), 1.0) << matrix_bits << " matrix bits";
+}
+
+// A zero vector gives exact zeros (no scaling of an all-zero vector).
+TEST(FixedPointMatvec, ZeroVectorGivesZeros) {
+  const eulervop::detail::chebyshev_basis<quad> basis(8);
+  eulervop::detail::fixed_point_matrix<quad> fx(basis.integral, 9, 9);
+  std::vector<quad> x(9, quad(0)), y(9, quad(1));
+  fx.multiply(x.data(), y.data(), 0);
+  for (const quad& v : y) EXPECT_EQ(v, 0);
+}
+
+}  // namespace
