@@ -48,33 +48,44 @@ struct dense_reference {
   double wall_seconds = 0;
 };
 
+// Runs integrate(progress), a function of a progress_callback, under a progress line labelled
+// `label` (none when empty) that goes to `total`; returns the wall time.
+template <class Integrate>
+double run_with_progress(const std::string& label, double total, Integrate&& integrate) {
+  const auto start = std::chrono::steady_clock::now();
+  std::optional<progress_line> progress;
+  if (!label.empty()) progress.emplace(label, total);
+  integrate([&](double tau) {
+    if (progress) progress->update(tau);
+  });
+  if (progress) progress->clear();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 template <scalar T>
 dense_reference<T> integrate_dense(const normalized_problem<T>& problem, const T& tau_end,
                                    const picard_settings& settings, const std::string& label) {
-  const auto start = std::chrono::steady_clock::now();
   dense_reference<T> out;
-  std::optional<progress_line> progress;
-  if (!label.empty()) progress.emplace(label, static_cast<double>(tau_end));
-  out.trajectory = integrate_reference<T>(
-      problem, tau_end, settings,
-      [&](double tau) {
-        if (progress) progress->update(tau);
-      },
-      &out.stats);
-  if (progress) progress->clear();
-  out.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
+    out.trajectory = integrate_reference<T>(problem, tau_end, settings, progress, &out.stats);
+  });
   return out;
 }
 
-// The dense output at `tau` (within the integrated span). A non-finite value is a
-// numerical_failure: no NaN is ever printed as a result (docs/design.md section 5.3).
+// A sample at `tau`, checked: a non-finite value is a numerical_failure there, so that no NaN is
+// ever printed as a result (docs/design.md section 5.3).
 template <scalar T>
-vec3<T> sample_dense(const dense_trajectory<T>& trajectory, const T& tau) {
-  vec3<T> Om = trajectory(tau);
+const vec3<T>& require_finite(const vec3<T>& Om, const T& tau) {
   for (const T& x : Om)
     if (!(boost::math::isfinite)(x))
       throw numerical_failure({outcome_kind::dense_output_non_finite, static_cast<double>(tau)});
   return Om;
+}
+
+// The dense output at `tau` (within the integrated span), checked.
+template <scalar T>
+vec3<T> sample_dense(const dense_trajectory<T>& trajectory, const T& tau) {
+  return require_finite(trajectory(tau), tau);
 }
 
 // What a run leaves once its samples have gone to a callback.
@@ -96,25 +107,13 @@ template <scalar T>
 reference_run integrate_streaming(const normalized_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
                                   const picard_settings& settings, const std::string& label,
                                   const sample_function<T>& on_sample) {
-  const auto start = std::chrono::steady_clock::now();
   reference_run out;
-  std::optional<progress_line> progress;
-  if (!label.empty()) progress.emplace(label, static_cast<double>(tau_end));
-  integrate_reference_samples<T>(
-      problem, tau_end, taus,
-      [&](std::size_t index, const T& tau, const vec3<T>& Om) {
-        for (const T& x : Om)
-          if (!(boost::math::isfinite)(x))
-            throw numerical_failure({outcome_kind::dense_output_non_finite, static_cast<double>(tau)});
-        on_sample(index, Om);
-      },
-      settings,
-      [&](double tau) {
-        if (progress) progress->update(tau);
-      },
-      &out.stats);
-  if (progress) progress->clear();
-  out.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
+    integrate_reference_samples<T>(
+        problem, tau_end, taus,
+        [&](std::size_t index, const T& tau, const vec3<T>& Om) { on_sample(index, require_finite(Om, tau)); },
+        settings, progress, &out.stats);
+  });
   return out;
 }
 
