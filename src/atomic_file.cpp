@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <csignal>
@@ -41,6 +42,40 @@ void guard_temp(const std::string& path) {
 
 void unguard_temp() { pending_temp_set.store(false); }
 
+// This machine's name, for the temporaries' names: on a file system shared by several machines
+// (a cluster), a process id means something only on the machine that made the file.
+std::string host_name() {
+  char name[256] = {};
+  if (::gethostname(name, sizeof name - 1) != 0 || name[0] == '\0') return "localhost";
+  std::string host(name);
+  std::replace(host.begin(), host.end(), '/', '_');
+  return host;
+}
+
+// The temporaries of `target` are "<target>.tmp.<host>.<pid>.XXXXXX". A SIGKILL (or a power
+// cut) leaves one behind, which no signal handler can remove. Those made on this machine by a
+// process that no longer exists are removed here, before a new one is made; others (another
+// machine's, a live process's, or names of any other form) are left alone.
+void remove_stale_temporaries(const std::filesystem::path& target, const std::string& prefix) {
+  std::error_code ec;
+  const std::filesystem::path dir = target.parent_path().empty() ? "." : target.parent_path();
+  const std::string name_prefix = std::filesystem::path(prefix).filename().string();
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (!name.starts_with(name_prefix)) continue;
+    const std::string rest = name.substr(name_prefix.size());  // "<pid>.XXXXXX"
+    const std::size_t dot = rest.find('.');
+    if (dot == 0 || dot == std::string::npos || rest.size() - dot - 1 != 6) continue;
+    const std::string pid_text = rest.substr(0, dot);
+    if (!std::all_of(pid_text.begin(), pid_text.end(), [](char c) { return c >= '0' && c <= '9'; }) ||
+        pid_text.size() > 9)
+      continue;
+    const pid_t pid = static_cast<pid_t>(std::stol(pid_text));
+    if (pid <= 0 || ::kill(pid, 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
+    std::filesystem::remove(entry.path(), ec);
+  }
+}
+
 [[noreturn]] void fail(const std::filesystem::path& target, std::string_view what, int err) {
   throw input_error(fmt::format("--out {}: {}: {}", target.string(), what, std::strerror(err)));
 }
@@ -59,7 +94,9 @@ atomic_file::atomic_file(std::filesystem::path target) : target_(std::move(targe
     if (fd_ < 0) fail(target_, "cannot open", errno);
     return;
   }
-  std::string pattern = target_.string() + ".tmp.XXXXXX";
+  const std::string prefix = target_.string() + ".tmp." + host_name() + ".";
+  remove_stale_temporaries(target_, prefix);
+  std::string pattern = prefix + std::to_string(::getpid()) + ".XXXXXX";
   std::vector<char> name(pattern.begin(), pattern.end());
   name.push_back('\0');
   fd_ = ::mkstemp(name.data());

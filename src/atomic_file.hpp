@@ -15,8 +15,9 @@ namespace eulervop::app {
 
 class atomic_file {
  public:
-  // Creates "<target>.tmp.XXXXXX" next to the target; input_error (naming the path) if the
-  // directory is missing or not writable, or the target is a directory.
+  // Creates "<target>.tmp.<host>.<pid>.XXXXXX" next to the target, after removing the ones of
+  // this host whose process no longer exists (left by a SIGKILL); input_error (naming the path)
+  // if the directory is missing or not writable, or the target is a directory.
   explicit atomic_file(std::filesystem::path target);
   // Removes the temporary unless commit() succeeded; the target is then untouched.
   ~atomic_file();
