@@ -94,7 +94,7 @@ atomic_file::atomic_file(std::filesystem::path target) : target_(std::move(targe
     if (fd_ < 0) fail(target_, "cannot open", errno);
     return;
   }
-  const std::string prefix = target_.string() + ".tmp." + host_name() + ".";
+  const std::string prefix = temporary_prefix(target_);
   remove_stale_temporaries(target_, prefix);
   std::string pattern = prefix + std::to_string(::getpid()) + ".XXXXXX";
   std::vector<char> name(pattern.begin(), pattern.end());
@@ -103,6 +103,10 @@ atomic_file::atomic_file(std::filesystem::path target) : target_(std::move(targe
   if (fd_ < 0) fail(target_, "cannot create a file in its directory", errno);
   temp_ = name.data();
   guard_temp(temp_);
+}
+
+std::string atomic_file::temporary_prefix(const std::filesystem::path& target) {
+  return target.string() + ".tmp." + host_name() + ".";
 }
 
 atomic_file::~atomic_file() {

@@ -29,6 +29,10 @@ class atomic_file {
   void commit();
 
   const std::filesystem::path& target() const { return target_; }
+
+  // "<target>.tmp.<host>.": what the temporaries of `target` made on this machine start with
+  // (the process id and six random characters follow).
+  static std::string temporary_prefix(const std::filesystem::path& target);
   // False for a device or pipe, which is written in place.
   bool replaces_target() const { return !temp_.empty(); }
 

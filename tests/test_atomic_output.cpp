@@ -1,11 +1,11 @@
 // Output files appear complete or not at all, and a run killed with SIGKILL (which no handler can
 // catch) leaves its temporary "<out>.tmp.<host>.<pid>.XXXXXX" behind: the next run that writes
 // beside it removes it, when it was made on this machine by a process that no longer exists.
+#include "atomic_file.hpp"
 #include "cli_test_support.hpp"
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -20,14 +20,6 @@ namespace cli_test = eulervop::cli_test;
 using cli_test::temp_dir;
 using cli_test::write_file;
 
-std::string this_host() {
-  char name[256] = {};
-  if (::gethostname(name, sizeof name - 1) != 0 || name[0] == '\0') return "localhost";
-  std::string host(name);
-  std::replace(host.begin(), host.end(), '/', '_');
-  return host;
-}
-
 // The id of a process that has exited and been reaped.
 pid_t dead_pid() {
   const pid_t child = ::fork();
@@ -41,12 +33,14 @@ bool exists(const fs::path& p) { return fs::exists(p); }
 
 TEST(AtomicOutput, ARunRemovesStaleTemporariesOfThisHostOnly) {
   temp_dir dir;
-  const std::string host = this_host();
-  const fs::path stale = dir.path() / ("ref.csv.tmp." + host + "." + std::to_string(dead_pid()) + ".AbCdEf");
-  const fs::path live = dir.path() / ("ref.csv.tmp." + host + "." + std::to_string(::getpid()) + ".AbCdEf");
-  const fs::path other_host = dir.path() / ("ref.csv.tmp." + host + "-elsewhere.12345.AbCdEf");
+  using eulervop::app::atomic_file;
+  const std::string ours = atomic_file::temporary_prefix("ref.csv");  // "ref.csv.tmp.<host>."
+  const fs::path stale = dir.path() / (ours + std::to_string(dead_pid()) + ".AbCdEf");
+  const fs::path live = dir.path() / (ours + std::to_string(::getpid()) + ".AbCdEf");
+  const fs::path other_host = dir.path() / (ours.substr(0, ours.size() - 1) + "-elsewhere.12345.AbCdEf");
   const fs::path other_name = dir.path() / "ref.csv.tmp.AbCdEf";  // not of this form: not judged
-  const fs::path other_output = dir.path() / ("other.csv.tmp." + host + "." + std::to_string(dead_pid()) + ".AbCdEf");
+  const fs::path other_output =
+      dir.path() / (atomic_file::temporary_prefix("other.csv") + std::to_string(dead_pid()) + ".AbCdEf");
   for (const fs::path& p : {stale, live, other_host, other_name, other_output}) write_file(p, "");
 
   const cli_test::run_result r =
