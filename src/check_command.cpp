@@ -23,6 +23,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -57,6 +58,7 @@ struct check_job {
   std::map<std::string, std::string> names;  // canonical -> the file's column name
   std::map<std::string, bool> renamed;       // canonical -> given by --columns
   std::optional<double> tol, rel_tol;
+  double scd_atol = 1e-12, scd_rtol = 1e-12;  // the mixed error of mescd
   std::optional<std::string> errors_out;
   bool json = false;
 };
@@ -106,6 +108,8 @@ check_job make_job(const check_options& o) {
   }
   job.tol = non_negative_flag("--tol", o.tol);
   job.rel_tol = non_negative_flag("--rel-tol", o.rel_tol);
+  if (o.scd_atol) job.scd_atol = positive_flag_number("--scd-atol", *o.scd_atol).value;
+  if (o.scd_rtol) job.scd_rtol = positive_flag_number("--scd-rtol", *o.scd_rtol).value;
   const std::string format = o.format.value_or("table");
   if (format != "table" && format != "json") throw input_error(fmt::format("--format {}: expected table or json", format));
   job.json = format == "json";
@@ -176,6 +180,17 @@ struct tally {
   std::size_t exceeding = 0;
   std::optional<std::string> first_exceeding_time;
   std::size_t first_exceeding_line = 0;
+  // The oracle metrics (IVP Test Set and DiffEqDevTools terms), over rows and components:
+  double max_relative = 0;  // max |dy_i| / |y_ref_i| over the components with y_ref_i != 0 (scd)
+  double max_mixed = 0;     // max |dy_i| / (atol/rtol + |y_ref_i|) (mescd)
+  std::array<double, 3> max_component{};  // max |dy_i| per component
+  // c1^2 and c2^2 (Eq. 7) of the trajectory minus the reference's: largest magnitude, and at
+  // the last row.
+  double c1_drift_max = 0, c2_drift_max = 0, c1_drift_last = 0, c2_drift_last = 0;
+  // The error along the reference's direction of motion (Eq. 5's right-hand side there: a phase
+  // error) and across it, largest over the rows; absent without the torque.
+  bool has_direction = false;
+  double max_along = 0, max_across = 0;
 };
 
 // Streams the per-row errors into an atomic file (so the file appears only when complete).
@@ -214,11 +229,45 @@ struct check_result {
   nlohmann::ordered_json reference_json;
 };
 
+// The oracle metrics of one row (tally's second half). G: the normalized torque, for the
+// reference's direction of motion, when known.
+template <scalar T>
+void record_metrics(const check_job& job, tally& t, const vec3<T>& ref, const vec3<T>& Om, const vec3<T>* G) {
+  using std::abs;
+  using std::sqrt;
+  vec3<T> d;
+  for (int i = 0; i < 3; ++i) {
+    d[i] = Om[i] - ref[i];
+    const double err = static_cast<double>(abs(d[i]));
+    t.max_component[i] = std::max(t.max_component[i], err);
+    const double y = static_cast<double>(abs(ref[i]));
+    if (y > 0) t.max_relative = std::max(t.max_relative, err / y);
+    t.max_mixed = std::max(t.max_mixed, err / (job.scd_atol / job.scd_rtol + y));
+  }
+  const T c1 = (Om[0] * Om[0] + Om[1] * Om[1]) - (ref[0] * ref[0] + ref[1] * ref[1]);
+  const T c2 = (Om[1] * Om[1] + Om[2] * Om[2]) - (ref[1] * ref[1] + ref[2] * ref[2]);
+  t.c1_drift_last = static_cast<double>(c1);
+  t.c2_drift_last = static_cast<double>(c2);
+  t.c1_drift_max = std::max(t.c1_drift_max, std::abs(t.c1_drift_last));
+  t.c2_drift_max = std::max(t.c2_drift_max, std::abs(t.c2_drift_last));
+  if (!G) return;
+  vec3<T> v;
+  euler_rhs(ref, *G, v);
+  const T speed = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (!(speed > 0)) return;  // at rest: no direction of motion (the row is left out of the split)
+  t.has_direction = true;
+  const T along = (d[0] * v[0] + d[1] * v[1] + d[2] * v[2]) / speed;
+  const T across2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - along * along;
+  t.max_along = std::max(t.max_along, static_cast<double>(abs(along)));
+  t.max_across = std::max(t.max_across, static_cast<double>(across2 > 0 ? sqrt(across2) : T(0)));
+}
+
 template <scalar T>
 void record(const check_job& job, tally& t, errors_writer& out, std::size_t line, const decimal& time,
-            const vec3<T>& ref, const vec3<T>& Om) {
+            const vec3<T>& ref, const vec3<T>& Om, const vec3<T>* G) {
   const double e = static_cast<double>(eq20_error(ref, Om));
   if (!std::isfinite(e)) throw numerical_failure({outcome_kind::error_non_finite, time.value});
+  record_metrics(job, t, ref, Om, G);
   std::optional<double> bar;
   if (job.tol || job.rel_tol) {
     using std::sqrt;
@@ -306,6 +355,7 @@ check_result check_against_scene(const check_job& job) {
   T tau_end = taus.back();
   if (!(tau_end > 0)) tau_end = T(1);  // a trajectory at tau = 0 only
   errors_writer out(job.errors_out);    // an unwritable path fails before the integration
+  const normalized_problem<T> problem = to_problem<T>(s);
 
   // Pass 2, during the integration: each row is read again as the reference at its time
   // arrives. Pass 1 checked that the times increase, and their conversion to tau in T is
@@ -318,13 +368,13 @@ check_result check_against_scene(const check_job& job) {
   csv_rows rows(in, "trajectory " + job.trajectory_path);
   row_reader reader{rows, cols};
   const auto changed = [&] { return input_error(fmt::format("{}: the file changed while it was read", rows.where())); };
-  const reference_run ref = integrate_at<T>(to_problem<T>(s), tau_end, taus, job.settings, "reference",
+  const reference_run ref = integrate_at<T>(problem, tau_end, taus, job.settings, "reference",
                                             [&](std::size_t i, const vec3<T>& Omega_ref) {
                                               if (!rows.next()) throw changed();
                                               const decimal time = reader.time();
                                               if (tau_of(time) != taus[i]) throw changed();
                                               record<T>(job, r.t, out, rows.line(), time, Omega_ref,
-                                                        Omega_of(reader.values()));
+                                                        Omega_of(reader.values()), &problem.G);
                                             });
   if (rows.next()) throw changed();
   out.commit();
@@ -432,6 +482,10 @@ check_result check_against_file(const check_job& job, reference_csv_reader& ref)
                     : ref.column("tau");
   std::optional<physical_scaling<T>> scale;
   if (cols.physical) scale.emplace(scaling_of_reference<T>(ref));
+  // The torque, for the direction of motion: from the reference's scene text, if it has one.
+  std::optional<vec3<T>> G;
+  if (!ref.metadata().scene_text.empty())
+    G = to_problem<T>(parse_scene(ref.metadata().scene_text, ref.rows().where() + " (scene_text)")).G;
 
   check_result r;
   r.time_name = cols.time_name;
@@ -445,7 +499,7 @@ check_result check_against_file(const check_job& job, reference_csv_reader& ref)
     cursor.seek(time, rows, cols.time_name);
     vec3<T> Om = {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
     if (scale) Om = scale->Omega_of_omega(Om);
-    record<T>(job, r.t, out, rows.line(), time, ref.template Omega<T>(), Om);
+    record<T>(job, r.t, out, rows.line(), time, ref.template Omega<T>(), Om, G ? &*G : nullptr);
   }
   if (!r.t.rows) throw input_error(fmt::format("{}: no data rows", rows.where()));
   out.commit();
@@ -456,6 +510,11 @@ check_result check_against_file(const check_job& job, reference_csv_reader& ref)
 // ---- output -----------------------------------------------------------------------------------------
 
 double time_value(const std::string& text) { return std::strtod(text.c_str(), nullptr); }
+
+// -log10 of a largest error: significant correct digits (infinite for an exact match).
+double digits_of(double max_error) {
+  return max_error > 0 ? -std::log10(max_error) : std::numeric_limits<double>::infinity();
+}
 
 int report(const check_job& job, const check_result& r, std::ostream& standard_output) {
   const tally& t = r.t;
@@ -482,6 +541,19 @@ int report(const check_job& job, const check_result& r, std::ostream& standard_o
     j["first_exceeding_line"] = t.first_exceeding_time ? nlohmann::ordered_json(t.first_exceeding_line)
                                                        : nlohmann::ordered_json(nullptr);
     j["pass"] = pass;
+    const auto digits = [](double max_error) {
+      const double d = digits_of(max_error);
+      return std::isfinite(d) ? nlohmann::ordered_json(d) : nlohmann::ordered_json(nullptr);  // null: exact
+    };
+    j["scd"] = digits(t.max_relative);
+    j["mescd"] = digits(t.max_mixed);
+    j["scd_atol"] = job.scd_atol;
+    j["scd_rtol"] = job.scd_rtol;
+    j["max_component_errors"] = {t.max_component[0], t.max_component[1], t.max_component[2]};
+    j["c1_squared_drift"] = {{"max", t.c1_drift_max}, {"last", t.c1_drift_last}};
+    j["c2_squared_drift"] = {{"max", t.c2_drift_max}, {"last", t.c2_drift_last}};
+    j["max_error_along_motion"] = t.has_direction ? nlohmann::ordered_json(t.max_along) : nlohmann::ordered_json(nullptr);
+    j["max_error_across_motion"] = t.has_direction ? nlohmann::ordered_json(t.max_across) : nlohmann::ordered_json(nullptr);
     standard_output << j.dump(2) << "\n";
   } else {
     fmt::memory_buffer b;
@@ -493,6 +565,14 @@ int report(const check_job& job, const check_result& r, std::ostream& standard_o
     put("reference: {}\n", r.reference_text);
     put("max error: {} at {} = {} (line {})\n", t.max_error, r.time_name, t.max_time, t.max_line);
     put("rms error: {:.6e}\n", rms);
+    put("per component: max |dOmega_i| = {:.3e}, {:.3e}, {:.3e}\n", t.max_component[0], t.max_component[1],
+        t.max_component[2]);
+    put("scd: {:.2f}   mescd: {:.2f} (atol {}, rtol {})\n", digits_of(t.max_relative), digits_of(t.max_mixed),
+        job.scd_atol, job.scd_rtol);
+    put("invariant drift (Eq. 7, against the reference): c1^2 max {:.3e} last {:.3e}; c2^2 max {:.3e} last {:.3e}\n",
+        t.c1_drift_max, t.c1_drift_last, t.c2_drift_max, t.c2_drift_last);
+    if (t.has_direction)
+      put("error along the motion (phase): max {:.3e}; across it: max {:.3e}\n", t.max_along, t.max_across);
     if (has_bar) {
       std::string bar;
       if (job.tol) bar = fmt::format("{}", *job.tol);
@@ -534,6 +614,9 @@ CLI::App* add_check_command(CLI::App& app, check_options& o) {
   bind("--rel-tol", o.rel_tol, "Pass if every row's Eq. 20 error <= R |Omega_ref| (+ ABS with --tol)")->type_name("R");
   bind("--errors-out", o.errors_out, "Write the per-row errors to FILE (CSV: line,time,error,bar)")->type_name("FILE");
   bind("--format", o.format, "Standard output: table (default) or json")->type_name("F");
+  bind("--scd-atol", o.scd_atol, "atol of the mixed error |dy| / (atol/rtol + |y_ref|) behind mescd (default 1e-12)")
+      ->type_name("A");
+  bind("--scd-rtol", o.scd_rtol, "rtol of that mixed error (default 1e-12)")->type_name("R");
   return sub;
 }
 

@@ -6,6 +6,9 @@
 // is integrated to the trajectory's last time and evaluated by dense output at every row's
 // time; against a reference CSV of `eulervop reference` every row's time must be one of the
 // file's sample times (to 1e-12 relative). Both files are streamed, never held in memory.
+// Besides the Eq. 20 errors it reports the oracle metrics of the IVP Test Set (scd, mescd), the
+// largest error per component, the drift of c1^2 and c2^2 (Eq. 7) against the reference's, and
+// the error along and across the reference's direction of motion.
 //
 // Exit codes: 0 within tolerance (or no tolerance given), 1 outside it, 2 bad input (one line
 // naming the file, the line and the column), 3 numerical failure of the reference.
@@ -28,6 +31,8 @@ struct check_options {
   std::optional<std::string> rel_tol;     // bar relative to |Omega_ref|
   std::optional<std::string> errors_out;  // per-row errors, CSV (written atomically)
   std::optional<std::string> format;      // table | json
+  std::optional<std::string> scd_atol;    // mixed error's atol (mescd), default 1e-12
+  std::optional<std::string> scd_rtol;    // mixed error's rtol (mescd), default 1e-12
 };
 
 CLI::App* add_check_command(CLI::App& app, check_options& options);

@@ -314,11 +314,54 @@ TEST(Check, BadFlags) {
            {"check", paper_scene(), "traj.csv", "--columns", "time"},
            {"check", paper_scene(), "missing.csv"},
            {"check", paper_scene()},
+           {"check", paper_scene(), "traj.csv", "--scd-atol", "0"},
+           {"check", paper_scene(), "traj.csv", "--scd-rtol", "-1e-12"},
        }) {
     const run_result r = run(dir.path(), args);
     EXPECT_EQ(r.exit_code, 2) << args.back() << ": " << r.err;
     EXPECT_EQ(count_lines(r.err), 1) << r.err;
   }
+}
+
+// The oracle metrics on a hand-made reference file and trajectory, where each is known in closed
+// form. The scene text (G = 0) gives the direction of motion, f(Omega_ref) of Eq. 5. Rows:
+//   tau 0:   reference (1, 0, 2),   trajectory equal;
+//   tau 0.5: reference (0.5, 1, 2), trajectory Omega2 + 0.001;
+//   tau 1:   reference (0, 2, 4),   trajectory Omega1 + 0.01 (reference component 0: not in scd).
+TEST(Check, OracleMetricsOnAHandMadeTrajectory) {
+  temp_dir dir;
+  write_file(dir.path() / "ref.csv",
+             "# precision: quad\n"
+             "# scene_text: name = \"hand\"\n# scene_text: [torque]\n# scene_text: G = [0.0, 0.0, 0.0]\n"
+             "# scene_text: [initial]\n# scene_text: Omega = [1.0, 0.0, 2.0]\n"
+             "# scene_text: [span]\n# scene_text: tau_end = 1.0\n# scene_text: samples = 3\n"
+             "tau,Omega1,Omega2,Omega3\n0,1,0,2\n0.5,0.5,1,2\n1,0,2,4\n");
+  write_file(dir.path() / "traj.csv", "tau,Omega1,Omega2,Omega3\n0,1,0,2\n0.5,0.5,1.001,2\n1,0.01,2,4\n");
+  const run_result r = run(dir.path(), {"check", "ref.csv", "traj.csv", "--format", "json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  const auto near = [](double got, double want) { EXPECT_NEAR(got, want, 1e-14 * std::abs(want) + 1e-300); };
+  near(j["scd"], 3);      // max relative error 0.001 / 1 (tau 0.5)
+  near(j["mescd"], 2);    // mixed: 0.01 / (1e-12/1e-12 + 0) at tau 1 beats 0.001 / (1 + 1)
+  near(j["max_component_errors"][0], 0.01);
+  near(j["max_component_errors"][1], 0.001);
+  EXPECT_EQ(j["max_component_errors"][2], 0.0);
+  // c1^2 = Omega1^2 + Omega2^2: 1.002001 - 1 at tau 0.5, 0.0001 at tau 1.
+  near(j["c1_squared_drift"]["max"], 0.002001);
+  near(j["c1_squared_drift"]["last"], 0.0001);
+  // c2^2 = Omega2^2 + Omega3^2: 0.002001 at tau 0.5, none at tau 1.
+  near(j["c2_squared_drift"]["max"], 0.002001);
+  EXPECT_EQ(j["c2_squared_drift"]["last"], 0.0);
+  // f(0.5, 1, 2) = (-2, 1, -0.5): d = (0, 0.001, 0) splits into 0.001/sqrt(5.25) along and
+  // 0.001 sqrt(4.25/5.25) across; f(0, 2, 4) = (-8, 0, 0): d = (0.01, 0, 0) is all along.
+  near(j["max_error_along_motion"], 0.01);
+  near(j["max_error_across_motion"], 0.001 * std::sqrt(4.25 / 5.25));
+
+  // A larger atol/rtol damps the mixed error: 0.01 / (1 + 0) becomes 0.01 / (10 + 0).
+  const run_result r2 =
+      run(dir.path(), {"check", "ref.csv", "traj.csv", "--format", "json", "--scd-atol", "1e-11"});
+  ASSERT_EQ(r2.exit_code, 0) << r2.err;
+  near(json::parse(r2.out)["mescd"], 3);
 }
 
 }  // namespace
