@@ -6,6 +6,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -224,7 +225,9 @@ scene scene_reader::read() {
   return s;
 }
 
-// [body] inertia = [I1, I2, I3]: 0 < I1 < I2 < I3 strictly (Eq. 3 divides by the differences).
+// [body] inertia = [I1, I2, I3]: positive, in any order (the axes are mapped onto the principal
+// order, principal_axes.hpp), pairwise distinct (Eq. 3 divides by the differences), and a rigid
+// body's: the two smaller moments sum to at least the largest.
 void scene_reader::read_body(const toml::table& root, scene& s) const {
   const toml::table* body = table(root, "body");
   if (!body) return;
@@ -232,9 +235,17 @@ void scene_reader::read_body(const toml::table& root, scene& s) const {
   const toml::node* inertia = body->get("inertia");
   if (!inertia) fail_at(*body, "[body]: required field `inertia` is missing");
   decimal3 I = number3(*inertia, "[body] inertia");
-  if (!(I[0].value > 0)) fail_value(*inertia, "[body] inertia", "I1 must be positive");
-  if (!(I[0].value < I[1].value && I[1].value < I[2].value))
-    fail_value(*inertia, "[body] inertia", "must satisfy I1 < I2 < I3 strictly (principal axes in order)");
+  for (int i = 0; i < 3; ++i)
+    if (!(I[i].value > 0)) fail_value(*inertia, "[body] inertia", fmt::format("I{} must be positive", i + 1));
+  std::array<double, 3> sorted = {I[0].value, I[1].value, I[2].value};
+  std::sort(sorted.begin(), sorted.end());
+  if (sorted[0] == sorted[1] || sorted[1] == sorted[2])
+    fail_value(*inertia, "[body] inertia",
+               "two moments are equal (an axisymmetric or spherical body), which the normalization of Eqs. 2-4 "
+               "cannot map (it divides by their difference)");
+  if (sorted[0] + sorted[1] < sorted[2])
+    fail_value(*inertia, "[body] inertia",
+               "the two smaller moments sum to less than the largest, which no rigid body has");
   s.units = scene_units::physical;
   s.inertia = I;
 }

@@ -25,11 +25,11 @@ vec3<T> to_vec3(const decimal3& d) {
   return {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
 }
 
-// The change of variables of Eqs. 2-4 for a physical scene (precondition: s.is_physical()).
+// The change of variables of Eqs. 2-4 for a physical scene (precondition: s.is_physical()), in
+// the body's axes as the scene gives them.
 template <scalar T>
 physical_scaling<T> scaling_of(const scene& s) {
-  const vec3<T> I = to_vec3<T>(*s.inertia);
-  return physical_scaling<T>(inertia<T>{I[0], I[1], I[2]});
+  return physical_scaling<T>(principal_axes<T>(to_vec3<T>(*s.inertia)));
 }
 
 // Omega from the torque-free solution (Eq. 12) at u: (c1 cn u, c1 sn u, c2 dn u), k = c1/c2 < 1.
