@@ -29,8 +29,8 @@ namespace odeint = boost::numeric::odeint;
 constexpr double tau_end = 136;
 const double h = eulervop::elliptic_modulus<double>(0.5).K() / 3200;
 
-eulervop::normalized_problem<double> paper() {
-  eulervop::normalized_problem<double> p;
+eulervop::euler_problem<double> paper() {
+  eulervop::euler_problem<double> p;
   p.G = {1, 1, 1};
   p.Omega0 = {0.5, 0, 1};
   return p;

@@ -186,6 +186,9 @@ struct tally {
   std::array<double, 3> max_component{};  // max |dy_i| per component
   // c1^2 and c2^2 (Eq. 7) of the trajectory minus the reference's: largest magnitude, and at
   // the last row.
+  // Absent (has_invariants false) for a body integrated in the direct form, where Eq. 7 has no
+  // meaning.
+  bool has_invariants = true;
   double c1_drift_max = 0, c2_drift_max = 0, c1_drift_last = 0, c2_drift_last = 0;
   // The error along the reference's direction of motion (Eq. 5's right-hand side there: a phase
   // error) and across it, largest over the rows; absent without the torque.
@@ -229,10 +232,11 @@ struct check_result {
   nlohmann::ordered_json reference_json;
 };
 
-// The oracle metrics of one row (tally's second half). G: the normalized torque, for the
+// The oracle metrics of one row (tally's second half). `problem`: the equations, for the
 // reference's direction of motion, when known.
 template <scalar T>
-void record_metrics(const check_job& job, tally& t, const vec3<T>& ref, const vec3<T>& Om, const vec3<T>* G) {
+void record_metrics(const check_job& job, tally& t, const vec3<T>& ref, const vec3<T>& Om,
+                    const euler_problem<T>* problem) {
   using std::abs;
   using std::sqrt;
   vec3<T> d;
@@ -250,9 +254,10 @@ void record_metrics(const check_job& job, tally& t, const vec3<T>& ref, const ve
   t.c2_drift_last = static_cast<double>(c2);
   t.c1_drift_max = std::max(t.c1_drift_max, std::abs(t.c1_drift_last));
   t.c2_drift_max = std::max(t.c2_drift_max, std::abs(t.c2_drift_last));
-  if (!G) return;
+  if (!problem) return;
+  t.has_invariants = problem->normalized();
   vec3<T> v;
-  euler_rhs(ref, *G, v);
+  problem->rhs(ref, v);
   const T speed = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   if (!(speed > 0)) return;  // at rest: no direction of motion (the row is left out of the split)
   t.has_direction = true;
@@ -264,10 +269,10 @@ void record_metrics(const check_job& job, tally& t, const vec3<T>& ref, const ve
 
 template <scalar T>
 void record(const check_job& job, tally& t, errors_writer& out, std::size_t line, const decimal& time,
-            const vec3<T>& ref, const vec3<T>& Om, const vec3<T>* G) {
+            const vec3<T>& ref, const vec3<T>& Om, const euler_problem<T>* problem) {
   const double e = static_cast<double>(eq20_error(ref, Om));
   if (!std::isfinite(e)) throw numerical_failure({outcome_kind::error_non_finite, time.value});
-  record_metrics(job, t, ref, Om, G);
+  record_metrics(job, t, ref, Om, problem);
   std::optional<double> bar;
   if (job.tol || job.rel_tol) {
     using std::sqrt;
@@ -344,6 +349,10 @@ check_result check_against_scene(const check_job& job) {
       throw input_error(fmt::format("{}: line {}: column `{}` is a physical time, but scene {} is normalized (give "
                                     "tau,Omega1,Omega2,Omega3)",
                                     rows.where(), rows.line(), cols.time_name, s.name));
+    if (!cols.physical && uses_direct_form(s))
+      throw input_error(fmt::format("{}: line {}: scene {} is integrated in the direct form of Eq. 1 (two moments are "
+                                    "equal or nearly so), which has no tau or Omega: give t,omega1,omega2,omega3",
+                                    rows.where(), rows.line(), s.name));
     row_reader reader{rows, cols};
     while (rows.next()) {
       taus.push_back(tau_of(reader.time()));
@@ -355,7 +364,7 @@ check_result check_against_scene(const check_job& job) {
   T tau_end = taus.back();
   if (!(tau_end > 0)) tau_end = T(1);  // a trajectory at tau = 0 only
   errors_writer out(job.errors_out);    // an unwritable path fails before the integration
-  const normalized_problem<T> problem = to_problem<T>(s);
+  const euler_problem<T> problem = to_problem<T>(s);
 
   // Pass 2, during the integration: each row is read again as the reference at its time
   // arrives. Pass 1 checked that the times increase, and their conversion to tau in T is
@@ -374,7 +383,7 @@ check_result check_against_scene(const check_job& job) {
                                               const decimal time = reader.time();
                                               if (tau_of(time) != taus[i]) throw changed();
                                               record<T>(job, r.t, out, rows.line(), time, Omega_ref,
-                                                        Omega_of(reader.values()), &problem.G);
+                                                        Omega_of(reader.values()), &problem);
                                             });
   if (rows.next()) throw changed();
   out.commit();
@@ -482,10 +491,10 @@ check_result check_against_file(const check_job& job, reference_csv_reader& ref)
                     : ref.column("tau");
   std::optional<physical_scaling<T>> scale;
   if (cols.physical) scale.emplace(scaling_of_reference<T>(ref));
-  // The torque, for the direction of motion: from the reference's scene text, if it has one.
-  std::optional<vec3<T>> G;
+  // The equations, for the direction of motion: from the reference's scene text, if it has one.
+  std::optional<euler_problem<T>> problem;
   if (!ref.metadata().scene_text.empty())
-    G = to_problem<T>(parse_scene(ref.metadata().scene_text, ref.rows().where() + " (scene_text)")).G;
+    problem = to_problem<T>(parse_scene(ref.metadata().scene_text, ref.rows().where() + " (scene_text)"));
 
   check_result r;
   r.time_name = cols.time_name;
@@ -499,7 +508,7 @@ check_result check_against_file(const check_job& job, reference_csv_reader& ref)
     cursor.seek(time, rows, cols.time_name);
     vec3<T> Om = {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
     if (scale) Om = scale->Omega_of_omega(Om);
-    record<T>(job, r.t, out, rows.line(), time, ref.template Omega<T>(), Om, G ? &*G : nullptr);
+    record<T>(job, r.t, out, rows.line(), time, ref.template Omega<T>(), Om, problem ? &*problem : nullptr);
   }
   if (!r.t.rows) throw input_error(fmt::format("{}: no data rows", rows.where()));
   out.commit();
@@ -550,8 +559,11 @@ int report(const check_job& job, const check_result& r, std::ostream& standard_o
     j["scd_atol"] = job.scd_atol;
     j["scd_rtol"] = job.scd_rtol;
     j["max_component_errors"] = {t.max_component[0], t.max_component[1], t.max_component[2]};
-    j["c1_squared_drift"] = {{"max", t.c1_drift_max}, {"last", t.c1_drift_last}};
-    j["c2_squared_drift"] = {{"max", t.c2_drift_max}, {"last", t.c2_drift_last}};
+    const auto drift = [&](double max, double last) {
+      return t.has_invariants ? nlohmann::ordered_json{{"max", max}, {"last", last}} : nlohmann::ordered_json(nullptr);
+    };
+    j["c1_squared_drift"] = drift(t.c1_drift_max, t.c1_drift_last);
+    j["c2_squared_drift"] = drift(t.c2_drift_max, t.c2_drift_last);
     j["max_error_along_motion"] = t.has_direction ? nlohmann::ordered_json(t.max_along) : nlohmann::ordered_json(nullptr);
     j["max_error_across_motion"] = t.has_direction ? nlohmann::ordered_json(t.max_across) : nlohmann::ordered_json(nullptr);
     standard_output << j.dump(2) << "\n";
@@ -569,8 +581,11 @@ int report(const check_job& job, const check_result& r, std::ostream& standard_o
         t.max_component[2]);
     put("scd: {:.2f}   mescd: {:.2f} (atol {}, rtol {})\n", digits_of(t.max_relative), digits_of(t.max_mixed),
         job.scd_atol, job.scd_rtol);
-    put("invariant drift (Eq. 7, against the reference): c1^2 max {:.3e} last {:.3e}; c2^2 max {:.3e} last {:.3e}\n",
-        t.c1_drift_max, t.c1_drift_last, t.c2_drift_max, t.c2_drift_last);
+    if (t.has_invariants)
+      put("invariant drift (Eq. 7, against the reference): c1^2 max {:.3e} last {:.3e}; c2^2 max {:.3e} last {:.3e}\n",
+          t.c1_drift_max, t.c1_drift_last, t.c2_drift_max, t.c2_drift_last);
+    else
+      put("invariant drift: none (the body is integrated in the direct form of Eq. 1, where Eq. 7 does not apply)\n");
     if (t.has_direction)
       put("error along the motion (phase): max {:.3e}; across it: max {:.3e}\n", t.max_along, t.max_across);
     if (has_bar) {

@@ -66,7 +66,9 @@ reference_run stream_rows(const reference_job& job, const T& tau_end, const samp
   reference_csv_row_writer rows([&](std::string_view chunk) { rows_out.write(chunk); });
   const reference_run run = integrate_streaming<T>(
       to_problem<T>(s), tau_end, times.tau, job.settings, "reference", [&](std::size_t i, const vec3<T>& Om) {
-        if (scale)
+        if (scale && scale->is_direct())
+          rows.row(times.t[i], Om);  // the state is omega, and tau is t
+        else if (scale)
           rows.row(times.tau[i], Om, times.t[i], scale->omega_of_Omega(Om));
         else
           rows.row(times.tau[i], Om);
@@ -157,7 +159,10 @@ void run_reference(const reference_options& options, std::ostream& standard_outp
   // The header states the finished run (segments, wall time, --verify's estimate) but comes
   // first: the rows are streamed to a scratch file during the run, then copied after it.
   scratch_file rows(scratch_directory(file.get()));
-  const std::string header = reference_csv_header(run_job(job, rows), job.scn.is_physical());
+  const reference_layout layout = uses_direct_form(job.scn) ? reference_layout::direct
+                                  : job.scn.is_physical()     ? reference_layout::physical
+                                                              : reference_layout::normalized;
+  const std::string header = reference_csv_header(run_job(job, rows), layout);
   if (file) {
     file->write(header);
     rows.copy_to([&](std::string_view chunk) { file->write(chunk); });

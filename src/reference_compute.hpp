@@ -63,7 +63,7 @@ double run_with_progress(const std::string& label, double total, Integrate&& int
 }
 
 template <scalar T>
-dense_reference<T> integrate_dense(const normalized_problem<T>& problem, const T& tau_end,
+dense_reference<T> integrate_dense(const euler_problem<T>& problem, const T& tau_end,
                                    const picard_settings& settings, const std::string& label) {
   dense_reference<T> out;
   out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
@@ -104,7 +104,7 @@ using sample_function = std::function<void(std::size_t index, const vec3<T>& Ome
 // neither the span nor the samples. A non-finite sample is a numerical_failure at its tau. The
 // wall time includes `on_sample`.
 template <scalar T>
-reference_run integrate_streaming(const normalized_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
+reference_run integrate_streaming(const euler_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
                                   const picard_settings& settings, const std::string& label,
                                   const sample_function<T>& on_sample) {
   reference_run out;
@@ -119,7 +119,7 @@ reference_run integrate_streaming(const normalized_problem<T>& problem, const T&
 
 // The same, keeping the samples: memory grows with the samples, not with the span.
 template <scalar T>
-sampled_reference<T> integrate_and_sample(const normalized_problem<T>& problem, const T& tau_end,
+sampled_reference<T> integrate_and_sample(const euler_problem<T>& problem, const T& tau_end,
                                           const std::vector<T>& taus, const picard_settings& settings,
                                           const std::string& label) {
   sampled_reference<T> out;
@@ -134,7 +134,7 @@ sampled_reference<T> integrate_and_sample(const normalized_problem<T>& problem, 
 // The same for times in any order: streamed when they do not decrease, else evaluated from the
 // dense output, which keeps every segment (memory grows with the span).
 template <scalar T>
-reference_run integrate_at(const normalized_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
+reference_run integrate_at(const euler_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
                            const picard_settings& settings, const std::string& label,
                            const sample_function<T>& on_sample) {
   if (std::is_sorted(taus.begin(), taus.end()))

@@ -79,7 +79,7 @@ std::string precision_text(const eulervop::precision& p) {
   return p.name();
 }
 
-std::string reference_csv_header(const reference_metadata& m, bool physical) {
+std::string reference_csv_header(const reference_metadata& m, reference_layout layout) {
   fmt::memory_buffer out;
   auto line = [&]<class... Args>(fmt::format_string<Args...> format, Args&&... args) {
     fmt::format_to(std::back_inserter(out), format, std::forward<Args>(args)...);
@@ -104,7 +104,11 @@ std::string reference_csv_header(const reference_metadata& m, bool physical) {
     if (!l.empty() && l.back() == '\r') l.pop_back();
     line("# scene_text: {}", l);
   }
-  line("{}", physical ? "tau,Omega1,Omega2,Omega3,t,omega1,omega2,omega3" : "tau,Omega1,Omega2,Omega3");
+  switch (layout) {
+    case reference_layout::normalized: line("tau,Omega1,Omega2,Omega3"); break;
+    case reference_layout::physical: line("tau,Omega1,Omega2,Omega3,t,omega1,omega2,omega3"); break;
+    case reference_layout::direct: line("t,omega1,omega2,omega3"); break;
+  }
   return fmt::to_string(out);
 }
 
@@ -121,7 +125,8 @@ void reference_csv_row_writer::flush() {
 
 reference_csv_reader::reference_csv_reader(std::istream& in, std::string where)
     : rows_(in, std::move(where)), meta_(metadata_of(rows_)) {
-  for (int k = 0; k < 3; ++k) Omega_[k] = column(fmt::format("Omega{}", k + 1));
+  const char* state = rows_.column("Omega1") || !rows_.column("omega1") ? "Omega" : "omega";
+  for (int k = 0; k < 3; ++k) Omega_[k] = column(fmt::format("{}{}", state, k + 1));
 }
 
 std::size_t reference_csv_reader::column(const std::string& name, std::string_view why) const {

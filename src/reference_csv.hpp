@@ -48,8 +48,12 @@ struct reference_metadata {
 // "mpfr:256 (effective_bits=257)": the precision as the metadata states it.
 std::string precision_text(const eulervop::precision& p);
 
+// The columns of a reference file: tau and Omega; then t and omega for a physical scene; or t and
+// omega alone for a body integrated in the direct form of Eq. 1, which has no tau or Omega.
+enum class reference_layout { normalized, physical, direct };
+
 // The metadata block and the column header of a reference file, each line ending in '\n'.
-std::string reference_csv_header(const reference_metadata& m, bool physical);
+std::string reference_csv_header(const reference_metadata& m, reference_layout layout);
 
 // Formats the rows of a reference file and hands them to `sink` in chunks of about 64 KiB, so a
 // run streams its rows however many there are.
@@ -64,6 +68,7 @@ class reference_csv_row_writer {
     end_row();
   }
   // A physical scene's row: the normalized state, then the time in seconds and omega in rad/s.
+  // (A row of the direct form is the one-state row, with t and omega.)
   template <scalar T>
   void row(const T& tau, const vec3<T>& Omega, const T& t, const vec3<T>& omega) {
     cells(tau, Omega);
@@ -89,8 +94,8 @@ class reference_csv_row_writer {
 // A whole reference file in memory, header then rows: for small files and the tests.
 class reference_csv_writer {
  public:
-  reference_csv_writer(const reference_metadata& m, bool physical)
-      : text_(reference_csv_header(m, physical)), rows_([this](std::string_view s) { text_.append(s); }) {}
+  reference_csv_writer(const reference_metadata& m, reference_layout layout)
+      : text_(reference_csv_header(m, layout)), rows_([this](std::string_view s) { text_.append(s); }) {}
   reference_csv_writer(const reference_csv_writer&) = delete;  // rows_ appends to this->text_
   reference_csv_writer& operator=(const reference_csv_writer&) = delete;
 
@@ -120,7 +125,8 @@ class reference_csv_reader {
   csv_rows& rows() { return rows_; }
   const csv_rows& rows() const { return rows_; }
 
-  // The current row's cells as numbers in T.
+  // The current row's state as numbers in T: Omega, or omega in a file of the direct form
+  // (reference_layout::direct), whose state it is.
   template <scalar T>
   vec3<T> Omega() const {
     return {rows_.number(Omega_[0]).template to_scalar<T>(), rows_.number(Omega_[1]).template to_scalar<T>(),

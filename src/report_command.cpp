@@ -76,6 +76,7 @@ struct report_job {
   fs::path out_dir;
   bool json = false;
   bool plot = true;
+  std::string note;  // one line for the table and the summary, when the runs differ from the usual
 };
 
 constexpr std::int64_t default_K_divisor = 200;
@@ -148,8 +149,14 @@ std::vector<formulation> choose_runs(report_job& job, const report_options& o) {
     forms = formulations_of(flag_list("--formulations", *o.formulations), "--formulations " + *o.formulations, "");
   else if (!s.formulations.empty())
     forms = formulations_of(s.formulations, "[run] formulations", "; override with --formulations");
+  else if (uses_direct_form(s))
+    forms = {formulation::euler};
   else
     forms = {formulation::euler, formulation::vop};
+  if (uses_direct_form(s))
+    job.note = fmt::format("the paper's VOP does not apply to this body (two moments are equal or within {} of each "
+                           "other), so only euler runs, on Eq. 1 itself: tau is t in s and Omega is omega in rad/s",
+                           direct_form_gap);
   std::vector<rk::method> methods;
   if (o.methods) {
     methods = methods_of(flag_list("--methods", *o.methods), "--methods " + *o.methods, "");
@@ -284,7 +291,7 @@ reference_samples<T> compute_reference(const report_job& job) {
   if (out.steps.back() != out.n_steps) out.steps.push_back(out.n_steps);
   for (std::size_t n : out.steps) out.tau.push_back(tau_of_step<T>(n, job.step.h));
 
-  const normalized_problem<T> problem = to_problem<T>(job.scn);
+  const euler_problem<T> problem = to_problem<T>(job.scn);
   T tau_end = tau_end_of<T>(job.scn);
   if (out.tau.back() > tau_end) tau_end = out.tau.back();  // within the 1e-9 h slack of n_steps
   sampled_reference<T> ref = integrate_and_sample<T>(problem, tau_end, out.tau, job.settings, "reference");
@@ -308,7 +315,7 @@ struct run_errors {
 };
 
 template <scalar T>
-run_errors measure(const run_spec& spec, const normalized_problem<double>& problem, const reference_samples<T>& ref,
+run_errors measure(const run_spec& spec, const euler_problem<double>& problem, const reference_samples<T>& ref,
                    double h) {
   run_errors out;
   out.run = run_fixed(spec.form, spec.method, problem, fixed_run_settings{h, ref.n_steps, ref.sample_every});
@@ -419,6 +426,7 @@ nlohmann::ordered_json summary_json(const report_job& job, const reference_sampl
   if (ref.seconds) j["reference"]["seconds"] = *ref.seconds;
   if (ref.segments) j["reference"]["segments"] = *ref.segments;
   j["step_rule"] = job.step.rule;
+  if (!job.note.empty()) j["note"] = job.note;
   j["runs"] = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < runs.size(); ++i) {
     j["runs"].push_back(run_json(job.runs[i], runs[i], job.step.h, nullptr));
@@ -454,6 +462,7 @@ std::string table_text(const report_job& job, const reference_samples<T>& ref, c
   put("scene {}{}: {} steps to tau = {:.6g}\n", job.scn.name, job.overrides.empty() ? "" : " (" + job.overrides + ")",
       job.step.n_steps, static_cast<double>(job.step.n_steps) * job.step.h);
   put("step: {}\n", job.step.rule);
+  if (!job.note.empty()) put("note: {}\n", job.note);
   put("reference: {} ({}{}), estimated max error {}\n", ref.precision, ref.source,
       ref.seconds ? fmt::format(", {:.1f} s", *ref.seconds) : "", optional_text(ref.estimated_max_error, "{:.2e}"));
   put("error samples: {} (every {} steps)\n\n", ref.steps.size(), ref.sample_every);
@@ -495,6 +504,7 @@ nlohmann::ordered_json adaptive_summary(const report_job& job, const computed_re
                     {"source", "computed"},
                     {"seconds", ref.seconds},
                     {"segments", ref.segments}};
+  if (!job.note.empty()) j["note"] = job.note;
   j["max_step"] = {{"h", job.h_max}, {"rule", job.h_max_rule}};
   j["runs"] = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < runs.size(); ++i) {
@@ -525,6 +535,7 @@ std::string adaptive_table(const report_job& job, const computed_reference_info&
   out += fmt::format("scene {}{}: to tau = {:.6g} under error control (atol = rtol = tol)\n", job.scn.name,
                      job.overrides.empty() ? "" : " (" + job.overrides + ")", tau_end_of<double>(job.scn));
   out += fmt::format("maximum step: {}\n", job.h_max_rule);
+  if (!job.note.empty()) out += fmt::format("note: {}\n", job.note);
   out += fmt::format("reference: {} (computed, {:.1f} s)\n", job.precision.name(), ref.seconds);
   out += fmt::format("error samples: about {} per run, at its accepted steps\n\n", job.samples);
   std::vector<std::vector<std::string>> rows = {{"formulation", "method", "tol", "steps", "rejected", "rhs evals",
@@ -609,7 +620,7 @@ template <scalar T>
 void execute_adaptive(const report_job& job, std::ostream& standard_output) {
   output_dir dir(job.out_dir, "errors.csv");
   const T tau_end = tau_end_of<T>(job.scn);
-  const normalized_problem<double> problem = to_problem<double>(job.scn);
+  const euler_problem<double> problem = to_problem<double>(job.scn);
   std::vector<run_errors> runs;
   for (const run_spec& spec : job.runs) {
     adaptive_run_settings s;
@@ -643,7 +654,7 @@ void execute(const report_job& job, std::ostream& standard_output) {
   output_dir dir(job.out_dir, "errors.csv");
 
   const reference_samples<T> ref = from_file ? std::move(*from_file) : compute_reference<T>(job);
-  const normalized_problem<double> problem = to_problem<double>(job.scn);
+  const euler_problem<double> problem = to_problem<double>(job.scn);
   std::vector<run_errors> runs;
   for (const run_spec& spec : job.runs) runs.push_back(measure<T>(spec, problem, ref, job.step.h));
 

@@ -60,7 +60,7 @@ std::vector<rk::method> methods_of(const std::vector<std::string>& names, const 
   return values_of<rk::method>(names, where, hint, "method", rk::method_from_name, available_methods());
 }
 
-void probe_formulations(const std::vector<formulation>& forms, const normalized_problem<double>& problem, double h) {
+void probe_formulations(const std::vector<formulation>& forms, const euler_problem<double>& problem, double h) {
   for (formulation f : forms) {
     try {
       (void)run_fixed(f, rk::method::rk4, problem, fixed_run_settings{h, 1, 1});

@@ -24,6 +24,6 @@ std::vector<rk::method> methods_of(const std::vector<std::string>& names, const 
 
 // A formulation that cannot start from this state (the paper's VOP needs k0 < 1) is bad input:
 // one step of each, before anything is computed.
-void probe_formulations(const std::vector<formulation>& forms, const normalized_problem<double>& problem, double h);
+void probe_formulations(const std::vector<formulation>& forms, const euler_problem<double>& problem, double h);
 
 }  // namespace eulervop::app

@@ -31,6 +31,10 @@ step_spec parse_step_flag(const std::string& text) { return parse_step_text(text
 fixed_step_choice step_length(const scene& s, const step_spec& spec, const std::string& origin) {
   fixed_step_choice out;
   if (spec.K_divisor) {
+    if (uses_direct_form(s))
+      throw input_error(fmt::format("{}: K/N needs the modulus of Eq. 5, and this body is integrated in the direct form "
+                                    "of Eq. 1 (two moments are equal or nearly so); give the step in seconds",
+                                    origin));
     const auto N = static_cast<double>(*spec.K_divisor);
     const vec3<double> Om = to_problem<double>(s).Omega0;
     const double c1 = std::hypot(Om[0], Om[1]), c2 = std::hypot(Om[1], Om[2]);
@@ -59,7 +63,10 @@ fixed_step_choice step_length(const scene& s, const step_spec& spec, const std::
     }
   } else {
     const double value = spec.value->value;
-    if (s.is_physical()) {
+    if (uses_direct_form(s)) {
+      out.h = value;
+      out.rule = fmt::format("h = {} s", spec.value->text);
+    } else if (s.is_physical()) {
       out.h = value * scaling_of<double>(s).tau_rate();
       out.rule = fmt::format("h = {} s in t = {} in tau", spec.value->text, out.h);
     } else {

@@ -163,7 +163,7 @@ void run_tasks(const std::vector<std::function<void()>>& tasks, int jobs, const 
   if (error) std::rethrow_exception(error);
 }
 
-wp_result run_case(const wp_grid& g, const wp_case& c, const normalized_problem<double>& problem, int repeat) {
+wp_result run_case(const wp_grid& g, const wp_case& c, const euler_problem<double>& problem, int repeat) {
   wp_result out;
   for (int k = 0; k < repeat; ++k) {
     run_result r;
@@ -223,7 +223,7 @@ void measure(const wp_grid& g, const wp_case& c, const dense_trajectory<T>& ref,
 // The reference of one grid, to the end of its longest run.
 template <scalar T>
 dense_reference<T> grid_reference(const wp_grid& g, const picard_settings& settings, wp_outcome& out) {
-  const normalized_problem<T> problem = to_problem<T>(g.scn);
+  const euler_problem<T> problem = to_problem<T>(g.scn);
   T tau_end = tau_end_of<T>(g.scn);
   for (const ladder_step& st : g.steps) {  // within the 1e-9 h slack of n_steps
     const T last = tau_of_step<T>(st.choice.n_steps, st.choice.h);
@@ -242,7 +242,7 @@ std::vector<wp_outcome> run_all(const std::vector<wp_grid>& grids, const eulervo
                                 const picard_settings& settings, const wp_run_options& o) {
   std::vector<wp_outcome> out(grids.size());
   std::vector<dense_reference<T>> refs(grids.size());
-  std::vector<normalized_problem<double>> problems;
+  std::vector<euler_problem<double>> problems;
   for (const wp_grid& g : grids) problems.push_back(to_problem<double>(g.scn));
 
   // The references first (they are the longest), then every case, longest first.
@@ -282,7 +282,7 @@ std::vector<wp_outcome> run_ladders(const std::vector<wp_grid>& grids, const eul
                                     const picard_settings& settings, const wp_run_options& o) {
   std::vector<wp_outcome> out(grids.size());
   std::vector<dense_reference<T>> refs(grids.size());
-  std::vector<normalized_problem<double>> problems;
+  std::vector<euler_problem<double>> problems;
   for (const wp_grid& g : grids) problems.push_back(to_problem<double>(g.scn));
   std::mutex mutex;
   std::condition_variable ready_changed;

@@ -36,8 +36,8 @@ using eulervop::quad;
 using eulervop::vec3;
 namespace rk = eulervop::rk;
 
-eulervop::normalized_problem<double> problem(const vec3<double>& G, const vec3<double>& Omega0) {
-  eulervop::normalized_problem<double> p;
+eulervop::euler_problem<double> problem(const vec3<double>& G, const vec3<double>& Omega0) {
+  eulervop::euler_problem<double> p;
   p.G = G;
   p.Omega0 = Omega0;
   return p;
@@ -119,7 +119,7 @@ TEST(AdaptiveTorqueFree, VopTakesTheMaximumStepEverywhereAndIsExact) {
 // Eq. 16 through the secular term E(u) - kc^2 u; docs/sweep.md.)
 TEST(AdaptivePaperScene, ErrorsFallWithTheToleranceAndDop853ReachesOneInATrillion) {
   const auto p = problem({1, 1, 1}, {0.5, 0, 1});
-  eulervop::normalized_problem<quad> pq;
+  eulervop::euler_problem<quad> pq;
   pq.G = {quad(1), quad(1), quad(1)};
   pq.Omega0 = {quad("0.5"), quad(0), quad(1)};
   const auto ref = eulervop::integrate_reference<quad>(pq, quad(136));
@@ -153,7 +153,7 @@ TEST(AdaptivePaperScene, ErrorsFallWithTheToleranceAndDop853ReachesOneInATrillio
 // follows the tolerance.
 TEST(AdaptiveSmallTorque, VopErrorIsProportionalToTheTolerance) {
   const auto p = problem({1e-3, 1e-3, 1e-3}, {0.5, 0, 1});
-  eulervop::normalized_problem<quad> pq;
+  eulervop::euler_problem<quad> pq;
   pq.G = {quad("1e-3"), quad("1e-3"), quad("1e-3")};
   pq.Omega0 = {quad("0.5"), quad(0), quad(1)};
   const auto ref = eulervop::integrate_reference<quad>(pq, quad(200));
@@ -186,7 +186,7 @@ TEST(AdaptiveSmallTorque, VopErrorIsProportionalToTheTolerance) {
 // across the separatrix band with Eq. 5, record the band, change regime, and stay accurate.
 TEST(AdaptiveBands, CrossingTheSeparatrixIsRecordedAndAccurate) {
   const auto p = problem({0.1, 0, -0.3}, {0.9, 0, 1});
-  eulervop::normalized_problem<quad> pq;
+  eulervop::euler_problem<quad> pq;
   pq.G = {quad("0.1"), quad(0), quad("-0.3")};
   pq.Omega0 = {quad("0.9"), quad(0), quad(1)};
   const auto ref = eulervop::integrate_reference<quad>(pq, quad(20));

@@ -58,7 +58,7 @@ double torque_free_max_error(const std::string& k_text, double tau_end, int samp
                              unsigned bits_ref, eulervop::picard_stats* st,
                              const eulervop::picard_settings& settings = {}) {
   const T k = *eulervop::from_text<T>(k_text);
-  eulervop::normalized_problem<T> p;
+  eulervop::euler_problem<T> p;
   p.G = {T(0), T(0), T(0)};
   p.Omega0 = {k, T(0), T(1)};
   const auto traj = eulervop::integrate_reference<T>(p, T(tau_end), settings, {}, st);
@@ -132,7 +132,7 @@ TEST(TorqueFree, DoubleIsAccurateToRounding) {
 
 // Dense output is continuous across segment boundaries and reproduces the segment ends.
 TEST(DenseOutput, ContinuousAcrossSegments) {
-  eulervop::normalized_problem<quad> p;
+  eulervop::euler_problem<quad> p;
   p.G = {quad(1), quad(1), quad(1)};
   p.Omega0 = {quad(0.5), quad(0), quad(1)};
   const auto traj = eulervop::integrate_reference<quad>(p, quad(10));
@@ -163,7 +163,7 @@ TEST(DenseOutput, ContinuousAcrossSegments) {
 
 // Failures carry the tau where they happened.
 TEST(Failures, ReportedWithTau) {
-  eulervop::normalized_problem<double> p;
+  eulervop::euler_problem<double> p;
   p.G = {1, 1, 1};
   p.Omega0 = {0.5, 0, 1};
   eulervop::picard_settings s;
@@ -182,7 +182,7 @@ TEST(Failures, ReportedWithTau) {
 
 // Same problem, same settings: bit-identical output (determinism).
 TEST(Determinism, RepeatedRunsAreIdentical) {
-  eulervop::normalized_problem<quad> p;
+  eulervop::euler_problem<quad> p;
   p.G = {quad(1), quad(1), quad(1)};
   p.Omega0 = {quad(0.5), quad(0), quad(1)};
   const auto a = eulervop::integrate_reference<quad>(p, quad(5));
@@ -198,7 +198,7 @@ TEST(Determinism, RepeatedRunsAreIdentical) {
 // segment boundaries (where both take the segment that starts there) and at the span's end;
 // samples out of order or beyond the span are refused.
 TEST(StreamingSamples, EqualDenseOutputBitForBit) {
-  eulervop::normalized_problem<quad> p;
+  eulervop::euler_problem<quad> p;
   p.G = {quad(1), quad(1), quad(1)};
   p.Omega0 = {quad(0.5), quad(0), quad(1)};
   const auto dense = eulervop::integrate_reference<quad>(p, quad(5));

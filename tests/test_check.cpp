@@ -84,7 +84,7 @@ struct independent_error {
 
 const independent_error& odeint_error() {
   static const independent_error e = [] {
-    eulervop::normalized_problem<quad> p;
+    eulervop::euler_problem<quad> p;
     p.G = {quad(1), quad(1), quad(1)};
     p.Omega0 = {quad("0.5"), quad(0), quad(1)};
     const eulervop::dense_trajectory<quad> ref = eulervop::integrate_reference<quad>(p, quad(tau_end));
@@ -224,6 +224,37 @@ TEST(Check, PhysicalTrajectoryInTAndOmega) {
   const run_result wrong = run(dir.path(), {"check", paper_scene(), "traj.csv"});
   EXPECT_EQ(wrong.exit_code, 2);
   EXPECT_NE(wrong.err.find("normalized"), std::string::npos) << wrong.err;
+}
+
+// An axisymmetric body is integrated in the direct form: its reference has t and omega only, and
+// check takes a t, omega trajectory against the scene or that file, with no Eq. 7 drift (it
+// does not apply) and the split along the motion of Eq. 1's own right-hand side.
+TEST(Check, AxisymmetricBodyInTheDirectForm) {
+  temp_dir dir;
+  const std::string scene = source_dir + "/data/scenes/axisymmetric.toml";
+  const run_result ref =
+      run(dir.path(), {"reference", scene, "--t-end", "600", "--samples", "61", "--precision", "double", "--out", "ref.csv"});
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+  std::string traj;
+  for (const std::string& l : lines_of(read_file(dir.path() / "ref.csv")))
+    if (!l.starts_with("#")) traj += l + "\n";
+  ASSERT_TRUE(traj.starts_with("t,omega1,omega2,omega3\n")) << traj.substr(0, 80);
+  write_file(dir.path() / "traj.csv", traj);
+  for (const std::string& against : {scene, std::string("ref.csv")}) {
+    const run_result r = run(dir.path(), {"check", against, "traj.csv", "--rel-tol", "1e-12", "--format", "json"});
+    ASSERT_EQ(r.exit_code, 0) << against << ": " << r.err << r.out;
+    const json j = json::parse(r.out);
+    EXPECT_EQ(j.at("rows").get<int>(), 61);
+    EXPECT_LT(j.at("max_error").get<double>(), 1e-12) << against;  // double rounding of a quad-free run
+    EXPECT_TRUE(j.at("c1_squared_drift").is_null()) << against;
+    EXPECT_TRUE(j.at("max_error_along_motion").is_number()) << against;
+  }
+  // tau and Omega do not exist for this body.
+  write_file(dir.path() / "norm.csv", "tau,Omega1,Omega2,Omega3\n0,0.02,0.01,0.05\n");
+  const run_result wrong = run(dir.path(), {"check", scene, "norm.csv"});
+  EXPECT_EQ(wrong.exit_code, 2);
+  EXPECT_NE(wrong.err.find("direct form"), std::string::npos) << wrong.err;
+  EXPECT_EQ(std::count(wrong.err.begin(), wrong.err.end(), '\n'), 1) << wrong.err;
 }
 
 // ---- bad files: one line naming the line and the column, exit 2, no errors file -----------------

@@ -22,12 +22,12 @@ using eulervop::quad;
 // [0.500, 0.547] over the 1e4 span (found by a scan over G1, G2 in {0.003, 0.03}, G3 = 0; the
 // torque along axis 2 is the one whose secular term hurts the paper's VOP the most).
 TEST(LongVopTheta, SecularFreePhaseWinsOnALongBoundedRun) {
-  eulervop::normalized_problem<double> p;
+  eulervop::euler_problem<double> p;
   p.G = {0, 0.03, 0};
   p.Omega0 = {0.5, 0, 1};
   const double h = eulervop::elliptic_modulus<double>(0.5).K() / 200;
   const std::size_t n = static_cast<std::size_t>(std::ceil(1e4 / h));
-  eulervop::normalized_problem<quad> q;
+  eulervop::euler_problem<quad> q;
   for (int i = 0; i < 3; ++i) {
     q.G[i] = p.G[i];
     q.Omega0[i] = p.Omega0[i];

@@ -28,7 +28,7 @@ reference_metadata sample_metadata() {
 }
 
 TEST(ReferenceCsv, MetadataRoundTrips) {
-  reference_csv_writer w(sample_metadata(), false);
+  reference_csv_writer w(sample_metadata(), reference_layout::normalized);
   std::istringstream in(w.text());
   const reference_csv_reader r(in, "test");
   const reference_metadata& m = r.metadata();
@@ -50,7 +50,7 @@ TEST(ReferenceCsv, DoubleFilesAreReadInQuad) {
   reference_metadata m = sample_metadata();
   m.precision = eulervop::precision::binary64();
   m.estimated_max_error.reset();
-  reference_csv_writer w(m, false);
+  reference_csv_writer w(m, reference_layout::normalized);
   std::istringstream in(w.text());
   const reference_csv_reader r(in, "test");
   EXPECT_EQ(r.metadata().precision.name(), "double");
@@ -62,7 +62,7 @@ TEST(ReferenceCsv, DoubleFilesAreReadInQuad) {
 TEST(ReferenceCsv, QuadRowsRoundTripExactly) {
   reference_metadata m = sample_metadata();
   m.precision = eulervop::precision::binary128();
-  reference_csv_writer w(m, false);
+  reference_csv_writer w(m, reference_layout::normalized);
   // (cells must lie in the range of a double: the reader checks every number as a double too)
   const quad third = quad(1) / 3, tiny = quad(1e-300) / 7;
   const vec3<quad> Om = {third, -quad(2) / 7, tiny};

@@ -62,7 +62,7 @@ std::string in_memory_csv(const reference_options& o) {
     m.verify_method = check.method;
   }
   m.scene_text = s.source_text;
-  reference_csv_writer csv(m, s.is_physical());
+  reference_csv_writer csv(m, s.is_physical() ? reference_layout::physical : reference_layout::normalized);
   for (std::size_t i = 0; i < Omega.size(); ++i) {
     if (s.is_physical())
       csv.row(times.tau[i], Omega[i], times.t[i], scaling_of<T>(s).omega_of_Omega(Omega[i]));

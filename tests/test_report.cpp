@@ -123,6 +123,35 @@ TEST(Report, ShortPaperReportWritesTheFiles) {
   EXPECT_EQ(header[1].size(), header->size());
 }
 
+// An axisymmetric body: the paper's VOP does not apply, report says so in one line and runs
+// Euler only (on Eq. 1, in t and omega); asking for vop is bad input.
+TEST(Report, AxisymmetricBodyRunsEulerOnly) {
+  temp_dir dir;
+  const std::string scene = source_dir + "/data/scenes/axisymmetric.toml";
+  const run_result r = run(dir.path(), {"report", scene, "--t-end", "60", "--no-plot", "--out-dir", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto out = lines_of(r.out);
+  EXPECT_EQ(std::count_if(out.begin(), out.end(),
+                          [](const std::string& l) { return l.starts_with("note: the paper's VOP does not apply"); }),
+            1)
+      << r.out;
+  const json summary = json::parse(read_file(dir.path() / "out" / "summary.json"));
+  ASSERT_EQ(summary.at("runs").size(), 2u);  // euler rk4, euler rkf45 (the scene's methods)
+  for (const json& run : summary["runs"]) {
+    EXPECT_EQ(run["formulation"], "euler");
+    EXPECT_EQ(run["steps"], 60);  // h = 1 s, the scene's step
+    // rk4 at h = 1 s on rates of 0.05 rad/s: the error is small but not at rounding.
+    EXPECT_GT(run["max_error"].get<double>(), 0.0);
+    EXPECT_LT(run["max_error"].get<double>(), 1e-6) << run.dump();
+  }
+  const run_result vop = run(dir.path(), {"report", scene, "--t-end", "60", "--formulations", "euler,vop", "--no-plot",
+                                          "--out-dir", "out2"});
+  EXPECT_EQ(vop.exit_code, 2);
+  EXPECT_NE(vop.err.find("formulation vop"), std::string::npos) << vop.err;
+  EXPECT_EQ(std::count(vop.err.begin(), vop.err.end(), '\n'), 1) << vop.err;
+  EXPECT_FALSE(fs::exists(dir.path() / "out2"));
+}
+
 TEST(Report, JsonFormatPrintsTheSummary) {
   temp_dir dir;
   const run_result r = run(dir.path(), {"report", "--tau-end", "1", "--samples", "4", "--no-plot", "--format", "json"});

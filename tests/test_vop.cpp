@@ -88,7 +88,7 @@ TEST(VopTorqueFree, ExactToRoundingForAnyStep) {
   // c2 = 1 keeps u = c2 tau <= 1001 where ulp(u) = 1.1e-13: a larger c2 would make the rounding
   // of u itself exceed the 1e-13 bound.
   const double c1 = 0.5, c2 = 1.0;
-  eulervop::normalized_problem<double> p;
+  eulervop::euler_problem<double> p;
   p.G = {0, 0, 0};
   p.Omega0 = {c1, 0, c2};
   for (double h : {0.01, 0.125, 1.0, 7.0}) {
@@ -115,7 +115,7 @@ TEST(VopTorqueFree, ExactToRoundingForAnyStep) {
 // The Omega3 < 0 symmetry (docs/design.md section 1.3): the mirrored problem gives the mirrored
 // run.
 TEST(VopSymmetry, NegativeOmega3MirrorsThePositiveCase) {
-  eulervop::normalized_problem<double> p, q;
+  eulervop::euler_problem<double> p, q;
   p.G = {1, 1, 1};
   p.Omega0 = {0.5, 0.1, 1};
   q.G = {1, -1, -1};
@@ -147,7 +147,7 @@ TEST(VopDomain, RefusesStatesOutsideTheRegime) {
 // step matches the quad Chebyshev-Picard reference (independent: Eq. 5 directly) to <= 1e-20 at
 // tau = 10.
 TEST(VopPaperScene, QuadRk8MatchesTheReference) {
-  eulervop::normalized_problem<quad> p;
+  eulervop::euler_problem<quad> p;
   p.G = {quad(1), quad(1), quad(1)};
   p.Omega0 = {quad("0.5"), quad(0), quad(1)};
   const auto ref = eulervop::integrate_reference<quad>(p, quad(10));

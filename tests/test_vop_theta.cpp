@@ -127,7 +127,7 @@ TEST(VopRegimes, TorqueFreeExactToRoundingInEveryRegime) {
   double worst = 0;
   for (formulation f : {formulation::vop, formulation::vop_theta})
     for (const auto& c : cases) {
-      eulervop::normalized_problem<double> p;
+      eulervop::euler_problem<double> p;
       p.G = {0, 0, 0};
       p.Omega0 = c.Omega0;
       for (double h : {0.01, 0.125, 1.0, 7.0}) {
@@ -154,7 +154,7 @@ TEST(VopRegimes, TorqueFreeExactToRoundingInEveryRegime) {
 
 // The minor-axis regime under torque matches its mirror image bit for bit (Omega1 < 0 symmetry).
 TEST(VopRegimes, NegativeOmega1MirrorsThePositiveCase) {
-  eulervop::normalized_problem<double> p, q;
+  eulervop::euler_problem<double> p, q;
   p.G = {0.1, 0.2, -0.1};
   p.Omega0 = {1, 0.1, 0.5};
   q.G = {-0.1, -0.2, -0.1};
@@ -183,8 +183,8 @@ double max_error(const eulervop::run_result& r, const eulervop::dense_trajectory
   return worst;
 }
 
-eulervop::normalized_problem<quad> to_quad(const eulervop::normalized_problem<double>& p) {
-  eulervop::normalized_problem<quad> q;
+eulervop::euler_problem<quad> to_quad(const eulervop::euler_problem<double>& p) {
+  eulervop::euler_problem<quad> q;
   for (int i = 0; i < 3; ++i) {
     q.G[i] = p.G[i];
     q.Omega0[i] = p.Omega0[i];
@@ -198,7 +198,7 @@ eulervop::normalized_problem<quad> to_quad(const eulervop::normalized_problem<do
 // formulation completes without NaN, the VOP runs record the band and one regime change, and
 // their max error is within 10x Euler's at the same step h = K(0.5)/200.
 TEST(VopCrossing, CarriesKAcrossOneAndRecordsTheBand) {
-  eulervop::normalized_problem<double> p;
+  eulervop::euler_problem<double> p;
   p.G = {-0.05, 0, -0.05};
   p.Omega0 = {0.5, 0, 1};
   const double h = eulervop::elliptic_modulus<double>(0.5).K() / 200;
@@ -230,7 +230,7 @@ TEST(VopCrossing, CarriesKAcrossOneAndRecordsTheBand) {
 // c1 = 0 exactly: without torque the VOP forms are exact (u' = c2, no division); with a torque
 // the run starts in the small-k fallback, records it, and stays within 10x of Euler.
 TEST(VopSmallK, ExactZeroC1) {
-  eulervop::normalized_problem<double> p;
+  eulervop::euler_problem<double> p;
   p.Omega0 = {0, 0, 1};
   eulervop::fixed_run_settings s{0.01, 2000, 100};
   for (formulation f : {formulation::vop, formulation::vop_theta}) {
@@ -282,7 +282,7 @@ TEST(VopHardStates, NeverProduceNaN) {
   for (const auto& c : cases)
     for (formulation f : eulervop::all_formulations)
       for (auto m : eulervop::rk::fixed_step_methods) {
-        eulervop::normalized_problem<double> p;
+        eulervop::euler_problem<double> p;
         p.Omega0 = c.Omega0;
         p.G = c.G;
         const auto r = eulervop::run_fixed(f, m, p, eulervop::fixed_run_settings{0.01, 1000, 10});

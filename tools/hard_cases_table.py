@@ -4,7 +4,8 @@ runs
 
     eulervop report SCENE --methods rk4,rk8 --formulations euler,vop,vop-theta --no-plot
 
-at the scene's own step ([run] step, K/200 of the initial modulus for all shipped scenes), reads
+(`--formulations euler` for a scene that lists euler only: a body in the direct form of Eq. 1) at
+the scene's own step ([run] step, K/200 of the initial modulus for the normalized scenes), reads
 each summary.json and writes one table of final and max Eq. 20 error, divergence and the VOP
 fallback bands (separatrix and small k) per scene x formulation x method.
 
@@ -124,7 +125,11 @@ def main():
             path = os.path.join(args.scenes, f)
             stem = f[:-5]
             out_dir = os.path.join(work, stem)
-            cmd = [args.binary, "report", path, "--methods", METHODS, "--formulations", FORMULATIONS,
+            # A body in the direct form of Eq. 1 (its scene lists euler only) has no VOP runs.
+            with open(path) as sf:
+                euler_only = re.search(r'^formulations\s*=\s*\["euler"\]', sf.read(), re.M)
+            cmd = [args.binary, "report", path, "--methods", METHODS, "--formulations",
+                   "euler" if euler_only else FORMULATIONS,
                    "--no-plot", "--out-dir", out_dir]
             print(f"hard_cases_table: {stem} ...", file=sys.stderr, flush=True)
             t0 = time.monotonic()

@@ -1,12 +1,13 @@
-// Chebyshev-Picard reference integrator for Eq. 5 with dense output.
+// Chebyshev-Picard reference integrator for Eq. 5 (or Eq. 1 in its direct form, euler_problem)
+// with dense output.
 //
 // Each segment [tau_a, tau_a + L] carries the degree-N interpolant of Omega' at the N+1
 // Chebyshev-Gauss-Lobatto nodes; its exact integral gives Omega at the nodes (the Picard map,
 // Clenshaw & Norton 1963; Bai & Junkins 2011). The fixed point is reached by mixed precision
 // defect correction (docs/design.md section 3.2):
 //   1. the residual of the Picard map, r = x0 + (L/2) S f(X) - X, is computed in T;
-//   2. the correction delta solves delta = r + (L/2) S [f(X + delta) - f(X)] in double. Eq. 5 is
-//      quadratic, so f(X + delta) - f(X) = J(X) delta + f_2(delta) exactly, and the double
+//   2. the correction delta solves delta = r + (L/2) S [f(X + delta) - f(X)] in double. Eqs. 1
+//      and 5 are quadratic, so f(X + delta) - f(X) = J(X) delta + f_2(delta) exactly, and the double
 //      solve is a plain Picard sweep on that small correction;
 //   3. X += delta in T.
 // Step 2 is accurate to double precision relative to delta, so each pass through step 1 gains
@@ -33,6 +34,7 @@
 #include <cstddef>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -325,12 +327,25 @@ class chebyshev_picard {
   // the previous one's extrapolation (attempt_segment), shortened and retried until it passes,
   // then handed to `sink` (accept_segment). Only the latest segment is kept. Throws
   // numerical_failure when the segments cannot pass.
-  void run_segments(const normalized_problem<T>& problem, const T& tau_end, const segment_sink<T>& sink,
+  void run_segments(const euler_problem<T>& problem, const T& tau_end, const segment_sink<T>& sink,
                     const progress_callback& progress = {}, picard_stats* stats = nullptr) {
     picard_stats st;
     st.degree = static_cast<unsigned>(N_);
     st.tolerance = std::exp(tol_log_);
     G_ = problem.G;
+    direct_ = problem.direct;
+    a_max_ = 1;
+    if (direct_) {
+      a_max_ = 0;
+      for (int i = 0; i < 3; ++i) {
+        a_d_[i] = to_d((*direct_)[i]);
+        a_lo_[i] = to_d(T((*direct_)[i] - T(a_d_[i])));
+        a_max_ = std::max(a_max_, std::abs(a_d_[i]));
+      }
+    } else {
+      a_d_ = {-1.0, 1.0, -1.0};
+      a_lo_ = {0.0, 0.0, 0.0};
+    }
     if (!(tau_end > problem.tau0))
       throw std::invalid_argument("integrate_reference: tau_end must exceed tau0");
     origin at{problem.Omega0, {T(0), T(0), T(0)}, problem.tau0};
@@ -368,7 +383,7 @@ class chebyshev_picard {
   }
 
   // The same, keeping every segment: the dense output on the whole span.
-  dense_trajectory<T> run(const normalized_problem<T>& problem, const T& tau_end,
+  dense_trajectory<T> run(const euler_problem<T>& problem, const T& tau_end,
                           const progress_callback& progress = {}, picard_stats* stats = nullptr) {
     std::vector<chebyshev_segment<T>> segs;
     run_segments(
@@ -415,12 +430,12 @@ class chebyshev_picard {
   }
 
   // The first segment length: from the settings, or half a turn of the fastest rate in sight
-  // (|Omega_i|, and sqrt|G_i| for the spin-up from rest).
+  // (|a| |Omega_i|, and sqrt(|a| |G_i|) for the spin-up from rest; |a| = 1 in Eq. 5).
   double first_length(const vec3<T>& x0) const {
     if (settings_.initial_step > 0) return settings_.initial_step;
     double rate = 0;
     for (int i = 0; i < 3; ++i)
-      rate = std::max({rate, std::abs(to_d(x0[i])), std::sqrt(std::abs(to_d(G_[i])))});
+      rate = std::max({rate, a_max_ * std::abs(to_d(x0[i])), std::sqrt(a_max_ * std::abs(to_d(G_[i])))});
     return rate > 0 ? 0.5 / rate : 1.0;
   }
 
@@ -572,7 +587,15 @@ class chebyshev_picard {
     return {};
   }
 
-  // X = x0 + (c0 + Yc) and F = f(X) (Eq. 5) at the nodes, X also in double (Xd_). Returns the
+  // f(x) + G in T: Eq. 5, or Eq. 1 in the direct form.
+  void rhs(const vec3<T>& x, vec3<T>& dx) const {
+    if (direct_)
+      direct_rhs(*direct_, x, G_, dx);
+    else
+      euler_rhs(x, G_, dx);
+  }
+
+  // X = x0 + (c0 + Yc) and F = f(X) (Eq. 1 or 5) at the nodes, X also in double (Xd_). Returns the
   // state scale max |X|.
   double evaluate_nodes(const vec3<T>& x0, const vec3<T>& c0) {
     double scale = 0;
@@ -589,7 +612,7 @@ class chebyshev_picard {
           Xl_[i][j] = to_d(acc_);
         }
       }
-      euler_rhs(x, G_, dx);
+      rhs(x, dx);
       for (int i = 0; i < 3; ++i) F_[i][j] = dx[i];
     }
     return scale;
@@ -635,7 +658,7 @@ class chebyshev_picard {
     for (std::size_t j = 0; j < n1_; ++j) {
       vec3<double> x;
       for (int i = 0; i < 3; ++i) x[i] = Xd_[i][j] = x0d[i] + warm_[i][j];
-      euler_rhs(x, Gd, dx);
+      direct_rhs(a_d_, x, Gd, dx);
       for (int i = 0; i < 3; ++i) g_[i][j] = dx[i];
     }
     double r_max = 0;
@@ -661,7 +684,7 @@ class chebyshev_picard {
         x[i] = x0[i] + (c0[i] + Yc_[i][j]);
         Xd_[i][j] = to_d(x[i]);
       }
-      euler_rhs(x, G_, dx);
+      rhs(x, dx);
       for (int i = 0; i < 3; ++i) F_[i][j] = dx[i] * hl;  // scaled by hl here, once
     }
     double r_max = 0;
@@ -684,9 +707,9 @@ class chebyshev_picard {
   }
 
   // For wide T, the residual after the correction delta_ (already added to Yc_) without a new
-  // residual in T. Eq. 5 is quadratic, so with X the nodes' state before the correction
-  //   f(X + delta) - f(X) = g = (-(x2 d3 + x3 d2 + d2 d3), x1 d3 + x3 d1 + d1 d3, -(x1 d2 + x2 d1 + d1 d2))
-  // exactly, and the Picard map moves by hl S g: Yn += hl S g, F += g, r = Yn - Yc. g and
+  // residual in T. Eq. 1 is quadratic, so with X the nodes' state before the correction
+  //   f(X + delta) - f(X) = g = (a1 (x2 d3 + x3 d2 + d2 d3), a2 (x1 d3 + x3 d1 + d1 d3), a3 (x1 d2 + x2 d1 + d1 d2))
+  // exactly (a = (-1, 1, -1) in Eq. 5), and the Picard map moves by hl S g: Yn += hl S g, F += g, r = Yn - Yc. g and
   // hl S g are formed in double-double from X in double-double (Xd_ + Xl_, moved by delta
   // here), so the update errs by about 2^-100 |delta|: a residual at the level of the last full
   // one times 2^-100 is resolved, at a fraction of the cost of a full residual. Returns max |r|.
@@ -698,9 +721,10 @@ class chebyshev_picard {
     for (std::size_t j = 0; j < n1_; ++j) {
       const double d1 = delta_[0][j], d2 = delta_[1][j], d3 = delta_[2][j];
       const dd x1{Xd_[0][j], Xl_[0][j]}, x2{Xd_[1][j], Xl_[1][j]}, x3{Xd_[2][j], Xl_[2][j]};
-      const dd g[3] = {negate(add(add(mul(x2, d3), mul(x3, d2)), product(d2, d3))),
-                       add(add(mul(x1, d3), mul(x3, d1)), product(d1, d3)),
-                       negate(add(add(mul(x1, d2), mul(x2, d1)), product(d1, d2)))};
+      dd g[3] = {add(add(mul(x2, d3), mul(x3, d2)), product(d2, d3)),
+                 add(add(mul(x1, d3), mul(x3, d1)), product(d1, d3)),
+                 add(add(mul(x1, d2), mul(x2, d1)), product(d1, d2))};
+      for (int i = 0; i < 3; ++i) g[i] = direct_ ? mul(g[i], dd{a_d_[i], a_lo_[i]}) : i == 1 ? g[i] : negate(g[i]);
       for (int i = 0; i < 3; ++i) {
         df_hi_[i][j] = g[i].hi;
         df_lo_[i][j] = g[i].lo;
@@ -831,16 +855,17 @@ class chebyshev_picard {
     return {.kind = outcome_kind::correction_stalled, .count = max_sweeps};
   }
 
-  // One sweep delta <- r + hl S g(delta), where for Eq. 5
-  // g = f(x + d) - f(x) = (-(x2 d3 + x3 d2 + d2 d3), x1 d3 + x3 d1 + d1 d3, -(x1 d2 + x2 d1 + d1 d2)).
+  // One sweep delta <- r + hl S g(delta), where
+  // g = f(x + d) - f(x) = (a1 (x2 d3 + x3 d2 + d2 d3), a2 (x1 d3 + x3 d1 + d1 d3), a3 (x1 d2 + x2 d1 + d1 d2))
+  // (in Eq. 5 a = (-1, 1, -1), and the products by +-1 are exact).
   // Returns the largest change; dmax is the largest entry of the new delta.
   double correction_sweep(double hl_d, double& dmax) {
     for (std::size_t k = 0; k < n1_; ++k) {
       const double d1 = delta_[0][k], d2 = delta_[1][k], d3 = delta_[2][k];
       const double x1 = Xd_[0][k], x2 = Xd_[1][k], x3 = Xd_[2][k];
-      g_[0][k] = -(x2 * d3 + x3 * d2 + d2 * d3);
-      g_[1][k] = x1 * d3 + x3 * d1 + d1 * d3;
-      g_[2][k] = -(x1 * d2 + x2 * d1 + d1 * d2);
+      g_[0][k] = a_d_[0] * (x2 * d3 + x3 * d2 + d2 * d3);
+      g_[1][k] = a_d_[1] * (x1 * d3 + x3 * d1 + d1 * d3);
+      g_[2][k] = a_d_[2] * (x1 * d2 + x2 * d1 + d1 * d2);
     }
     double diff = 0;
     double_integral(g_, delta_new_);
@@ -938,10 +963,14 @@ class chebyshev_picard {
   double eps_log_ = 0, tol_log_ = 0;  // log epsilon of T; log of the relative tolerance
   double truncation_target_log_ = 0;  // log of the relative truncation bound per segment
   vec3<T> G_{};
+  std::optional<vec3<T>> direct_;  // the coefficients a of Eq. 1 in the direct form (absent: Eq. 5)
+  // a in double, the rest of it (a - a_d_, for the double-double updates) and max |a_i|.
+  std::array<double, 3> a_d_{-1.0, 1.0, -1.0}, a_lo_{};
+  double a_max_ = 1;
   // The workspace. Per component i of Omega and node j (arrays of three vectors over the nodes):
   //   Yc_    the iterate: increments X - x0 at the nodes, in T (X the state at the nodes)
   //   Yn_    the Picard map hl S f(X) of the iterate, in T: the segment's values once converged
-  //   F_     f(X) by Eq. 5, in T (times hl in the double-double residual)
+  //   F_     f(X) by Eq. 1 or 5, in T (times hl in the double-double residual)
   //   Xd_    X in double, where the correction linearizes f
   //   warm_  the warm start's increments, in double
   //   r_     the residual hl S f(X) - Yc, in double
@@ -975,7 +1004,7 @@ class chebyshev_picard {
 
 // Integrates Eq. 5 from problem.tau0 to tau_end (> tau0). Throws numerical_failure.
 template <scalar T>
-dense_trajectory<T> integrate_reference(const normalized_problem<T>& problem, const T& tau_end,
+dense_trajectory<T> integrate_reference(const euler_problem<T>& problem, const T& tau_end,
                                         const picard_settings& settings = {},
                                         const progress_callback& progress = {},
                                         picard_stats* stats = nullptr) {
@@ -988,7 +1017,7 @@ dense_trajectory<T> integrate_reference(const normalized_problem<T>& problem, co
 // Omega)` receives each sample in order. The values equal those of integrate_reference's
 // trajectory at the same times. Throws numerical_failure.
 template <scalar T>
-void integrate_reference_samples(const normalized_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
+void integrate_reference_samples(const euler_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
                                  const typename segment_sampler<T>::emit_function& emit,
                                  const picard_settings& settings = {}, const progress_callback& progress = {},
                                  picard_stats* stats = nullptr) {

@@ -53,6 +53,7 @@
 #include <cstddef>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -141,16 +142,29 @@ namespace detail {
 
 using V = vec3<double>;
 
-// Eq. 5 as a system of the Runge-Kutta drivers.
+// Eq. 5 (or Eq. 1 in the direct form, when `direct`) as a system of the Runge-Kutta drivers.
 struct euler_system {
   V G;
-  void operator()(const V& Om, V& dOm, double) const { euler_rhs(Om, G, dOm); }
+  std::optional<V> direct;
+  void operator()(const V& Om, V& dOm, double) const {
+    if (direct)
+      direct_rhs(*direct, Om, G, dOm);
+    else
+      euler_rhs(Om, G, dOm);
+  }
 };
+
+// The paper's VOP (Eqs. 12-16) is built on Eq. 5's elements: no direct form.
+inline void require_normalized(formulation f, const euler_problem<double>& p) {
+  if (f != formulation::euler && !p.normalized())
+    throw std::domain_error("the paper's VOP needs the normalized Eq. 5, and this body is integrated in the direct "
+                            "form of Eq. 1 (two moments equal or nearly so)");
+}
 
 // Beyond this max-norm a run has "exploded": a thousand times the largest |Omega| a bounded
 // torque can produce over the span, |Omega0| + |G| tau_end (and the VOP phase u up to that times
 // tau_end).
-inline double explosion_bound(const normalized_problem<double>& p, double tau_end, bool phase) {
+inline double explosion_bound(const euler_problem<double>& p, double tau_end, bool phase) {
   double s = 1;
   for (int i = 0; i < 3; ++i) s += std::abs(p.Omega0[i]) + std::abs(p.G[i]) * tau_end;
   return 1e3 * s * (phase ? 1 + tau_end : 1.0);
@@ -212,7 +226,7 @@ class sample_thinner {
 
 // Euler at a fixed step.
 template <class Sys, class ToOmega>
-void run_with(run_result& out, Sys&& sys, vec3<double> x, const normalized_problem<double>& p,
+void run_with(run_result& out, Sys&& sys, vec3<double> x, const euler_problem<double>& p,
               const fixed_run_settings& s, double bound, ToOmega&& to_Omega) {
   const std::size_t expected = s.n_steps / std::max<std::size_t>(s.sample_every, 1) + 2;
   out.sample_steps.reserve(expected);
@@ -244,10 +258,9 @@ void run_with(run_result& out, Sys&& sys, vec3<double> x, const normalized_probl
 
 // Euler under error control.
 template <class Pair>
-void run_euler_adaptive(run_result& out, const normalized_problem<double>& p, const adaptive_run_settings& s,
+void run_euler_adaptive(run_result& out, const euler_problem<double>& p, const adaptive_run_settings& s,
                         double bound) {
-  const V G = p.G;
-  auto sys = [G](const V& x, V& dx, double) { euler_rhs(x, G, dx); };
+  const euler_system sys{p.G, p.direct};
   sample_thinner samples(out, s.samples);
   std::size_t last_step = 0;
   double last_tau = p.tau0, last_lo = 0;
@@ -288,7 +301,7 @@ class vop_run_state {
   using System = std::conditional_t<Theta, vop_theta_system<double>, vop_system<double>>;
 
   // Starts at Omega0 (p.tau0): `state` becomes its elements, or Omega0 inside a band.
-  vop_run_state(run_result& out, const normalized_problem<double>& p, const vop_band_thresholds& b, V& state)
+  vop_run_state(run_result& out, const euler_problem<double>& p, const vop_band_thresholds& b, V& state)
       : out_(out), b_(b), G_(p.G), sys_(zero_) {
     torque_ = G_[0] != 0 || G_[1] != 0 || G_[2] != 0;
     gnorm_ = std::sqrt(G_[0] * G_[0] + G_[1] * G_[1] + G_[2] * G_[2]);
@@ -443,7 +456,7 @@ class vop_run_state {
 template <class Tableau, bool Theta>
 class vop_fixed_run {
  public:
-  vop_fixed_run(run_result& out, const normalized_problem<double>& p, const fixed_run_settings& s, double bound)
+  vop_fixed_run(run_result& out, const euler_problem<double>& p, const fixed_run_settings& s, double bound)
       : out_(out), s_(s), tau0_(p.tau0), bound_(bound), every_(std::max<std::size_t>(s.sample_every, 1)),
         run_(out, p, s.bands, first_), euler_{p.G} {}
 
@@ -531,7 +544,7 @@ struct element_scale {
 template <class Pair, bool Theta>
 class vop_adaptive_run {
  public:
-  vop_adaptive_run(run_result& out, const normalized_problem<double>& p, const adaptive_run_settings& s,
+  vop_adaptive_run(run_result& out, const euler_problem<double>& p, const adaptive_run_settings& s,
                    double bound)
       : out_(out), s_(s), tau0_(p.tau0), bound_(bound), span_(s.tau_end - p.tau0),
         h_max_(s.h_max > 0 ? std::min(s.h_max, span_) : span_), run_(out, p, s.bands, first_),
@@ -669,15 +682,16 @@ class vop_adaptive_run {
 }  // namespace detail
 
 // Integrates the problem with formulation `f` and method `m` at fixed step in double.
-inline run_result run_fixed(formulation f, rk::method m, const normalized_problem<double>& p,
+inline run_result run_fixed(formulation f, rk::method m, const euler_problem<double>& p,
                             const fixed_run_settings& s) {
   run_result out;
   out.form = f;
   out.method = m;
+  detail::require_normalized(f, p);
   const double tau_end = p.tau0 + s.h * static_cast<double>(s.n_steps);
   switch (f) {
     case formulation::euler: {
-      detail::run_with(out, detail::euler_system{p.G}, p.Omega0, p, s, detail::explosion_bound(p, tau_end, false),
+      detail::run_with(out, detail::euler_system{p.G, p.direct}, p.Omega0, p, s, detail::explosion_bound(p, tau_end, false),
                        [](const vec3<double>& x) { return x; });
       break;
     }
@@ -698,12 +712,13 @@ inline run_result run_fixed(formulation f, rk::method m, const normalized_proble
 
 // Integrates the problem with formulation `f` under error control with the embedded pair of `m`
 // (rkf45, dp45 or dop853; std::invalid_argument otherwise), from tau0 to s.tau_end.
-inline run_result run_adaptive(formulation f, rk::method m, const normalized_problem<double>& p,
+inline run_result run_adaptive(formulation f, rk::method m, const euler_problem<double>& p,
                                const adaptive_run_settings& s) {
   run_result out;
   out.form = f;
   out.method = m;
   out.adaptive = true;
+  detail::require_normalized(f, p);
   const double bound = detail::explosion_bound(p, s.tau_end, f == formulation::vop);
   rk::dispatch_pair(m, [&](auto pair) {
     using Pair = decltype(pair);

@@ -1,11 +1,13 @@
-// The normalized Euler equations (paper Eqs. 1-5) with a constant body-frame torque, their
-// integrals c1, c2 (Eqs. 7-9), and the conversion from physical units (Eqs. 2-4).
+// Euler's equations with a constant body-frame torque: the normalized form (paper Eq. 5) and the
+// direct form (Eq. 1 divided by the moments), their integrals c1, c2 (Eqs. 7-9), and the
+// conversion from physical units (Eqs. 2-4).
 #pragma once
 
 #include <eulervop/principal_axes.hpp>
 #include <eulervop/scalar.hpp>
 
 #include <array>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -24,12 +26,35 @@ inline void euler_rhs(const vec3<T>& Om, const vec3<T>& G, vec3<T>& dOm) {
   dOm[2] = G[2] - Om[0] * Om[1];
 }
 
-// A normalized problem: Omega' = f(Omega) + G on [tau0, ...], Omega(tau0) = Omega0 (Eq. 5).
+// Eq. 1 divided by I_i: omega_i' = a_i omega_j omega_k + M_i / I_i, (i, j, k) cyclic, with
+// a_i = (I_j - I_k) / I_i. It holds in any right-handed frame of principal axes, whatever the
+// order of the moments, and for equal moments (a_i = 0 on the symmetry axis); Eq. 5 is the case
+// a = (-1, 1, -1) in the normalized variables.
+template <class T>
+inline void direct_rhs(const vec3<T>& a, const vec3<T>& w, const vec3<T>& g, vec3<T>& dw) {
+  dw[0] = g[0] + a[0] * (w[1] * w[2]);
+  dw[1] = g[1] + a[1] * (w[2] * w[0]);
+  dw[2] = g[2] + a[2] * (w[0] * w[1]);
+}
+
+// One problem of Euler's equations: Omega' = f(Omega) + G on [tau0, ...], Omega(tau0) = Omega0.
+// Normalized (Eq. 5, the paper's variables) unless `direct` holds the coefficients a of Eq. 1:
+// then Omega is omega in rad/s, tau is t in s and G is M_i / I_i (physical_scaling::direct).
 template <scalar T>
-struct normalized_problem {
-  vec3<T> G{};       // constant normalized torque
+struct euler_problem {
+  vec3<T> G{};       // constant torque term
   vec3<T> Omega0{};  // state at tau0
   T tau0 = 0;
+  std::optional<vec3<T>> direct;  // a_i = (I_j - I_k) / I_i of Eq. 1; absent: Eq. 5
+
+  bool normalized() const { return !direct.has_value(); }
+  // f(Omega) + G.
+  void rhs(const vec3<T>& Om, vec3<T>& dOm) const {
+    if (direct)
+      direct_rhs(*direct, Om, G, dOm);
+    else
+      euler_rhs(Om, G, dOm);
+  }
 };
 
 // Eq. 7: c1^2 = Omega1^2 + Omega2^2, c2^2 = Omega2^2 + Omega3^2, constant when G = 0.
@@ -38,12 +63,23 @@ T c1_squared(const vec3<T>& Om) { return Om[0] * Om[0] + Om[1] * Om[1]; }
 template <scalar T>
 T c2_squared(const vec3<T>& Om) { return Om[1] * Om[1] + Om[2] * Om[2]; }
 
-// Eqs. 3-4 (the change of variables) and the torque mapping derived in docs/design.md section 1.1:
+// The variables the integrators use for a body given in physical units, in one of two forms.
+//
+// Normalized (the paper's): Eqs. 3-4 and the torque mapping derived in docs/design.md section 1.1:
 //   A1 = (I3-I2)/I1, A2 = (I3-I1)/I2, A3 = (I2-I1)/I3,
 //   Omega_i = omega_i / sqrt(A_i),  dtau/dt = sqrt(A1 A2 A3),
-//   G_i = M_i / (I_i sqrt(A_i) sqrt(A1 A2 A3)).
-// Rates and torques are in the body's axes as given (principal_axes maps them onto the principal
-// order); Omega and G are in the principal order.
+//   G_i = M_i / (I_i sqrt(A_i) sqrt(A1 A2 A3)),
+// with Omega and G in the principal order (principal_axes maps the body's axes onto it). It needs
+// three distinct moments.
+//
+// Direct (direct()): no change of variables. The problem is Eq. 1 itself in the body's axes as
+// given, Omega = omega, tau = t and G_i = M_i / I_i, with the coefficients a of direct_rhs. It
+// takes any rigid body: for equal moments, where the normalization divides by zero, and for
+// nearly equal ones, where the normalized components differ in size by the ratio of the sqrt(A_i)
+// and the integrator's tolerance, relative to the largest, is loose for the smallest
+// (docs/design.md section 1.7).
+//
+// Rates and torques are in the body's axes as the scene gives them.
 template <scalar T>
 class physical_scaling {
  public:
@@ -59,37 +95,61 @@ class physical_scaling {
     rate_ = sqrt(A_[0] * A_[1] * A_[2]);
   }
 
+  // The direct form for moments in the body's axes as given: positive, any order, equal or not.
+  static physical_scaling direct(const std::array<T, 3>& user) {
+    if (!(user[0] > 0 && user[1] > 0 && user[2] > 0))
+      throw std::domain_error("physical_scaling: the moments of inertia must be positive");
+    physical_scaling s(principal_axes<T>::unmapped());
+    s.direct_ = true;
+    s.I_ = {user[0], user[1], user[2]};
+    s.A_ = {T(1), T(1), T(1)};
+    s.sqrtA_ = s.A_;
+    s.rate_ = T(1);
+    for (int i = 0; i < 3; ++i) {
+      const int j = (i + 1) % 3, k = (i + 2) % 3;
+      s.a_[i] = (user[j] - user[k]) / user[i];
+    }
+    return s;
+  }
+
+  bool is_direct() const { return direct_; }
+  // Direct form: the coefficients a_i = (I_j - I_k) / I_i of Eq. 1 (direct_rhs).
+  const vec3<T>& coefficients() const { return a_; }
+
+  // Normalized form: I1 < I2 < I3. Direct form: the moments as given.
   const inertia<T>& moments() const { return I_; }
   const principal_axes<T>& axes() const { return axes_; }
-  const vec3<T>& A() const { return A_; }
-  // dtau/dt (Eq. 4).
+  // dtau/dt (Eq. 4); 1 in the direct form.
   const T& tau_rate() const { return rate_; }
 
-  T tau_of_t(const T& t) const { return t * rate_; }
-  T t_of_tau(const T& tau) const { return tau / rate_; }
+  T tau_of_t(const T& t) const { return direct_ ? t : t * rate_; }
+  T t_of_tau(const T& tau) const { return direct_ ? tau : tau / rate_; }
 
   vec3<T> Omega_of_omega(const vec3<T>& w_user) const {
+    if (direct_) return w_user;
     const vec3<T> w = axes_.to_principal(w_user);
     return {w[0] / sqrtA_[0], w[1] / sqrtA_[1], w[2] / sqrtA_[2]};
   }
   vec3<T> omega_of_Omega(const vec3<T>& Om) const {
+    if (direct_) return Om;
     return axes_.to_user({Om[0] * sqrtA_[0], Om[1] * sqrtA_[1], Om[2] * sqrtA_[2]});
   }
   vec3<T> G_of_M(const vec3<T>& M_user) const {
     const vec3<T> M = axes_.to_principal(M_user);
     const T I[3] = {I_.I1, I_.I2, I_.I3};
     vec3<T> G;
-    for (int i = 0; i < 3; ++i) G[i] = M[i] / (I[i] * sqrtA_[i] * rate_);
+    for (int i = 0; i < 3; ++i) G[i] = direct_ ? T(M[i] / I[i]) : T(M[i] / (I[i] * sqrtA_[i] * rate_));
     return G;
   }
   vec3<T> M_of_G(const vec3<T>& G) const {
     const T I[3] = {I_.I1, I_.I2, I_.I3};
     vec3<T> M;
-    for (int i = 0; i < 3; ++i) M[i] = G[i] * I[i] * sqrtA_[i] * rate_;
+    for (int i = 0; i < 3; ++i) M[i] = direct_ ? T(G[i] * I[i]) : T(G[i] * I[i] * sqrtA_[i] * rate_);
     return axes_.to_user(M);
   }
 
-  // Eqs. 8-9 from the kinetic energy T = (1/2) sum I_i w_i^2 and H^2 = sum (I_i w_i)^2.
+  // Eqs. 8-9 from the kinetic energy T = (1/2) sum I_i w_i^2 and H^2 = sum (I_i w_i)^2 (normalized
+  // form only).
   // Eq. 9 as printed has the denominator (I2-I1)(I2-I1); the right one is (I3-I1)(I2-I1)
   // (docs/design.md section 1.2).
   T c1_squared_from_energy(const vec3<T>& w) const {
@@ -116,6 +176,8 @@ class physical_scaling {
   inertia<T> I_;
   vec3<T> A_{}, sqrtA_{};
   T rate_ = 0;
+  bool direct_ = false;
+  vec3<T> a_{};
 };
 
 }  // namespace eulervop

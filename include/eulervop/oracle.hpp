@@ -50,8 +50,8 @@ namespace eulervop::oracle {
 
 // The normalized problem of Eq. 5 from values: constant torque G, Omega(0) = Omega0, tau0 = 0.
 template <scalar T>
-normalized_problem<T> problem(const vec3<T>& G, const vec3<T>& Omega0) {
-  normalized_problem<T> p;
+euler_problem<T> problem(const vec3<T>& G, const vec3<T>& Omega0) {
+  euler_problem<T> p;
   p.G = G;
   p.Omega0 = Omega0;
   p.tau0 = T(0);
@@ -63,7 +63,7 @@ normalized_problem<T> problem(const vec3<T>& G, const vec3<T>& Omega0) {
 template <scalar T>
 struct physical_problem {
   physical_scaling<T> scaling;
-  normalized_problem<T> normalized;
+  euler_problem<T> normalized;
 
   physical_problem(const inertia<T>& I, const vec3<T>& M, const vec3<T>& omega0) : scaling(I) {
     normalized = problem<T>(scaling.G_of_M(M), scaling.Omega_of_omega(omega0));
@@ -76,7 +76,7 @@ struct physical_problem {
 template <scalar T>
 class reference {
  public:
-  reference(const normalized_problem<T>& p, const T& tau_end, const picard_settings& settings = {})
+  reference(const euler_problem<T>& p, const T& tau_end, const picard_settings& settings = {})
       : trajectory_(integrate_reference<T>(p, tau_end, settings, {}, &stats_)) {}
 
   // Omega(tau) for tau in [0, tau_end] (std::out_of_range outside).

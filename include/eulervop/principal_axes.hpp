@@ -44,6 +44,9 @@ class principal_axes {
     I_ = {user[perm_[0]], user[perm_[1]], user[perm_[2]]};
   }
 
+  // The identity map, with no moments (for physical_scaling's direct form, which needs no order).
+  static principal_axes unmapped() { return principal_axes(); }
+
   // I1 < I2 < I3.
   const inertia<T>& moments() const { return I_; }
   // True when the user's axes are already the principal ones.
@@ -62,6 +65,8 @@ class principal_axes {
   }
 
  private:
+  principal_axes() = default;
+
   std::array<int, 3> perm_{0, 1, 2};
   std::array<int, 3> sign_{1, 1, 1};
   inertia<T> I_{};

@@ -226,8 +226,9 @@ scene scene_reader::read() {
 }
 
 // [body] inertia = [I1, I2, I3]: positive, in any order (the axes are mapped onto the principal
-// order, principal_axes.hpp), pairwise distinct (Eq. 3 divides by the differences), and a rigid
-// body's: the two smaller moments sum to at least the largest.
+// order, principal_axes.hpp), equal or not (equal and nearly equal moments are integrated in the
+// direct form, scene_problem.hpp), and a rigid body's: the two smaller moments sum to at least
+// the largest.
 void scene_reader::read_body(const toml::table& root, scene& s) const {
   const toml::table* body = table(root, "body");
   if (!body) return;
@@ -239,10 +240,6 @@ void scene_reader::read_body(const toml::table& root, scene& s) const {
     if (!(I[i].value > 0)) fail_value(*inertia, "[body] inertia", fmt::format("I{} must be positive", i + 1));
   std::array<double, 3> sorted = {I[0].value, I[1].value, I[2].value};
   std::sort(sorted.begin(), sorted.end());
-  if (sorted[0] == sorted[1] || sorted[1] == sorted[2])
-    fail_value(*inertia, "[body] inertia",
-               "two moments are equal (an axisymmetric or spherical body), which the normalization of Eqs. 2-4 "
-               "cannot map (it divides by their difference)");
   if (sorted[0] + sorted[1] < sorted[2])
     fail_value(*inertia, "[body] inertia",
                "the two smaller moments sum to less than the largest, which no rigid body has");

@@ -12,7 +12,7 @@ int main(int argc, char** argv) {
   try {
     using eulervop::quad;
     const eulervop::scene::scene s = eulervop::scene::load_scene_file(argv[1]);
-    const eulervop::normalized_problem<quad> p = eulervop::scene::to_problem<quad>(s);
+    const eulervop::euler_problem<quad> p = eulervop::scene::to_problem<quad>(s);
     const eulervop::oracle::reference<quad> ref(p, quad(1));
     const eulervop::vec3<quad> Om0 = ref(quad(0));
     const double d = static_cast<double>(eulervop::eq20_error(p.Omega0, Om0));

@@ -14,6 +14,8 @@
 
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cstddef>
 #include <variant>
 #include <vector>
@@ -25,11 +27,28 @@ vec3<T> to_vec3(const decimal3& d) {
   return {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
 }
 
-// The change of variables of Eqs. 2-4 for a physical scene (precondition: s.is_physical()), in
-// the body's axes as the scene gives them.
+// A physical scene is integrated in the direct form of Eq. 1 (physical_scaling::direct) when two
+// of its moments are equal or closer than this, relative to the larger: the normalization breaks
+// at equality, and near it the normalized components differ in size by about gap^-1/2, so the
+// smallest are resolved only to the tolerance of the largest (docs/design.md section 1.7).
+inline constexpr double direct_form_gap = 1e-3;
+
+// Whether a physical scene uses the direct form; decided from the decimals once, so that every
+// precision (and --verify) integrates the same equations.
+inline bool uses_direct_form(const scene& s) {
+  if (!s.is_physical()) return false;
+  std::array<double, 3> I = {(*s.inertia)[0].value, (*s.inertia)[1].value, (*s.inertia)[2].value};
+  std::sort(I.begin(), I.end());
+  return (I[1] - I[0]) < direct_form_gap * I[1] || (I[2] - I[1]) < direct_form_gap * I[2];
+}
+
+// The change of variables for a physical scene (precondition: s.is_physical()), in the body's
+// axes as the scene gives them: Eqs. 2-4, or none in the direct form.
 template <scalar T>
 physical_scaling<T> scaling_of(const scene& s) {
-  return physical_scaling<T>(principal_axes<T>(to_vec3<T>(*s.inertia)));
+  const vec3<T> I = to_vec3<T>(*s.inertia);
+  if (uses_direct_form(s)) return physical_scaling<T>::direct(I);
+  return physical_scaling<T>(principal_axes<T>(I));
 }
 
 // Omega from the torque-free solution (Eq. 12) at u: (c1 cn u, c1 sn u, c2 dn u), k = c1/c2 < 1.
@@ -49,14 +68,16 @@ vec3<T> Omega_of_elements(const initial_elements& e) {
   return {c1 * cn, c1 * sn, c2 * dn};
 }
 
-// The normalized problem of Eq. 5: G, Omega(tau0), tau0 = 0.
+// The scene's problem: G, Omega(tau0), tau0 = 0, normalized (Eq. 5) or, for a physical scene in
+// the direct form, Eq. 1 in rad/s.
 template <scalar T>
-normalized_problem<T> to_problem(const scene& s) {
-  normalized_problem<T> p;
+euler_problem<T> to_problem(const scene& s) {
+  euler_problem<T> p;
   p.tau0 = T(0);
   p.G = {T(0), T(0), T(0)};
   if (s.is_physical()) {
     const physical_scaling<T> scale = scaling_of<T>(s);
+    if (scale.is_direct()) p.direct = scale.coefficients();
     if (s.torque) p.G = scale.G_of_M(to_vec3<T>(*s.torque));
     p.Omega0 = scale.Omega_of_omega(to_vec3<T>(std::get<initial_rates>(s.initial).rates));
     return p;
@@ -69,7 +90,8 @@ normalized_problem<T> to_problem(const scene& s) {
   return p;
 }
 
-// The end of the span in tau (physical scenes: tau_end = t_end dtau/dt, Eq. 4).
+// The end of the span in tau (physical scenes: tau_end = t_end dtau/dt, Eq. 4; t_end in the
+// direct form).
 template <scalar T>
 T tau_end_of(const scene& s) {
   const T end = s.span_end.template to_scalar<T>();
