@@ -246,7 +246,8 @@ reference_samples<T> load_reference_file(const report_job& job) {
 
   std::ifstream in = open_input_file("--reference", info.path);
   reference_csv_reader reader(in, where);
-  const std::size_t col_tau = reader.column("tau");
+  // A body in the direct form has t and omega, which are its tau and Omega here.
+  const std::size_t col_tau = reader.column(uses_direct_form(job.scn) ? "t" : "tau");
   csv_rows& rows = reader.rows();
   const double h = job.step.h;
   const std::size_t max_step = job.step.n_steps;

@@ -26,7 +26,6 @@ using eulervop::scene::scene_limits;
 using eulervop::scene::step_spec;
 using eulervop::scene::tau_end_of;
 using eulervop::scene::to_problem;
-using eulervop::scene::direct_form_gap;
 using eulervop::scene::uses_direct_form;
 
 }  // namespace eulervop::app

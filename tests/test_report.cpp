@@ -144,6 +144,16 @@ TEST(Report, AxisymmetricBodyRunsEulerOnly) {
     EXPECT_GT(run["max_error"].get<double>(), 0.0);
     EXPECT_LT(run["max_error"].get<double>(), 1e-6) << run.dump();
   }
+  // The same runs against a reference file of the body (t, omega columns) give the same errors.
+  const run_result ref = run(dir.path(), {"reference", scene, "--t-end", "60", "--samples", "61", "--out", "ref.csv"});
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+  const run_result from_file =
+      run(dir.path(), {"report", scene, "--t-end", "60", "--reference", "ref.csv", "--no-plot", "--out-dir", "out3"});
+  ASSERT_EQ(from_file.exit_code, 0) << from_file.err;
+  const json summary3 = json::parse(read_file(dir.path() / "out3" / "summary.json"));
+  for (std::size_t i = 0; i < 2; ++i)
+    EXPECT_EQ(summary3["runs"][i]["final_error"], summary["runs"][i]["final_error"]) << summary3.dump();
+
   const run_result vop = run(dir.path(), {"report", scene, "--t-end", "60", "--formulations", "euler,vop", "--no-plot",
                                           "--out-dir", "out2"});
   EXPECT_EQ(vop.exit_code, 2);

@@ -5,6 +5,7 @@
 // body's axes must give the same rates in the user's axes.
 #include <eulervop/chebyshev_picard.hpp>
 #include <eulervop/model.hpp>
+#include <eulervop/oracle.hpp>
 #include <eulervop/scalar.hpp>
 #include <eulervop/scene/scene.hpp>
 #include <eulervop/scene/scene_problem.hpp>
@@ -191,6 +192,21 @@ TEST(RigidBodies, EveryRelabellingOfTheAxesGivesTheSameRatesInTheUsersAxes) {
           EXPECT_EQ(got[r][j], sign[j] > 0 ? base[r][perm[j]] : quad(-base[r][perm[j]]))
               << text << "t = " << times[r] << ", axis " << j + 1;
     } while (std::next_permutation(perm.begin(), perm.end()));
+  }
+}
+
+// The C++ oracle takes the same bodies from values: each form's rates equal the scene's exactly
+// (the same conversions in the same order).
+TEST(RigidBodies, OracleTakesAnyBodyFromValues) {
+  for (const body_case& b : bodies) {
+    const scene s = parse_scene(scene_text(b.inertia, torque, rates, "600.0"), b.name);
+    const eulervop::oracle::physical_problem<quad> body(to_vec3<quad>(*s.inertia), to_vec3<quad>(*s.torque),
+                                                       to_vec3<quad>(std::get<initial_rates>(s.initial).rates));
+    EXPECT_EQ(body.scaling.is_direct(), b.direct) << b.name;
+    const eulervop::oracle::reference<quad> ref(body.problem, body.scaling.tau_of_t(quad(600)));
+    const vec3<quad> got = body.scaling.omega_of_Omega(ref(body.scaling.tau_of_t(quad(600))));
+    const vec3<quad> want = quad_rates(s, {600}).front();
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(got[i], want[i]) << b.name << " axis " << i + 1;
   }
 }
 

@@ -6,6 +6,7 @@
 #include <eulervop/principal_axes.hpp>
 #include <eulervop/scalar.hpp>
 
+#include <algorithm>
 #include <array>
 #include <optional>
 #include <stdexcept>
@@ -80,6 +81,21 @@ T c2_squared(const vec3<T>& Om) { return Om[1] * Om[1] + Om[2] * Om[2]; }
 // (docs/design.md section 1.7).
 //
 // Rates and torques are in the body's axes as the scene gives them.
+template <scalar T>
+class physical_scaling;
+
+// A body is integrated in the direct form when two of its moments are equal or closer than this,
+// relative to the larger: the normalization breaks at equality, and near it the normalized
+// components differ in size by about gap^-1/2, so the smallest are resolved only to the
+// tolerance of the largest (docs/design.md section 1.7).
+inline constexpr double direct_form_gap = 1e-3;
+
+template <class T>
+bool needs_direct_form(std::array<T, 3> I) {
+  std::sort(I.begin(), I.end());
+  return (I[1] - I[0]) < direct_form_gap * I[1] || (I[2] - I[1]) < direct_form_gap * I[2];
+}
+
 template <scalar T>
 class physical_scaling {
  public:

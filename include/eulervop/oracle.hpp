@@ -58,15 +58,29 @@ euler_problem<T> problem(const vec3<T>& G, const vec3<T>& Omega0) {
   return p;
 }
 
-// A physical body (principal moments I1 < I2 < I3, torque M in N m, omega(0) in rad/s) mapped by
-// Eqs. 2-4. Use scaling.tau_of_t(t) for times and scaling.omega_of_Omega(...) for rates.
+// A physical body (torque M in N m, omega(0) in rad/s, in the body's principal axes). Principal
+// moments I1 < I2 < I3 are mapped by Eqs. 2-4; moments in any order, equal or not, by Eqs. 2-4
+// after a relabelling of the axes, or as Eq. 1 itself in the direct form when two of them are
+// equal or nearly so (needs_direct_form). Either way, use scaling.tau_of_t(t) for times and
+// scaling.omega_of_Omega(...) for rates.
 template <scalar T>
 struct physical_problem {
   physical_scaling<T> scaling;
-  euler_problem<T> normalized;
+  euler_problem<T> problem;
 
-  physical_problem(const inertia<T>& I, const vec3<T>& M, const vec3<T>& omega0) : scaling(I) {
-    normalized = problem<T>(scaling.G_of_M(M), scaling.Omega_of_omega(omega0));
+  physical_problem(const inertia<T>& I, const vec3<T>& M, const vec3<T>& omega0) : scaling(I) { set(M, omega0); }
+  physical_problem(const vec3<T>& moments, const vec3<T>& M, const vec3<T>& omega0)
+      : scaling(needs_direct_form<double>({static_cast<double>(moments[0]), static_cast<double>(moments[1]),
+                                           static_cast<double>(moments[2])})
+                    ? physical_scaling<T>::direct(moments)
+                    : physical_scaling<T>(principal_axes<T>(moments))) {
+    set(M, omega0);
+  }
+
+ private:
+  void set(const vec3<T>& M, const vec3<T>& omega0) {
+    problem = oracle::problem<T>(scaling.G_of_M(M), scaling.Omega_of_omega(omega0));
+    if (scaling.is_direct()) problem.direct = scaling.coefficients();
   }
 };
 

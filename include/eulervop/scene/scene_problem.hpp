@@ -27,19 +27,11 @@ vec3<T> to_vec3(const decimal3& d) {
   return {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
 }
 
-// A physical scene is integrated in the direct form of Eq. 1 (physical_scaling::direct) when two
-// of its moments are equal or closer than this, relative to the larger: the normalization breaks
-// at equality, and near it the normalized components differ in size by about gap^-1/2, so the
-// smallest are resolved only to the tolerance of the largest (docs/design.md section 1.7).
-inline constexpr double direct_form_gap = 1e-3;
-
-// Whether a physical scene uses the direct form; decided from the decimals once, so that every
-// precision (and --verify) integrates the same equations.
+// Whether a physical scene uses the direct form (needs_direct_form); decided from the decimals
+// as doubles, once, so that every precision (and --verify) integrates the same equations.
 inline bool uses_direct_form(const scene& s) {
-  if (!s.is_physical()) return false;
-  std::array<double, 3> I = {(*s.inertia)[0].value, (*s.inertia)[1].value, (*s.inertia)[2].value};
-  std::sort(I.begin(), I.end());
-  return (I[1] - I[0]) < direct_form_gap * I[1] || (I[2] - I[1]) < direct_form_gap * I[2];
+  return s.is_physical() &&
+         needs_direct_form<double>({(*s.inertia)[0].value, (*s.inertia)[1].value, (*s.inertia)[2].value});
 }
 
 // The change of variables for a physical scene (precondition: s.is_physical()), in the body's
