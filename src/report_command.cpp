@@ -144,16 +144,17 @@ void choose_step(report_job& job, const report_options& o) {
 // Formulations x methods (x tolerances); returns the formulations.
 std::vector<formulation> choose_runs(report_job& job, const report_options& o) {
   const scene& s = job.scn;
+  const bool direct = uses_direct_form(s);  // the paper's VOP does not apply
   std::vector<formulation> forms;
   if (o.formulations)
     forms = formulations_of(flag_list("--formulations", *o.formulations), "--formulations " + *o.formulations, "");
   else if (!s.formulations.empty())
     forms = formulations_of(s.formulations, "[run] formulations", "; override with --formulations");
-  else if (uses_direct_form(s))
+  else if (direct)
     forms = {formulation::euler};
   else
     forms = {formulation::euler, formulation::vop};
-  if (uses_direct_form(s))
+  if (direct)
     job.note = fmt::format("the paper's VOP does not apply to this body (two moments are equal or within {} of each "
                            "other), so only euler runs, on Eq. 1 itself: tau is t in s and Omega is omega in rad/s",
                            direct_form_gap);

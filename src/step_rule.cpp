@@ -63,10 +63,7 @@ fixed_step_choice step_length(const scene& s, const step_spec& spec, const std::
     }
   } else {
     const double value = spec.value->value;
-    if (uses_direct_form(s)) {
-      out.h = value;
-      out.rule = fmt::format("h = {} s", spec.value->text);
-    } else if (s.is_physical()) {
+    if (s.is_physical()) {
       out.h = value * scaling_of<double>(s).tau_rate();
       out.rule = fmt::format("h = {} s in t = {} in tau", spec.value->text, out.h);
     } else {

@@ -190,12 +190,17 @@ TEST(Check, AgainstAReferenceFileAndRenamedColumns) {
   EXPECT_NE(unmapped.err.find("no column `x1` (for Omega1 by --columns)"), std::string::npos) << unmapped.err;
 }
 
+// ref.csv in `dir`: a physical scene's reference in double to t = 600 s, 61 samples.
+void write_double_reference(const fs::path& dir, const std::string& scene) {
+  const run_result ref =
+      run(dir, {"reference", scene, "--t-end", "600", "--samples", "61", "--precision", "double", "--out", "ref.csv"});
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+}
+
 TEST(Check, PhysicalTrajectoryInTAndOmega) {
   temp_dir dir;
   const std::string scene = source_dir + "/data/scenes/spacecraft-physical.toml";
-  const run_result ref =
-      run(dir.path(), {"reference", scene, "--t-end", "600", "--samples", "61", "--precision", "double", "--out", "ref.csv"});
-  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+  ASSERT_NO_FATAL_FAILURE(write_double_reference(dir.path(), scene));
   // The reference's own t, omega columns as a trajectory: errors at double rounding.
   std::string traj = "t,omega1,omega2,omega3\n";
   bool header_seen = false;
@@ -232,9 +237,7 @@ TEST(Check, PhysicalTrajectoryInTAndOmega) {
 TEST(Check, AxisymmetricBodyInTheDirectForm) {
   temp_dir dir;
   const std::string scene = source_dir + "/data/scenes/axisymmetric.toml";
-  const run_result ref =
-      run(dir.path(), {"reference", scene, "--t-end", "600", "--samples", "61", "--precision", "double", "--out", "ref.csv"});
-  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+  ASSERT_NO_FATAL_FAILURE(write_double_reference(dir.path(), scene));
   std::string traj;
   for (const std::string& l : lines_of(read_file(dir.path() / "ref.csv")))
     if (!l.starts_with("#")) traj += l + "\n";

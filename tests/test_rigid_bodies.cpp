@@ -149,9 +149,9 @@ TEST(RigidBodies, DirectFormIsTheBetterConditionedNearSymmetry) {
   const double direct = max_relative_error(quad_rates(s, check_times), exact);
 
   const eulervop::physical_scaling<quad> scale(eulervop::principal_axes<quad>(to_vec3<quad>(*s.inertia)));
-  eulervop::euler_problem<quad> p;
-  p.G = scale.G_of_M(to_vec3<quad>(*s.torque));
-  p.Omega0 = scale.Omega_of_omega(to_vec3<quad>(std::get<initial_rates>(s.initial).rates));
+  const eulervop::euler_problem<quad> p =
+      scale.problem(to_vec3<quad>(*s.torque), to_vec3<quad>(std::get<initial_rates>(s.initial).rates));
+  ASSERT_TRUE(p.normalized());
   const auto traj = eulervop::integrate_reference<quad>(p, scale.tau_of_t(quad(3600)));
   std::vector<vec3<quad>> normalized;
   for (double t : check_times) normalized.push_back(scale.omega_of_Omega(traj(scale.tau_of_t(quad(t)))));

@@ -332,19 +332,17 @@ class chebyshev_picard {
     picard_stats st;
     st.degree = static_cast<unsigned>(N_);
     st.tolerance = std::exp(tol_log_);
-    G_ = problem.G;
-    direct_ = problem.direct;
+    problem_ = problem;
+    a_d_ = {-1.0, 1.0, -1.0};
+    a_lo_ = {0.0, 0.0, 0.0};
     a_max_ = 1;
-    if (direct_) {
+    if (problem.direct) {
       a_max_ = 0;
       for (int i = 0; i < 3; ++i) {
-        a_d_[i] = to_d((*direct_)[i]);
-        a_lo_[i] = to_d(T((*direct_)[i] - T(a_d_[i])));
+        a_d_[i] = to_d((*problem.direct)[i]);
+        a_lo_[i] = to_d(T((*problem.direct)[i] - T(a_d_[i])));
         a_max_ = std::max(a_max_, std::abs(a_d_[i]));
       }
-    } else {
-      a_d_ = {-1.0, 1.0, -1.0};
-      a_lo_ = {0.0, 0.0, 0.0};
     }
     if (!(tau_end > problem.tau0))
       throw std::invalid_argument("integrate_reference: tau_end must exceed tau0");
@@ -435,7 +433,7 @@ class chebyshev_picard {
     if (settings_.initial_step > 0) return settings_.initial_step;
     double rate = 0;
     for (int i = 0; i < 3; ++i)
-      rate = std::max({rate, a_max_ * std::abs(to_d(x0[i])), std::sqrt(a_max_ * std::abs(to_d(G_[i])))});
+      rate = std::max({rate, a_max_ * std::abs(to_d(x0[i])), std::sqrt(a_max_ * std::abs(to_d(problem_.G[i])))});
     return rate > 0 ? 0.5 / rate : 1.0;
   }
 
@@ -587,14 +585,6 @@ class chebyshev_picard {
     return {};
   }
 
-  // f(x) + G in T: Eq. 5, or Eq. 1 in the direct form.
-  void rhs(const vec3<T>& x, vec3<T>& dx) const {
-    if (direct_)
-      direct_rhs(*direct_, x, G_, dx);
-    else
-      euler_rhs(x, G_, dx);
-  }
-
   // X = x0 + (c0 + Yc) and F = f(X) (Eq. 1 or 5) at the nodes, X also in double (Xd_). Returns the
   // state scale max |X|.
   double evaluate_nodes(const vec3<T>& x0, const vec3<T>& c0) {
@@ -612,7 +602,7 @@ class chebyshev_picard {
           Xl_[i][j] = to_d(acc_);
         }
       }
-      rhs(x, dx);
+      problem_.rhs(x, dx);
       for (int i = 0; i < 3; ++i) F_[i][j] = dx[i];
     }
     return scale;
@@ -654,7 +644,7 @@ class chebyshev_picard {
   double double_residual(const vec3<T>& x0, const vec3<T>& c0, double hl_d) {
     vec3<double> x0d, dx;
     for (int i = 0; i < 3; ++i) x0d[i] = to_d(x0[i]) + to_d(c0[i]);
-    const vec3<double> Gd{to_d(G_[0]), to_d(G_[1]), to_d(G_[2])};
+    const vec3<double> Gd{to_d(problem_.G[0]), to_d(problem_.G[1]), to_d(problem_.G[2])};
     for (std::size_t j = 0; j < n1_; ++j) {
       vec3<double> x;
       for (int i = 0; i < 3; ++i) x[i] = Xd_[i][j] = x0d[i] + warm_[i][j];
@@ -684,7 +674,7 @@ class chebyshev_picard {
         x[i] = x0[i] + (c0[i] + Yc_[i][j]);
         Xd_[i][j] = to_d(x[i]);
       }
-      rhs(x, dx);
+      problem_.rhs(x, dx);
       for (int i = 0; i < 3; ++i) F_[i][j] = dx[i] * hl;  // scaled by hl here, once
     }
     double r_max = 0;
@@ -724,7 +714,7 @@ class chebyshev_picard {
       dd g[3] = {add(add(mul(x2, d3), mul(x3, d2)), product(d2, d3)),
                  add(add(mul(x1, d3), mul(x3, d1)), product(d1, d3)),
                  add(add(mul(x1, d2), mul(x2, d1)), product(d1, d2))};
-      for (int i = 0; i < 3; ++i) g[i] = direct_ ? mul(g[i], dd{a_d_[i], a_lo_[i]}) : i == 1 ? g[i] : negate(g[i]);
+      for (int i = 0; i < 3; ++i) g[i] = mul(g[i], dd{a_d_[i], a_lo_[i]});  // exact for a = +-1 (Eq. 5)
       for (int i = 0; i < 3; ++i) {
         df_hi_[i][j] = g[i].hi;
         df_lo_[i][j] = g[i].lo;
@@ -794,7 +784,6 @@ class chebyshev_picard {
     const dd s = two_sum(x.hi, y.hi);
     return quick_sum(s.hi, s.lo + (x.lo + y.lo));
   }
-  static dd negate(const dd& x) { return {-x.hi, -x.lo}; }
 
   // Solves for the correction of the residual in r_ (largest entry r_max) and adds it to Yc_.
   outcome correct(double r_max, double hl_d, picard_stats& st) {
@@ -962,9 +951,9 @@ class chebyshev_picard {
   detail::chebyshev_basis<T> basis_;
   double eps_log_ = 0, tol_log_ = 0;  // log epsilon of T; log of the relative tolerance
   double truncation_target_log_ = 0;  // log of the relative truncation bound per segment
-  vec3<T> G_{};
-  std::optional<vec3<T>> direct_;  // the coefficients a of Eq. 1 in the direct form (absent: Eq. 5)
-  // a in double, the rest of it (a - a_d_, for the double-double updates) and max |a_i|.
+  euler_problem<T> problem_;  // the equations of the run (Eq. 5, or Eq. 1 in the direct form)
+  // Its coefficients a in double ((-1, 1, -1) for Eq. 5), the rest of them (a - a_d_, for the
+  // double-double updates) and max |a_i|.
   std::array<double, 3> a_d_{-1.0, 1.0, -1.0}, a_lo_{};
   double a_max_ = 1;
   // The workspace. Per component i of Omega and node j (arrays of three vectors over the nodes):

@@ -142,16 +142,11 @@ namespace detail {
 
 using V = vec3<double>;
 
-// Eq. 5 (or Eq. 1 in the direct form, when `direct`) as a system of the Runge-Kutta drivers.
+// The problem's equations (Eq. 5, or Eq. 1 in the direct form) as a system of the Runge-Kutta
+// drivers.
 struct euler_system {
-  V G;
-  std::optional<V> direct;
-  void operator()(const V& Om, V& dOm, double) const {
-    if (direct)
-      direct_rhs(*direct, Om, G, dOm);
-    else
-      euler_rhs(Om, G, dOm);
-  }
+  euler_problem<double> p;
+  void operator()(const V& Om, V& dOm, double) const { p.rhs(Om, dOm); }
 };
 
 // The paper's VOP (Eqs. 12-16) is built on Eq. 5's elements: no direct form.
@@ -260,7 +255,7 @@ void run_with(run_result& out, Sys&& sys, vec3<double> x, const euler_problem<do
 template <class Pair>
 void run_euler_adaptive(run_result& out, const euler_problem<double>& p, const adaptive_run_settings& s,
                         double bound) {
-  const euler_system sys{p.G, p.direct};
+  const euler_system sys{p};
   sample_thinner samples(out, s.samples);
   std::size_t last_step = 0;
   double last_tau = p.tau0, last_lo = 0;
@@ -458,7 +453,7 @@ class vop_fixed_run {
  public:
   vop_fixed_run(run_result& out, const euler_problem<double>& p, const fixed_run_settings& s, double bound)
       : out_(out), s_(s), tau0_(p.tau0), bound_(bound), every_(std::max<std::size_t>(s.sample_every, 1)),
-        run_(out, p, s.bands, first_), euler_{p.G} {}
+        run_(out, p, s.bands, first_), euler_{p} {}
 
   void operator()() {
     out_.sample_steps.reserve(s_.n_steps / every_ + 2);
@@ -548,7 +543,7 @@ class vop_adaptive_run {
                    double bound)
       : out_(out), s_(s), tau0_(p.tau0), bound_(bound), span_(s.tau_end - p.tau0),
         h_max_(s.h_max > 0 ? std::min(s.h_max, span_) : span_), run_(out, p, s.bands, first_),
-        euler_{p.G}, omega_scale_{s.atol, s.rtol}, element_scale_{s.atol, s.rtol, &run_},
+        euler_{p}, omega_scale_{s.atol, s.rtol}, element_scale_{s.atol, s.rtol, &run_},
         samples_(out, s.samples) {}
 
   void operator()() {
@@ -691,7 +686,7 @@ inline run_result run_fixed(formulation f, rk::method m, const euler_problem<dou
   const double tau_end = p.tau0 + s.h * static_cast<double>(s.n_steps);
   switch (f) {
     case formulation::euler: {
-      detail::run_with(out, detail::euler_system{p.G, p.direct}, p.Omega0, p, s, detail::explosion_bound(p, tau_end, false),
+      detail::run_with(out, detail::euler_system{p}, p.Omega0, p, s, detail::explosion_bound(p, tau_end, false),
                        [](const vec3<double>& x) { return x; });
       break;
     }

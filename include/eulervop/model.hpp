@@ -112,25 +112,21 @@ class physical_scaling {
   }
 
   // The direct form for moments in the body's axes as given: positive, any order, equal or not.
-  static physical_scaling direct(const std::array<T, 3>& user) {
-    if (!(user[0] > 0 && user[1] > 0 && user[2] > 0))
-      throw std::domain_error("physical_scaling: the moments of inertia must be positive");
-    physical_scaling s(principal_axes<T>::unmapped());
-    s.direct_ = true;
-    s.I_ = {user[0], user[1], user[2]};
-    s.A_ = {T(1), T(1), T(1)};
-    s.sqrtA_ = s.A_;
-    s.rate_ = T(1);
-    for (int i = 0; i < 3; ++i) {
-      const int j = (i + 1) % 3, k = (i + 2) % 3;
-      s.a_[i] = (user[j] - user[k]) / user[i];
-    }
-    return s;
-  }
+  // The conversions below then reduce exactly to the identity (axes unmapped, every sqrt(A_i)
+  // and dtau/dt equal to 1) and to G_i = M_i / I_i.
+  static physical_scaling direct(const std::array<T, 3>& user) { return physical_scaling(user); }
 
-  bool is_direct() const { return direct_; }
-  // Direct form: the coefficients a_i = (I_j - I_k) / I_i of Eq. 1 (direct_rhs).
-  const vec3<T>& coefficients() const { return a_; }
+  bool is_direct() const { return a_.has_value(); }
+
+  // The problem of the body with torque M and omega(0) = omega0 (in the body's axes), tau0 = 0.
+  euler_problem<T> problem(const vec3<T>& M, const vec3<T>& omega0) const {
+    euler_problem<T> p;
+    p.G = G_of_M(M);
+    p.Omega0 = Omega_of_omega(omega0);
+    p.tau0 = T(0);
+    p.direct = a_;
+    return p;
+  }
 
   // Normalized form: I1 < I2 < I3. Direct form: the moments as given.
   const inertia<T>& moments() const { return I_; }
@@ -138,29 +134,27 @@ class physical_scaling {
   // dtau/dt (Eq. 4); 1 in the direct form.
   const T& tau_rate() const { return rate_; }
 
-  T tau_of_t(const T& t) const { return direct_ ? t : t * rate_; }
-  T t_of_tau(const T& tau) const { return direct_ ? tau : tau / rate_; }
+  T tau_of_t(const T& t) const { return t * rate_; }
+  T t_of_tau(const T& tau) const { return tau / rate_; }
 
   vec3<T> Omega_of_omega(const vec3<T>& w_user) const {
-    if (direct_) return w_user;
     const vec3<T> w = axes_.to_principal(w_user);
     return {w[0] / sqrtA_[0], w[1] / sqrtA_[1], w[2] / sqrtA_[2]};
   }
   vec3<T> omega_of_Omega(const vec3<T>& Om) const {
-    if (direct_) return Om;
     return axes_.to_user({Om[0] * sqrtA_[0], Om[1] * sqrtA_[1], Om[2] * sqrtA_[2]});
   }
   vec3<T> G_of_M(const vec3<T>& M_user) const {
     const vec3<T> M = axes_.to_principal(M_user);
     const T I[3] = {I_.I1, I_.I2, I_.I3};
     vec3<T> G;
-    for (int i = 0; i < 3; ++i) G[i] = direct_ ? T(M[i] / I[i]) : T(M[i] / (I[i] * sqrtA_[i] * rate_));
+    for (int i = 0; i < 3; ++i) G[i] = M[i] / (I[i] * sqrtA_[i] * rate_);
     return G;
   }
   vec3<T> M_of_G(const vec3<T>& G) const {
     const T I[3] = {I_.I1, I_.I2, I_.I3};
     vec3<T> M;
-    for (int i = 0; i < 3; ++i) M[i] = direct_ ? T(G[i] * I[i]) : T(G[i] * I[i] * sqrtA_[i] * rate_);
+    for (int i = 0; i < 3; ++i) M[i] = G[i] * I[i] * sqrtA_[i] * rate_;
     return axes_.to_user(M);
   }
 
@@ -178,6 +172,14 @@ class physical_scaling {
   }
 
  private:
+  explicit physical_scaling(const std::array<T, 3>& user)
+      : axes_(principal_axes<T>::unmapped()), I_{user[0], user[1], user[2]}, A_{T(1), T(1), T(1)},
+        sqrtA_{T(1), T(1), T(1)}, rate_(T(1)), a_(vec3<T>{}) {
+    if (!(user[0] > 0 && user[1] > 0 && user[2] > 0))
+      throw std::domain_error("physical_scaling: the moments of inertia must be positive");
+    for (int i = 0; i < 3; ++i) (*a_)[i] = (user[(i + 1) % 3] - user[(i + 2) % 3]) / user[i];
+  }
+
   std::array<T, 2> energy_and_momentum(const vec3<T>& w) const {
     const T I[3] = {I_.I1, I_.I2, I_.I3};
     T twoT = 0, H2 = 0;
@@ -192,8 +194,7 @@ class physical_scaling {
   inertia<T> I_;
   vec3<T> A_{}, sqrtA_{};
   T rate_ = 0;
-  bool direct_ = false;
-  vec3<T> a_{};
+  std::optional<vec3<T>> a_;  // the direct form's coefficients
 };
 
 }  // namespace eulervop

@@ -68,20 +68,14 @@ struct physical_problem {
   physical_scaling<T> scaling;
   euler_problem<T> problem;
 
-  physical_problem(const inertia<T>& I, const vec3<T>& M, const vec3<T>& omega0) : scaling(I) { set(M, omega0); }
+  physical_problem(const inertia<T>& I, const vec3<T>& M, const vec3<T>& omega0)
+      : scaling(I), problem(scaling.problem(M, omega0)) {}
   physical_problem(const vec3<T>& moments, const vec3<T>& M, const vec3<T>& omega0)
       : scaling(needs_direct_form<double>({static_cast<double>(moments[0]), static_cast<double>(moments[1]),
                                            static_cast<double>(moments[2])})
                     ? physical_scaling<T>::direct(moments)
-                    : physical_scaling<T>(principal_axes<T>(moments))) {
-    set(M, omega0);
-  }
-
- private:
-  void set(const vec3<T>& M, const vec3<T>& omega0) {
-    problem = oracle::problem<T>(scaling.G_of_M(M), scaling.Omega_of_omega(omega0));
-    if (scaling.is_direct()) problem.direct = scaling.coefficients();
-  }
+                    : physical_scaling<T>(principal_axes<T>(moments))),
+        problem(scaling.problem(M, omega0)) {}
 };
 
 // The dense reference on [0, tau_end]: Chebyshev-Picard at the precision of T (tolerance and

@@ -64,16 +64,16 @@ vec3<T> Omega_of_elements(const initial_elements& e) {
 // the direct form, Eq. 1 in rad/s.
 template <scalar T>
 euler_problem<T> to_problem(const scene& s) {
-  euler_problem<T> p;
-  p.tau0 = T(0);
-  p.G = {T(0), T(0), T(0)};
+  const vec3<T> zero = {T(0), T(0), T(0)};
   if (s.is_physical()) {
-    const physical_scaling<T> scale = scaling_of<T>(s);
-    if (scale.is_direct()) p.direct = scale.coefficients();
-    if (s.torque) p.G = scale.G_of_M(to_vec3<T>(*s.torque));
-    p.Omega0 = scale.Omega_of_omega(to_vec3<T>(std::get<initial_rates>(s.initial).rates));
+    euler_problem<T> p = scaling_of<T>(s).problem(s.torque ? to_vec3<T>(*s.torque) : zero,
+                                                  to_vec3<T>(std::get<initial_rates>(s.initial).rates));
+    if (!s.torque) p.G = zero;  // +0 (an axis reversed by the relabelling would negate it)
     return p;
   }
+  euler_problem<T> p;
+  p.tau0 = T(0);
+  p.G = zero;
   if (s.torque) p.G = to_vec3<T>(*s.torque);
   if (const auto* rates = std::get_if<initial_rates>(&s.initial))
     p.Omega0 = to_vec3<T>(rates->rates);
