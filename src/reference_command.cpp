@@ -1,6 +1,7 @@
 #include "reference_command.hpp"
 
 #include "atomic_file.hpp"
+#include "certified_reference.hpp"
 #include "reference_compute.hpp"
 #include "reference_csv.hpp"
 #include "scratch_file.hpp"
@@ -35,6 +36,7 @@ struct reference_job {
   eulervop::precision precision;     // --precision, else [reference] precision
   picard_settings settings;          // --degree/--tolerance, else [reference], else automatic
   bool verify = false;
+  bool certify = false;
   bool omit_timing = false;          // no "# wall_seconds" lines
   std::string command;               // the "# command:" line, if any
   std::string overrides;             // the flags that changed the scene, for the metadata
@@ -47,6 +49,8 @@ reference_job make_job(const reference_options& o) {
   job.precision = applied.precision;
   job.settings = applied.settings;
   job.verify = o.verify;
+  job.certify = o.certify;
+  if (job.certify) require_certifiable(job.scn, job.precision);
   job.omit_timing = o.omit_timing;
   job.command = o.command;
   job.overrides = applied.text();
@@ -57,23 +61,33 @@ reference_job make_job(const reference_options& o) {
 
 // Integrates the job's scene in T and writes a CSV row to `rows_out` as each sample is
 // evaluated. `kept`, if given, receives the samples too.
+// With --certify, `certificate` checks every segment and each row gets its radius.
 template <scalar T>
 reference_run stream_rows(const reference_job& job, const T& tau_end, const sample_times<T>& times,
-                          scratch_file& rows_out, std::vector<vec3<T>>* kept) {
+                          scratch_file& rows_out, std::vector<vec3<T>>* kept, run_certificate* certificate) {
   const scene& s = job.scn;
   std::optional<physical_scaling<T>> scale;
   if (s.is_physical()) scale.emplace(scaling_of<T>(s));
   reference_csv_row_writer rows([&](std::string_view chunk) { rows_out.write(chunk); });
+  segment_sink<T> certify_segment;
+  if (certificate)
+    certify_segment = [&](const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
+      certificate->add_segment(seg, nodes);
+    };
   const reference_run run = integrate_streaming<T>(
       to_problem<T>(s), tau_end, times.tau, job.settings, "reference", [&](std::size_t i, const vec3<T>& Om) {
-        if (scale && scale->is_direct())
+        if (certificate) {
+          const std::array<std::string, 3> cells = {to_text(Om[0]), to_text(Om[1]), to_text(Om[2])};
+          rows.certified_row(times.tau[i], cells, certificate->radius(times.tau[i], cells));
+        } else if (scale && scale->is_direct())
           rows.row(times.t[i], Om);  // the state is omega, and tau is t
         else if (scale)
           rows.row(times.tau[i], Om, times.t[i], scale->omega_of_Omega(Om));
         else
           rows.row(times.tau[i], Om);
         if (kept) kept->push_back(Om);
-      });
+      },
+      certify_segment);
   rows.flush();
   return run;
 }
@@ -101,8 +115,16 @@ reference_metadata run_in(const reference_job& job, scratch_file& rows_out) {
   // --verify compares the samples with a wider run's, so it keeps them: memory then grows with
   // the number of samples (never with the span). Without it nothing is kept.
   std::vector<vec3<T>> kept;
-  const reference_run run = stream_rows<T>(job, tau_end, times, rows_out, job.verify ? &kept : nullptr);
+  std::optional<run_certificate> certificate;
+  if (job.certify) certificate.emplace(job.scn, job.precision);
+  const reference_run run = stream_rows<T>(job, tau_end, times, rows_out, job.verify ? &kept : nullptr,
+                                           certificate ? &*certificate : nullptr);
   reference_metadata m = metadata_of(job, run);
+  if (certificate) {
+    const std::string worst = certificate->max_radius();
+    m.certified_max_error = decimal{worst, std::strtod(worst.c_str(), nullptr)};
+    m.certify_method = certificate->method();
+  }
   if (job.verify) {
     const verify_result check = verify<T>(job.scn, tau_end, times.tau, kept, job.precision);
     m.estimated_max_error = check.max_error;
@@ -148,6 +170,9 @@ CLI::App* add_reference_command(CLI::App& app, reference_options& o) {
          "--out", [&o](const std::string& v) { o.out = v; }, "Output file (default: standard output)")
       ->type_name("FILE");
   sub->add_flag("--verify", o.verify, "Recompute one precision up and report # estimated_max_error");
+  sub->add_flag("--certify", o.certify,
+                "Prove a bound on every row's distance to the exact solution: a radius column and "
+                "# certified_max_error (docs/certified.md)");
   return sub;
 }
 

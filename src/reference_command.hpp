@@ -19,6 +19,7 @@ struct reference_options {
   scene_override_flags overrides;         // --tau-end, --samples, --precision, ...
   std::optional<std::string> out;         // none: standard output
   bool verify = false;
+  bool certify = false;
   // Not flags: set by main() and by `batch`.
   std::string command;       // "# command: ..." (the argv that made the file, without --out); none if empty
   bool omit_timing = false;  // leave out the "# wall_seconds" lines (batch: byte-identical reruns)

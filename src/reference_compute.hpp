@@ -106,13 +106,13 @@ using sample_function = std::function<void(std::size_t index, const vec3<T>& Ome
 template <scalar T>
 reference_run integrate_streaming(const euler_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
                                   const picard_settings& settings, const std::string& label,
-                                  const sample_function<T>& on_sample) {
+                                  const sample_function<T>& on_sample, const segment_sink<T>& after_segment = {}) {
   reference_run out;
   out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
     integrate_reference_samples<T>(
         problem, tau_end, taus,
         [&](std::size_t index, const T& tau, const vec3<T>& Om) { on_sample(index, require_finite(Om, tau)); },
-        settings, progress, &out.stats);
+        settings, progress, &out.stats, after_segment);
   });
   return out;
 }

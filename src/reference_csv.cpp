@@ -58,6 +58,14 @@ reference_metadata metadata_of(const csv_rows& rows) {
       m.verify_method = *vm;
     } else if (auto wv = value("wall_seconds_verify")) {
       m.wall_seconds_verify = seconds_of(*wv);
+    } else if (auto ce = value("certified_max_error")) {
+      const auto parsed = parse_decimal(*ce);
+      if (!parsed.number || parsed.number->value < 0)
+        throw input_error(fmt::format("{}: line {}: certified_max_error `{}` is not a non-negative number",
+                                      rows.where(), line, *ce));
+      m.certified_max_error = decimal{*ce, parsed.number->value};
+    } else if (auto cm = value("certify_method")) {
+      m.certify_method = *cm;
     } else if (l.starts_with("# scene_text:")) {
       std::string_view text = std::string_view(l).substr(13);
       if (text.starts_with(" ")) text.remove_prefix(1);
@@ -99,13 +107,19 @@ std::string reference_csv_header(const reference_metadata& m, reference_layout l
     line("# verify_method: {}", m.verify_method);
     if (m.wall_seconds_verify) line("# wall_seconds_verify: {:.3f}", *m.wall_seconds_verify);
   }
+  if (m.certified_max_error) {
+    line("# certified_max_error: {}", m.certified_max_error->text);
+    line("# certify_method: {}", m.certify_method);
+  }
   std::istringstream scene_lines(m.scene_text);
   for (std::string l; std::getline(scene_lines, l);) {
     if (!l.empty() && l.back() == '\r') l.pop_back();
     line("# scene_text: {}", l);
   }
   switch (layout) {
-    case reference_layout::normalized: line("tau,Omega1,Omega2,Omega3"); break;
+    case reference_layout::normalized:
+      line("tau,Omega1,Omega2,Omega3{}", m.certified_max_error ? ",radius" : "");
+      break;
     case reference_layout::physical: line("tau,Omega1,Omega2,Omega3,t,omega1,omega2,omega3"); break;
     case reference_layout::direct: line("t,omega1,omega2,omega3"); break;
   }

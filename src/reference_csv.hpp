@@ -39,6 +39,8 @@ struct reference_metadata {
   std::optional<eulervop::precision> verify_precision;  // # verify_precision (with --verify)
   std::string verify_method;                     // # verify_method (with --verify)
   std::optional<double> wall_seconds_verify;     // # wall_seconds_verify
+  std::optional<decimal> certified_max_error;    // # certified_max_error (--certify; rows then carry `radius`)
+  std::string certify_method;                    // # certify_method (with --certify)
   std::string scene_text;                        // # scene_text lines, each ending in '\n'
 
   // The precision to read the rows in: double values are exact in quad, MPFR at its bits.
@@ -74,6 +76,13 @@ class reference_csv_row_writer {
     cells(tau, Omega);
     buffer_.push_back(',');
     cells(t, omega);
+    end_row();
+  }
+  // A certified row of the normalized layout: tau, the state as the texts `cells` (already
+  // formatted, as the radius was computed for them), then the radius.
+  template <scalar T>
+  void certified_row(const T& tau, const std::array<std::string, 3>& cells, const std::string& radius) {
+    fmt::format_to(std::back_inserter(buffer_), "{},{},{},{},{}", to_text(tau), cells[0], cells[1], cells[2], radius);
     end_row();
   }
   // Hands over the rows still buffered.

@@ -4,6 +4,7 @@
 
 #include <eulervop/outcome.hpp>
 
+#include <cstdio>
 #include <string>
 
 namespace eulervop {
@@ -36,6 +37,19 @@ inline std::string describe_kind(outcome_kind kind, const outcome& o) {
       return "double-precision correction did not converge in " + std::to_string(o.count) + " sweeps";
     case outcome_kind::dense_output_non_finite: return "non-finite state in the dense output";
     case outcome_kind::error_non_finite: return "non-finite Eq. 20 error";
+    case outcome_kind::certification_failed:
+      return "certification does not close: " +
+             (o.cause == outcome_kind::certification_failed ? std::string("?") : describe_kind(o.cause, o)) +
+             "; try a higher precision";
+    case outcome_kind::certify_a_priori:
+      return "no a-priori error bound closes on the segment (the segment is too long for the bound)";
+    case outcome_kind::certify_growth: {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.3g", o.value);
+      return std::string("the proven error bound grew to ") + buf + " of the state";
+    }
+    case outcome_kind::certify_segment_gap: return "a segment does not start where the previous one ends";
+    case outcome_kind::certify_non_finite: return "a non-finite value in the segment or its variational matrix";
   }
   return "?";
 }

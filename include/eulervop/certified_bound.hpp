@@ -1,0 +1,697 @@
+// A proven bound on the distance between the reference of Eq. 5 and the exact solution
+// (docs/certified.md explains the method and what it assumes).
+//
+// The reference is a continuous-in-spirit piecewise polynomial P: on each segment, the degree-N
+// interpolant of the stored node values (chebyshev_segment). Those values define P exactly, so
+// everything below is a statement about a known polynomial, checked in interval arithmetic with
+// outward rounding (MPFI) at a working precision above the reference's:
+//
+//   1. the Picard residual r(tau) = P(a) + int_a^tau f(P) - P(tau) of the segment is a polynomial
+//      of degree 2N + 1 (f is quadratic); its Chebyshev coefficients are enclosed exactly, and
+//      sup |r| <= sum |r_k| on the segment;
+//   2. the error e = y - P obeys e(tau) = e(a) + r(tau) + int_a^tau (J e + N(e)), J = DN(P) and
+//      N(e) the quadratic part of Eq. 5, |N(e)| <= |e|^2 / sqrt(3); a Gronwall argument gives an
+//      a-priori bound R of |e| on the segment;
+//   3. integrating by parts with the variational matrix Phi' = J Phi (Phi(a) = I),
+//        e(b) = Phi(b, a) e(a) + r(b) + int_a^b Phi(b, s) [J(s) r(s) + N(e(s))] ds,
+//      |Phi(b, s)| <= exp(mu (b - s)), mu = sup |P_2| the logarithmic norm of J;
+//   4. Phi(b, a) is computed in double on Chebyshev nodes and enclosed by its own Picard residual,
+//      bounded with a floating-point error analysis (its error only multiplies e(a), which is
+//      ~1e-30, so double accuracy is far more than enough);
+//   5. e(a) is kept as a parallelepiped B [x] and moved across segments by Lohner's QR method
+//      (Lohner 1987; Nedialkov & Jackson 2001), so the bound grows like the flow's sensitivity
+//      rather than like exp(int mu).
+// A row inside a segment adds exp(mu (tau - a)) |e(a)|, the residual and the integral term, and
+// the distance from the printed decimals to P(tau), all as upper bounds.
+#pragma once
+
+#include <eulervop/chebyshev_picard.hpp>
+#include <eulervop/detail/chebyshev_basis.hpp>
+#include <eulervop/detail/mpfi_interval.hpp>
+#include <eulervop/model.hpp>
+#include <eulervop/numerical_failure.hpp>
+#include <eulervop/scalar.hpp>
+
+#include <mpfi.h>
+#include <mpfr.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace eulervop {
+
+// The problem of Eq. 5 as exact data: G and Omega(tau0 = 0) enclosed from the scene's decimals.
+struct certified_problem {
+  std::vector<detail::interval> G, Omega0;  // three intervals each
+};
+
+class certifier {
+ public:
+  // `bits`: the working precision (the reference's bits + 64 or more); `degree`: the reference's N.
+  certifier(mpfr_prec_t bits, std::size_t degree, certified_problem problem);
+
+  // Checks the next accepted segment of the reference (in order) and moves the error bound to
+  // its end. Throws numerical_failure (certification_failed) where the bound cannot be proven.
+  template <scalar T>
+  void add_segment(const chebyshev_segment<T>& seg);
+
+  // An upper bound of |y(tau) - printed|_2 (Eq. 20's norm), for tau in the latest segment, the
+  // row printed as the decimals `printed` (three texts). Also raises max_radius().
+  template <scalar T>
+  detail::interval row_radius(const T& tau, const std::array<std::string, 3>& printed);
+
+  // The largest row radius so far (an upper bound: the interval's right end).
+  const detail::interval& max_radius() const { return max_radius_; }
+  std::size_t segments() const { return segments_; }
+
+  // sup |printed - P| is bounded exactly; these are for tests and docs: the bound of |e| at the
+  // latest segment's start, and the residual bound on it.
+  double start_error_bound() const { return detail::magnitude_up(rho_a_); }
+
+ private:
+  using ivec = std::vector<detail::interval>;
+
+  detail::interval make() const { return detail::interval(bits_); }
+  ivec make_vec(std::size_t n) const { return ivec(n, make()); }
+  [[noreturn]] void fail(outcome_kind cause, double value = 0) const;
+
+  void validate_segment();         // steps 1-5 on the values in v_, a_, hl_
+  void chebyshev_coefficients();   // v_ -> c_ (and P coefficients p_)
+  void picard_residual();          // p_ -> r_, rsup_, r1_
+  void variational_matrix(double hl, double mu, double jmax, double h);  // Phi1_, eps_phi_
+  void lohner_step();              // B_, x_ to the segment's end
+  double norm_box_up() const;      // an upper bound of |B x|_2 over the box
+
+  mpfr_prec_t bits_;
+  std::size_t N_, n1_;
+  certified_problem problem_;
+  ivec M_;           // (N+1)x(N+1): node values -> Chebyshev coefficients
+  // The current segment
+  detail::interval a_, hl_, h_;
+  ivec X0_, v_, c_, p_, prod_, r_;
+  ivec rsup_, psup_, r1_;
+  detail::interval rsup2_, mu_, jmax_, R_, rho_a_, ell_, eps_phi_, max_radius_;
+  ivec Phi1_;        // 3x3 enclosure of Phi_num(b)
+  // The error at the segment's start: e(a) in B x, B a point matrix (doubles), x a box.
+  std::array<double, 9> B_{};
+  ivec x_, Qinv_;
+  ivec prev_end_;    // P(b) of the previous segment, exactly
+  detail::interval prev_b_;
+  bool started_ = false;
+  std::size_t segments_ = 0;
+  // Phi in double, on m+1 Lobatto nodes
+  detail::chebyshev_basis<double> phi_basis_;
+  std::vector<double> pd_;  // P coefficients (midpoints) as doubles, 3 x (N+1)
+  std::vector<double> prad_;  // and an upper bound of their distance to the exact ones
+  // scratch
+  mutable ivec t_;
+};
+
+// ---- implementation ----------------------------------------------------------------------------
+
+inline certifier::certifier(mpfr_prec_t bits, std::size_t degree, certified_problem problem)
+    : bits_(bits), N_(degree), n1_(degree + 1), problem_(std::move(problem)), a_(bits), hl_(bits), h_(bits),
+      rsup2_(bits), mu_(bits), jmax_(bits), R_(bits), rho_a_(bits), ell_(bits), eps_phi_(bits), max_radius_(bits),
+      prev_b_(bits), phi_basis_(16) {
+  // a_k = (2/N) sum_j'' v_j T_k(s_j), ends halved, a_0 and a_N halved, with s_j = -cos(j pi/N):
+  // T_k(s_j) = (-1)^k cos(k j pi / N), the angle reduced modulo 2N (exact integers).
+  const std::size_t N = N_;
+  ivec cosines = make_vec(2 * N);
+  detail::interval pi = make();
+  mpfi_const_pi(pi.get());
+  for (std::size_t m = 0; m < 2 * N; ++m) {
+    mpfi_mul_ui(cosines[m].get(), pi.get(), static_cast<unsigned long>(m));
+    mpfi_div_ui(cosines[m].get(), cosines[m].get(), static_cast<unsigned long>(N));
+    mpfi_cos(cosines[m].get(), cosines[m].get());
+  }
+  M_ = make_vec(n1_ * n1_);
+  for (std::size_t k = 0; k < n1_; ++k)
+    for (std::size_t j = 0; j < n1_; ++j) {
+      detail::interval& w = M_[k * n1_ + j];
+      mpfi_set(w.get(), cosines[(k * j) % (2 * N)].get());
+      if (k % 2) mpfi_neg(w.get(), w.get());
+      mpfi_mul_ui(w.get(), w.get(), 2);
+      mpfi_div_ui(w.get(), w.get(), static_cast<unsigned long>(N));
+      if (j == 0 || j == N) mpfi_mul_2si(w.get(), w.get(), -1);
+      if (k == 0 || k == N) mpfi_mul_2si(w.get(), w.get(), -1);
+    }
+  X0_ = make_vec(3);
+  v_ = make_vec(3 * n1_);
+  c_ = make_vec(3 * n1_);
+  p_ = make_vec(3 * n1_);
+  prod_ = make_vec(3 * (2 * N + 1));
+  r_ = make_vec(3 * (2 * N + 2));
+  rsup_ = make_vec(3);
+  psup_ = make_vec(3);
+  r1_ = make_vec(3);
+  Phi1_ = make_vec(9);
+  x_ = make_vec(3);
+  Qinv_ = make_vec(9);
+  prev_end_ = make_vec(3);
+  t_ = make_vec(4);
+  pd_.assign(3 * n1_, 0.0);
+  prad_.assign(3, 0.0);
+}
+
+inline void certifier::fail(outcome_kind cause, double value) const {
+  outcome o;
+  o.kind = outcome_kind::certification_failed;
+  o.cause = cause;
+  o.value = value;
+  o.tau = mpfi_get_d(a_.get());
+  throw numerical_failure(o);
+}
+
+template <scalar T>
+void certifier::add_segment(const chebyshev_segment<T>& seg) {
+  if (seg.values.size() != n1_) throw std::invalid_argument("certifier: the segment's degree differs");
+  detail::set_exact(a_, seg.tau_begin);
+  detail::set_exact(hl_, seg.half_length);
+  mpfi_mul_2si(h_.get(), hl_.get(), 1);
+  // The segment must start exactly where the previous one ended (a + 2 hl, exact at these bits).
+  if (started_ && !detail::same_point(prev_b_, a_)) fail(outcome_kind::certify_segment_gap);
+  for (int i = 0; i < 3; ++i) {
+    detail::set_exact(X0_[i], seg.base[i]);
+    detail::set_exact(t_[0], seg.base_lo[i]);
+    mpfi_add(X0_[i].get(), X0_[i].get(), t_[0].get());
+    for (std::size_t j = 0; j < n1_; ++j) detail::set_exact(v_[i * n1_ + j], seg.values[j][i]);
+  }
+  for (const detail::interval& x : v_)
+    if (!mpfi_bounded_p(x.get())) fail(outcome_kind::certify_non_finite);
+  validate_segment();
+}
+
+// ---- one segment ---------------------------------------------------------------------------
+
+inline void certifier::chebyshev_coefficients() {
+  detail::interval& t = t_[0];
+  for (int i = 0; i < 3; ++i)
+    for (std::size_t k = 0; k < n1_; ++k) {
+      detail::interval& ck = c_[i * n1_ + k];
+      mpfi_set_ui(ck.get(), 0);
+      for (std::size_t j = 0; j < n1_; ++j) {
+        mpfi_mul(t.get(), M_[k * n1_ + j].get(), v_[i * n1_ + j].get());
+        mpfi_add(ck.get(), ck.get(), t.get());
+      }
+      mpfi_set(p_[i * n1_ + k].get(), ck.get());
+    }
+  for (int i = 0; i < 3; ++i) mpfi_add(p_[i * n1_].get(), p_[i * n1_].get(), X0_[i].get());
+}
+
+inline void certifier::picard_residual() {
+  const std::size_t N = N_, np = 2 * N + 1, nr = 2 * N + 2;
+  detail::interval& t = t_[0];
+  // f(P) = G + N(P), N = (-P2 P3, P1 P3, -P1 P2): Chebyshev products,
+  // T_m T_n = (T_{m+n} + T_{|m-n|}) / 2.
+  const int pair[3][2] = {{1, 2}, {0, 2}, {0, 1}};
+  const int sign[3] = {-1, 1, -1};
+  for (int i = 0; i < 3; ++i) {
+    detail::interval* out = &prod_[i * np];
+    for (std::size_t k = 0; k < np; ++k) mpfi_set_ui(out[k].get(), 0);
+    const detail::interval* A = &p_[pair[i][0] * n1_];
+    const detail::interval* Bp = &p_[pair[i][1] * n1_];
+    for (std::size_t m = 0; m < n1_; ++m)
+      for (std::size_t n = 0; n < n1_; ++n) {
+        mpfi_mul(t.get(), A[m].get(), Bp[n].get());
+        mpfi_mul_2si(t.get(), t.get(), -1);
+        mpfi_add(out[m + n].get(), out[m + n].get(), t.get());
+        const std::size_t d = m > n ? m - n : n - m;
+        mpfi_add(out[d].get(), out[d].get(), t.get());
+      }
+    for (std::size_t k = 0; k < np; ++k)
+      if (sign[i] < 0) mpfi_neg(out[k].get(), out[k].get());
+    mpfi_add(out[0].get(), out[0].get(), problem_.G[i].get());
+    // F = int_{-1}^s f: b_1 = a_0 - a_2/2, b_k = (a_{k-1} - a_{k+1}) / (2k), b_0 so that F(-1) = 0.
+    detail::interval* r = &r_[i * nr];
+    auto a = [&](std::size_t k) -> const detail::interval* { return k < np ? &out[k] : nullptr; };
+    for (std::size_t k = 1; k < nr; ++k) {
+      const detail::interval* lo = a(k - 1);
+      const detail::interval* hi = a(k + 1);
+      if (lo) mpfi_set(r[k].get(), lo->get()); else mpfi_set_ui(r[k].get(), 0);
+      if (hi) {
+        mpfi_set(t.get(), hi->get());
+        if (k == 1) mpfi_mul_2si(t.get(), t.get(), -1);
+        mpfi_sub(r[k].get(), r[k].get(), t.get());
+      }
+      if (k > 1) mpfi_div_ui(r[k].get(), r[k].get(), static_cast<unsigned long>(2 * k));
+    }
+    mpfi_set_ui(r[0].get(), 0);
+    for (std::size_t k = 1; k < nr; ++k) {
+      if (k % 2) mpfi_add(r[0].get(), r[0].get(), r[k].get());
+      else mpfi_sub(r[0].get(), r[0].get(), r[k].get());
+    }
+    // r = v_0 - q + hl F (q the increment polynomial, q(-1) = v_0 exactly: node 0 is s = -1).
+    for (std::size_t k = 0; k < nr; ++k) mpfi_mul(r[k].get(), r[k].get(), hl_.get());
+    for (std::size_t k = 0; k < n1_; ++k) mpfi_sub(r[k].get(), r[k].get(), c_[i * n1_ + k].get());
+    mpfi_add(r[0].get(), r[0].get(), v_[i * n1_].get());
+    // sup |r| <= sum |r_k|; r(1) = sum r_k.
+    mpfi_set_ui(rsup_[i].get(), 0);
+    mpfi_set_ui(r1_[i].get(), 0);
+    for (std::size_t k = 0; k < nr; ++k) {
+      mpfi_abs(t.get(), r[k].get());
+      mpfi_add(rsup_[i].get(), rsup_[i].get(), t.get());
+      mpfi_add(r1_[i].get(), r1_[i].get(), r[k].get());
+    }
+  }
+}
+
+inline double certifier::norm_box_up() const {
+  // |B x|_2 with B point doubles: each component an interval, then the norm's upper end.
+  detail::interval& s = t_[1];
+  detail::interval& c = t_[2];
+  detail::interval& t = t_[3];
+  mpfi_set_ui(s.get(), 0);
+  for (int i = 0; i < 3; ++i) {
+    mpfi_set_ui(c.get(), 0);
+    for (int k = 0; k < 3; ++k) {
+      mpfi_mul_d(t.get(), x_[k].get(), B_[i * 3 + k]);
+      mpfi_add(c.get(), c.get(), t.get());
+    }
+    mpfi_abs(c.get(), c.get());
+    mpfi_sqr(c.get(), c.get());
+    mpfi_add(s.get(), s.get(), c.get());
+  }
+  mpfi_sqrt(s.get(), s.get());
+  return detail::magnitude_up(s);
+}
+
+inline void certifier::validate_segment() {
+  chebyshev_coefficients();
+  detail::interval& t = t_[0];
+  // The error at the start: the scene's exact initial state minus P(a), or the previous box
+  // plus the jump between the two segments' polynomials there (TwoSum compensation leaves one).
+  if (!started_) {
+    B_ = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    for (int i = 0; i < 3; ++i) {
+      mpfi_sub(x_[i].get(), problem_.Omega0[i].get(), X0_[i].get());
+      mpfi_sub(x_[i].get(), x_[i].get(), v_[i * n1_].get());
+    }
+  } else {
+    ivec jump = make_vec(3);
+    for (int i = 0; i < 3; ++i) {
+      mpfi_sub(jump[i].get(), prev_end_[i].get(), X0_[i].get());
+      mpfi_sub(jump[i].get(), jump[i].get(), v_[i * n1_].get());
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) {
+        mpfi_mul(t.get(), Qinv_[i * 3 + k].get(), jump[k].get());
+        mpfi_add(x_[i].get(), x_[i].get(), t.get());
+      }
+  }
+  mpfi_set_d(rho_a_.get(), norm_box_up());
+  detail::to_zero_hull(rho_a_);  // [0, rho]
+
+  picard_residual();
+  // sup |P_i| <= sum |p_ik|; mu = sup |P_2| bounds the logarithmic norm of J (the symmetric part
+  // of J has eigenvalues +-|P_2| and 0); |J|_2 <= |J|_F = sqrt(2) |P|_2.
+  for (int i = 0; i < 3; ++i) {
+    mpfi_set_ui(psup_[i].get(), 0);
+    for (std::size_t k = 0; k < n1_; ++k) {
+      mpfi_abs(t.get(), p_[i * n1_ + k].get());
+      mpfi_add(psup_[i].get(), psup_[i].get(), t.get());
+    }
+  }
+  mpfi_set(mu_.get(), psup_[1].get());
+  mpfi_set_ui(jmax_.get(), 0);
+  mpfi_set_ui(rsup2_.get(), 0);
+  for (int i = 0; i < 3; ++i) {
+    mpfi_sqr(t.get(), psup_[i].get());
+    mpfi_add(jmax_.get(), jmax_.get(), t.get());
+    mpfi_sqr(t.get(), rsup_[i].get());
+    mpfi_add(rsup2_.get(), rsup2_.get(), t.get());
+  }
+  mpfi_mul_ui(jmax_.get(), jmax_.get(), 2);
+  mpfi_sqrt(jmax_.get(), jmax_.get());
+  mpfi_sqrt(rsup2_.get(), rsup2_.get());
+
+  // A-priori bound: with c = |e(a)| + sup |r| and L = |J| + R/sqrt(3), |e| stays below R on the
+  // segment if c exp(L h) < R (Gronwall on e = e(a) + r + int (J e + N(e)), continued while
+  // |e| < R). Try R = 2 c exp(|J| h).
+  detail::interval c = make(), L = make(), e = make(), s3 = make();
+  mpfi_add(c.get(), rho_a_.get(), rsup2_.get());
+  mpfi_mul(e.get(), jmax_.get(), h_.get());
+  mpfi_exp(e.get(), e.get());
+  mpfi_mul(R_.get(), c.get(), e.get());
+  mpfi_mul_ui(R_.get(), R_.get(), 2);
+  detail::to_upper_point(R_);
+  mpfi_set_ui(s3.get(), 3);
+  mpfi_sqrt(s3.get(), s3.get());
+  mpfi_div(L.get(), R_.get(), s3.get());
+  mpfi_add(L.get(), L.get(), jmax_.get());
+  mpfi_mul(L.get(), L.get(), h_.get());
+  mpfi_exp(L.get(), L.get());
+  mpfi_mul(L.get(), L.get(), c.get());
+  if (!(mpfi_cmp(L.get(), R_.get()) < 0)) fail(outcome_kind::certify_a_priori);
+  detail::to_zero_hull(R_);
+
+  // The integral term of step 3: h exp(mu h) (|J| sup|r| + R^2/sqrt(3)).
+  mpfi_mul(ell_.get(), jmax_.get(), rsup2_.get());
+  mpfi_sqr(t.get(), R_.get());
+  mpfi_div(t.get(), t.get(), s3.get());
+  mpfi_add(ell_.get(), ell_.get(), t.get());
+  mpfi_mul(e.get(), mu_.get(), h_.get());
+  mpfi_exp(e.get(), e.get());
+  mpfi_mul(ell_.get(), ell_.get(), e.get());
+  mpfi_mul(ell_.get(), ell_.get(), h_.get());
+
+  variational_matrix(mpfi_get_d(hl_.get()), detail::magnitude_up(mu_), detail::magnitude_up(jmax_),
+                     detail::magnitude_up(h_));
+  lohner_step();
+  for (int i = 0; i < 3; ++i) {
+    mpfi_add(prev_end_[i].get(), X0_[i].get(), v_[i * n1_ + N_].get());
+  }
+  mpfi_add(prev_b_.get(), a_.get(), h_.get());
+  started_ = true;
+  ++segments_;
+}
+
+// Phi' = hl J(P(s)) Phi on s in [-1, 1], Phi(-1) = I: Picard iteration in double on the Lobatto
+// nodes of phi_basis_, then a bound of the exact Phi(b, a) - Phi_num(1) from the residual
+// R(s) = I + hl int J Phi_num - Phi_num of the polynomial Phi_num (Chebyshev coefficients in
+// double, exact by definition): E = Phi - Phi_num solves E = R + hl int J E, so
+// |E(1)| <= sup|R| (1 + h exp(mu h) |J|).
+inline void certifier::variational_matrix(double hl, double mu, double jmax, double h) {
+  const std::size_t m = phi_basis_.degree, m1 = m + 1;
+  const double u = std::numeric_limits<double>::epsilon() / 2;
+  // P's coefficients as doubles, with the distance to the exact ones.
+  for (int i = 0; i < 3; ++i) {
+    prad_[i] = 0;
+    for (std::size_t k = 0; k < n1_; ++k) {
+      const detail::interval& pk = p_[i * n1_ + k];
+      const double d = mpfi_get_d(pk.get());
+      pd_[i * n1_ + k] = d;
+      mpfr_t lo, hi;
+      mpfr_inits2(bits_, lo, hi, static_cast<mpfr_ptr>(nullptr));
+      mpfi_get_left(lo, pk.get());
+      mpfi_get_right(hi, pk.get());
+      mpfr_sub_d(lo, lo, d, MPFR_RNDD);
+      mpfr_sub_d(hi, hi, d, MPFR_RNDU);
+      prad_[i] += std::max(-mpfr_get_d(lo, MPFR_RNDD), mpfr_get_d(hi, MPFR_RNDU));
+      mpfr_clears(lo, hi, static_cast<mpfr_ptr>(nullptr));
+    }
+    prad_[i] *= 1 + 1e-12;
+  }
+  // J at the nodes.
+  std::vector<double> J(m1 * 9), Phi(m1 * 9), F(m1 * 9);
+  for (std::size_t l = 0; l < m1; ++l) {
+    double P[3];
+    for (int i = 0; i < 3; ++i) P[i] = detail::clenshaw(&pd_[i * n1_], n1_, 1, phi_basis_.nodes[l]);
+    double* Jl = &J[l * 9];
+    Jl[0] = 0, Jl[1] = -P[2], Jl[2] = -P[1];
+    Jl[3] = P[2], Jl[4] = 0, Jl[5] = P[0];
+    Jl[6] = -P[1], Jl[7] = -P[0], Jl[8] = 0;
+  }
+  for (std::size_t l = 0; l < m1; ++l)
+    for (int q = 0; q < 9; ++q) Phi[l * 9 + q] = (q % 4 == 0) ? 1.0 : 0.0;
+  for (int it = 0; it < 200; ++it) {
+    for (std::size_t l = 0; l < m1; ++l)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          double acc = 0;
+          for (int k = 0; k < 3; ++k) acc += J[l * 9 + i * 3 + k] * Phi[l * 9 + k * 3 + j];
+          F[l * 9 + i * 3 + j] = acc;
+        }
+    double change = 0, size = 0;
+    for (std::size_t l = 0; l < m1; ++l)
+      for (int q = 0; q < 9; ++q) {
+        double acc = 0;
+        for (std::size_t k = 0; k < m1; ++k) acc += phi_basis_.integral[l * m1 + k] * F[k * 9 + q];
+        const double next = ((q % 4 == 0) ? 1.0 : 0.0) + hl * acc;
+        change = std::max(change, std::abs(next - Phi[l * 9 + q]));
+        size = std::max(size, std::abs(next));
+        Phi[l * 9 + q] = next;
+      }
+    if (!std::isfinite(change)) fail(outcome_kind::certify_non_finite);
+    if (change <= 4 * u * size) break;
+  }
+  // Chebyshev coefficients of Phi_num: exact doubles, they define the polynomial.
+  std::vector<double> phi(9 * m1);
+  for (int q = 0; q < 9; ++q)
+    for (std::size_t k = 0; k < m1; ++k) {
+      double acc = 0;
+      for (std::size_t l = 0; l < m1; ++l) acc += phi_basis_.coeffs[k * m1 + l] * Phi[l * 9 + q];
+      phi[q * m1 + k] = acc;
+    }
+  // The residual of each entry in double, with a bound of every rounding: (J Phi)_ij is two
+  // products P_c Phi_kj. A computed sum of n products differs from the exact one by at most
+  // gamma_n = n u / (1 - n u) times the sum of their magnitudes (Higham 2002, section 3.1);
+  // over all coefficients these magnitudes add up to at most sum|P_c| sum|Phi_kj|.
+  const int col[3][2] = {{2, 1}, {2, 0}, {1, 0}};  // P index of J_ik for the two nonzero k
+  const int kk[3][2] = {{1, 2}, {0, 2}, {0, 1}};
+  const double sgn[3][2] = {{-1, -1}, {1, 1}, {-1, -1}};
+  const std::size_t np = n1_ + m1 - 1, nF = np + 1;
+  const double gamma = [&] {
+    const double n = static_cast<double>(4 * (n1_ + m1) + nF + 16);
+    return n * u / (1 - n * u);
+  }();
+  std::vector<double> g(np), Fc(nF);
+  double sup_F2 = 0;  // sum over entries of sup|R_ij|^2
+  double abs_phi[9];
+  for (int q = 0; q < 9; ++q) {
+    abs_phi[q] = 0;
+    for (std::size_t k = 0; k < m1; ++k) abs_phi[q] += std::abs(phi[q * m1 + k]);
+  }
+  double abs_p[3];
+  for (int c = 0; c < 3; ++c) {
+    abs_p[c] = 0;
+    for (std::size_t k = 0; k < n1_; ++k) abs_p[c] += std::abs(pd_[c * n1_ + k]);
+  }
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      std::fill(g.begin(), g.end(), 0.0);
+      double magnitude = 0, radius = 0;
+      for (int t = 0; t < 2; ++t) {
+        const int c = col[i][t], k = kk[i][t];
+        const double* a = &pd_[c * n1_];
+        const double* b = &phi[(k * 3 + j) * m1];
+        for (std::size_t x = 0; x < n1_; ++x)
+          for (std::size_t y = 0; y < m1; ++y) {
+            const double pr = sgn[i][t] * 0.5 * a[x] * b[y];
+            g[x + y] += pr;
+            g[x > y ? x - y : y - x] += pr;
+          }
+        magnitude += abs_p[c] * abs_phi[k * 3 + j];
+        radius += prad_[c] * abs_phi[k * 3 + j];
+      }
+      // Integral: b_1 = g_0 - g_2/2, b_k = (g_{k-1} - g_{k+1}) / (2k), b_0 from F(-1) = 0.
+      double abs_g = 0;
+      for (double x : g) abs_g += std::abs(x);
+      for (std::size_t k = 1; k < nF; ++k) {
+        const double lo = g[k - 1], hi = k + 1 < np ? g[k + 1] : 0.0;
+        Fc[k] = k == 1 ? lo - hi / 2 : (lo - hi) / static_cast<double>(2 * k);
+      }
+      Fc[0] = 0;
+      for (std::size_t k = 1; k < nF; ++k) Fc[0] += (k % 2) ? Fc[k] : -Fc[k];
+      double abs_F = 0;
+      for (double x : Fc) abs_F += std::abs(x);
+      // R = delta_ij + hl F - phi_ij.
+      double sup = 0, abs_terms = 0;
+      for (std::size_t k = 0; k < nF; ++k) {
+        double rk = hl * Fc[k];
+        const double ph = k < m1 ? phi[(i * 3 + j) * m1 + k] : 0.0;
+        abs_terms += std::abs(rk) + std::abs(ph);
+        rk -= ph;
+        if (k == 0 && i == j) rk += 1, abs_terms += 1;
+        sup += std::abs(rk);
+      }
+      // Errors: products (and P's own radius), integrated over a length of at most 2; the
+      // integration's roundings; the final combination.
+      const double err = std::abs(hl) * (2 * (gamma * magnitude + radius) * (1 + gamma) + gamma * (abs_g + 2 * abs_F)) +
+                         gamma * abs_terms;
+      const double bound = (sup + err) * (1 + 1e-12);
+      sup_F2 += bound * bound;
+    }
+  const double supR = std::sqrt(sup_F2) * (1 + 1e-12);
+  if (!std::isfinite(supR)) fail(outcome_kind::certify_non_finite);
+  // eps_phi = supR (1 + h exp(mu h) |J|), and Phi_num(1) = sum_k phi_k, in intervals.
+  detail::interval& t = t_[0];
+  mpfi_set_d(eps_phi_.get(), mu);
+  mpfi_mul_d(eps_phi_.get(), eps_phi_.get(), h);
+  mpfi_exp(eps_phi_.get(), eps_phi_.get());
+  mpfi_mul_d(eps_phi_.get(), eps_phi_.get(), h);
+  mpfi_mul_d(eps_phi_.get(), eps_phi_.get(), jmax);
+  mpfi_add_ui(eps_phi_.get(), eps_phi_.get(), 1);
+  mpfi_mul_d(eps_phi_.get(), eps_phi_.get(), supR);
+  for (int q = 0; q < 9; ++q) {
+    mpfi_set_ui(Phi1_[q].get(), 0);
+    for (std::size_t k = 0; k < m1; ++k) mpfi_add_d(Phi1_[q].get(), Phi1_[q].get(), phi[q * m1 + k]);
+  }
+  (void)t;
+}
+
+// e(b) in Phi1 B x + r(1) + a ball of radius ell + eps_phi |e(a)|; the new B is the Q of a QR
+// factorisation of mid(Phi1 B) (columns by decreasing length), x the box (Q^-1 Phi1 B) x + Q^-1
+// (r(1) + ball), with Q^-1 enclosed from the computed Q.
+inline void certifier::lohner_step() {
+  detail::interval& t = t_[0];
+  ivec A = make_vec(9);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      mpfi_set_ui(A[i * 3 + j].get(), 0);
+      for (int k = 0; k < 3; ++k) {
+        mpfi_mul_d(t.get(), Phi1_[i * 3 + k].get(), B_[k * 3 + j]);
+        mpfi_add(A[i * 3 + j].get(), A[i * 3 + j].get(), t.get());
+      }
+    }
+  // Q from modified Gram-Schmidt on mid(A), columns by decreasing length times box width.
+  double Am[9];
+  for (int q = 0; q < 9; ++q) Am[q] = mpfi_get_d(A[q].get());
+  std::array<int, 3> order = {0, 1, 2};
+  double weight[3];
+  for (int j = 0; j < 3; ++j) {
+    const double len = std::hypot(Am[j], Am[3 + j], Am[6 + j]);
+    weight[j] = len * detail::magnitude_up(x_[j]);
+  }
+  std::sort(order.begin(), order.end(), [&](int p, int q) { return weight[p] > weight[q]; });
+  double Q[9];
+  for (int c = 0; c < 3; ++c) {
+    double v[3] = {Am[order[c]], Am[3 + order[c]], Am[6 + order[c]]};
+    for (int prev = 0; prev < c; ++prev) {
+      const double d = v[0] * Q[prev] + v[1] * Q[3 + prev] + v[2] * Q[6 + prev];
+      for (int i = 0; i < 3; ++i) v[i] -= d * Q[i * 3 + prev];
+    }
+    double len = std::hypot(v[0], v[1], v[2]);
+    if (!(len > 0) || !std::isfinite(len)) {
+      // A degenerate column (a zero box): any unit vector orthogonal to the previous ones.
+      for (int e = 0; e < 3 && !(len > 1e-3); ++e) {
+        v[0] = v[1] = v[2] = 0;
+        v[e] = 1;
+        for (int prev = 0; prev < c; ++prev) {
+          const double d = v[0] * Q[prev] + v[1] * Q[3 + prev] + v[2] * Q[6 + prev];
+          for (int i = 0; i < 3; ++i) v[i] -= d * Q[i * 3 + prev];
+        }
+        len = std::hypot(v[0], v[1], v[2]);
+      }
+    }
+    for (int i = 0; i < 3; ++i) Q[i * 3 + c] = v[i] / len;
+  }
+  // Q^-1 = (I + D)^-1 Q^T with D = Q^T Q - I: |Q^-1 - Q^T| <= delta/(1 - delta) |Q^T|_inf,
+  // delta = |D|_inf (enclosed).
+  detail::interval delta = make(), row = make();
+  mpfi_set_ui(delta.get(), 0);
+  for (int i = 0; i < 3; ++i) {
+    mpfi_set_ui(row.get(), 0);
+    for (int j = 0; j < 3; ++j) {
+      mpfi_set_si(t.get(), i == j ? -1 : 0);
+      for (int k = 0; k < 3; ++k) {
+        detail::interval prod = make();
+        mpfi_set_d(prod.get(), Q[k * 3 + i]);
+        mpfi_mul_d(prod.get(), prod.get(), Q[k * 3 + j]);
+        mpfi_add(t.get(), t.get(), prod.get());
+      }
+      mpfi_abs(t.get(), t.get());
+      mpfi_add(row.get(), row.get(), t.get());
+    }
+    mpfi_union(delta.get(), delta.get(), row.get());  // its right end: the largest row sum
+  }
+  double qt_inf = 0;
+  for (int i = 0; i < 3; ++i) qt_inf = std::max(qt_inf, std::abs(Q[i]) + std::abs(Q[3 + i]) + std::abs(Q[6 + i]));
+  detail::interval slack = make(), one = make();
+  mpfi_set_ui(one.get(), 1);
+  mpfi_sub(one.get(), one.get(), delta.get());
+  if (!(mpfi_is_strictly_pos(one.get()) > 0)) fail(outcome_kind::certify_non_finite);
+  mpfi_div(slack.get(), delta.get(), one.get());
+  mpfi_mul_d(slack.get(), slack.get(), qt_inf * (1 + 1e-15));
+  detail::to_upper_point(slack);
+  mpfi_neg(one.get(), slack.get());
+  mpfi_put(slack.get(), one.get());  // [-slack, slack]
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      mpfi_set_d(Qinv_[i * 3 + j].get(), Q[j * 3 + i]);
+      mpfi_add(Qinv_[i * 3 + j].get(), Qinv_[i * 3 + j].get(), slack.get());
+    }
+  // The local part: r(1) and the ball of radius ell + eps_phi |e(a)|, as a box.
+  detail::interval ball = make();
+  mpfi_mul(ball.get(), eps_phi_.get(), rho_a_.get());
+  mpfi_add(ball.get(), ball.get(), ell_.get());
+  {
+    const double bmax = detail::magnitude_up(ball);
+    mpfi_interv_d(ball.get(), -bmax, bmax);
+  }
+  ivec local = make_vec(3);
+  for (int i = 0; i < 3; ++i) mpfi_add(local[i].get(), r1_[i].get(), ball.get());
+  // x' = (Q^-1 A) x + Q^-1 local
+  ivec C = make_vec(9);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      mpfi_set_ui(C[i * 3 + j].get(), 0);
+      for (int k = 0; k < 3; ++k) {
+        mpfi_mul(t.get(), Qinv_[i * 3 + k].get(), A[k * 3 + j].get());
+        mpfi_add(C[i * 3 + j].get(), C[i * 3 + j].get(), t.get());
+      }
+    }
+  ivec xn = make_vec(3);
+  for (int i = 0; i < 3; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      mpfi_mul(t.get(), C[i * 3 + k].get(), x_[k].get());
+      mpfi_add(xn[i].get(), xn[i].get(), t.get());
+      mpfi_mul(t.get(), Qinv_[i * 3 + k].get(), local[k].get());
+      mpfi_add(xn[i].get(), xn[i].get(), t.get());
+    }
+  }
+  x_ = std::move(xn);
+  for (int q = 0; q < 9; ++q) B_[q] = Q[q];
+  // The bound must stay meaningful: beyond 2^-20 of the state it is of no use to anyone.
+  const double size = norm_box_up();
+  double state = 0;
+  for (int i = 0; i < 3; ++i) state = std::max(state, detail::magnitude_up(psup_[i]));
+  if (!(size <= std::ldexp(1.0, -20) * std::max(1.0, state))) fail(outcome_kind::certify_growth, size / std::max(1.0, state));
+}
+
+template <scalar T>
+detail::interval certifier::row_radius(const T& tau, const std::array<std::string, 3>& printed) {
+  detail::interval dt = make(), s = make(), e = make(), out = make(), t = make(), s3 = make();
+  detail::set_exact(dt, tau);
+  mpfi_sub(dt.get(), dt.get(), a_.get());
+  // exp(mu dt) |e(a)| + sup|r| + dt exp(mu dt) (|J| sup|r| + R^2/sqrt(3))
+  mpfi_mul(e.get(), mu_.get(), dt.get());
+  mpfi_exp(e.get(), e.get());
+  mpfi_mul(out.get(), e.get(), rho_a_.get());
+  mpfi_add(out.get(), out.get(), rsup2_.get());
+  mpfi_set_ui(s3.get(), 3);
+  mpfi_sqrt(s3.get(), s3.get());
+  mpfi_sqr(t.get(), R_.get());
+  mpfi_div(t.get(), t.get(), s3.get());
+  mpfi_mul(s.get(), jmax_.get(), rsup2_.get());
+  mpfi_add(t.get(), t.get(), s.get());
+  mpfi_mul(t.get(), t.get(), e.get());
+  mpfi_mul(t.get(), t.get(), dt.get());
+  mpfi_add(out.get(), out.get(), t.get());
+  // |printed - P(tau)|: P by Clenshaw at s = dt / hl - 1, in intervals.
+  mpfi_div(s.get(), dt.get(), hl_.get());
+  mpfi_sub_ui(s.get(), s.get(), 1);
+  detail::interval b0 = make(), b1 = make(), b2 = make(), sq = make();
+  mpfi_set_ui(sq.get(), 0);
+  for (int i = 0; i < 3; ++i) {
+    mpfi_set_ui(b1.get(), 0);
+    mpfi_set_ui(b2.get(), 0);
+    for (std::size_t k = n1_; k-- > 1;) {
+      mpfi_mul(b0.get(), s.get(), b1.get());
+      mpfi_mul_2si(b0.get(), b0.get(), 1);
+      mpfi_sub(b0.get(), b0.get(), b2.get());
+      mpfi_add(b0.get(), b0.get(), p_[i * n1_ + k].get());
+      mpfi_swap(b2.get(), b1.get());
+      mpfi_swap(b1.get(), b0.get());
+    }
+    mpfi_mul(b0.get(), s.get(), b1.get());
+    mpfi_sub(b0.get(), b0.get(), b2.get());
+    mpfi_add(b0.get(), b0.get(), p_[i * n1_].get());
+    detail::set_decimal(t, printed[i]);
+    mpfi_sub(t.get(), t.get(), b0.get());
+    mpfi_abs(t.get(), t.get());
+    mpfi_sqr(t.get(), t.get());
+    mpfi_add(sq.get(), sq.get(), t.get());
+  }
+  mpfi_sqrt(sq.get(), sq.get());
+  mpfi_add(out.get(), out.get(), sq.get());
+  detail::to_zero_hull(out);  // the upper end only: [0, sup]
+  mpfi_put(max_radius_.get(), out.get());
+  return out;
+}
+
+}  // namespace eulervop
