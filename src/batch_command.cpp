@@ -89,6 +89,7 @@ struct batch_settings {
   fs::path out_dir;
   bool report = false;
   bool verify = false;
+  bool certify = false;
   scene_override_flags overrides;
   std::string flags_text;  // the flags that shape the outputs, for the hash and the commands
 };
@@ -103,6 +104,7 @@ std::string flags_text_of(const batch_options& o) {
   add("--degree", o.overrides.degree);
   add("--tolerance", o.overrides.tolerance);
   if (o.verify) t += " --verify";
+  if (o.certify) t += " --certify";
   return t;
 }
 
@@ -156,6 +158,7 @@ scene_outcome run_one(const batch_settings& s, const scene_task& t) {
     ref.overrides = s.overrides;
     ref.out = (dir / "reference.csv").string();
     ref.verify = s.verify;
+    ref.certify = s.certify;
     ref.omit_timing = true;
     ref.command = "eulervop reference " + shell_word(t.path) + s.flags_text;
     std::ostringstream sink;
@@ -297,6 +300,7 @@ CLI::App* add_batch_command(CLI::App& app, batch_options& o) {
                              "Number of reference samples per scene (default: each scene's own)");
   sub->add_flag("--report", o.report, "Also run `report` (no figure) into DIR/SCENE/report/");
   sub->add_flag("--verify", o.verify, "Verify each reference one precision up (# estimated_max_error)");
+  sub->add_flag("--certify", o.certify, "Certify each reference: a proven radius per row (docs/certified.md)");
   return sub;
 }
 
@@ -318,6 +322,7 @@ int run_batch(const batch_options& o, std::ostream& standard_output) {
   s.out_dir = *o.out_dir;
   s.report = o.report;
   s.verify = o.verify;
+  s.certify = o.certify;
   s.overrides = o.overrides;
   s.flags_text = flags_text_of(o);
   {

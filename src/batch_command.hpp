@@ -1,4 +1,4 @@
-// `eulervop batch SCENES... --out-dir DIR [--jobs N] [--shard i/n] [--report] [--verify]`:
+// `eulervop batch SCENES... --out-dir DIR [--jobs N] [--shard i/n] [--report] [--verify] [--certify]`:
 // `reference` (and optionally `report`) for many scenes, in-process.
 //
 // Each scene SCENE.toml writes DIR/SCENE/reference.csv (and DIR/SCENE/report/errors.csv,
@@ -35,6 +35,7 @@ struct batch_options {
   scene_override_flags overrides;    // --samples, --precision, --degree, --tolerance
   bool report = false;
   bool verify = false;
+  bool certify = false;
 };
 
 CLI::App* add_batch_command(CLI::App& app, batch_options& options);

@@ -285,3 +285,28 @@ TEST(ReferenceDatasets, EveryDatasetCarriesCommandAndEstimatedError) {
 }
 
 }  // namespace
+
+namespace {
+
+// --certify reaches every scene's reference; a scene that cannot be certified fails alone, with
+// its one-line reason.
+TEST(Batch, CertifyGivesEachReferenceItsRadiusAndRefusesWhatItCannotCertify) {
+  temp_dir dir;
+  auto scenes = write_scenes(dir.path(), 2);
+  scenes.push_back(source_dir + "/data/scenes/spacecraft-physical.toml");
+  const run_result r = run(dir.path(), batch_args(scenes, "out", {"--certify"}));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  const auto m = manifest(dir.path() / "out/manifest.json");
+  std::map<std::string, nlohmann::json> by_name;
+  for (const auto& e : m["scenes"]) by_name[e["name"].get<std::string>()] = e;
+  for (const char* name : {"a", "b"}) {
+    EXPECT_EQ(by_name[name]["status"], "ok");
+    const std::string csv = read_file(dir.path() / "out" / name / "reference.csv");
+    EXPECT_NE(csv.find("\n# certified_max_error: "), std::string::npos) << name;
+    EXPECT_NE(csv.find("\ntau,Omega1,Omega2,Omega3,radius\n"), std::string::npos) << name;
+  }
+  EXPECT_EQ(by_name["spacecraft-physical"]["status"], "failed");
+  EXPECT_NE(by_name["spacecraft-physical"]["message"].get<std::string>().find("--certify"), std::string::npos);
+}
+
+}  // namespace

@@ -26,6 +26,7 @@
 #pragma once
 
 #include <eulervop/chebyshev_picard.hpp>
+#include <eulervop/detail/bounded_chebyshev.hpp>
 #include <eulervop/detail/chebyshev_basis.hpp>
 #include <eulervop/detail/mpfi_interval.hpp>
 #include <eulervop/model.hpp>
@@ -83,7 +84,10 @@ class certifier {
   void validate_segment();         // steps 1-5 on the values in v_, a_, hl_
   void chebyshev_coefficients();   // v_ -> c_ (and P coefficients p_)
   void picard_residual();          // p_ -> r_, rsup_, r1_
+  void coefficient_doubles();      // p_ -> cd_, crad_, cmag_, tail_level_
+  void doubles_of_polynomials();   // p_, r_ -> pd_, prad_, rd_, rrad_
   void variational_matrix(double hl, double mu, double jmax, double h);  // Phi1_, eps_phi_
+  void signed_integral_term(double hl, double mu, double jmax, double h);  // u1_, eps_u_
   void lohner_step();              // B_, x_ to the segment's end
   double norm_box_up() const;      // an upper bound of |B x|_2 over the box
 
@@ -106,10 +110,18 @@ class certifier {
   std::size_t segments_ = 0;
   // Phi in double, on m+1 Lobatto nodes
   detail::chebyshev_basis<double> phi_basis_;
-  std::vector<double> pd_;  // P coefficients (midpoints) as doubles, 3 x (N+1)
-  std::vector<double> prad_;  // and an upper bound of their distance to the exact ones
+  std::vector<double> pd_, rd_, ud_;  // P, r and u_num as doubles, 3 x (N+1) and 3 x (2N+2)
+  std::array<double, 3> prad_{}, rrad_{};  // bounds of sum |exact - double| per component
+  detail::integrated_products product_sum_;
+  ivec u1_;          // u_num(1), the signed integral term
+  ivec fold_plus_, fold_minus_;  // mirrored node values, summed and subtracted
+  std::vector<double> cd_, crad_, cmag_, gd_;  // P's coefficients in double; double products
+  double tail_level_ = 0;
+  std::array<double, 3> product_rem_{}, r_rem_{};  // the double products' error, and in r
+  detail::interval eps_u_;
   // scratch
   mutable ivec t_;
+  ivec Tk_;  // T_k(s) of a row
 };
 
 // ---- implementation ----------------------------------------------------------------------------
@@ -117,7 +129,7 @@ class certifier {
 inline certifier::certifier(mpfr_prec_t bits, std::size_t degree, certified_problem problem)
     : bits_(bits), N_(degree), n1_(degree + 1), problem_(std::move(problem)), a_(bits), hl_(bits), h_(bits),
       rsup2_(bits), mu_(bits), jmax_(bits), R_(bits), rho_a_(bits), ell_(bits), eps_phi_(bits), max_radius_(bits),
-      prev_b_(bits), phi_basis_(16) {
+      prev_b_(bits), phi_basis_(16), eps_u_(bits) {
   // a_k = (2/N) sum_j'' v_j T_k(s_j), ends halved, a_0 and a_N halved, with s_j = -cos(j pi/N):
   // T_k(s_j) = (-1)^k cos(k j pi / N), the angle reduced modulo 2N (exact integers).
   const std::size_t N = N_;
@@ -155,7 +167,14 @@ inline certifier::certifier(mpfr_prec_t bits, std::size_t degree, certified_prob
   prev_end_ = make_vec(3);
   t_ = make_vec(4);
   pd_.assign(3 * n1_, 0.0);
-  prad_.assign(3, 0.0);
+  rd_.assign(3 * (2 * N + 2), 0.0);
+  fold_plus_ = make_vec(n1_ / 2);
+  fold_minus_ = make_vec(n1_ / 2);
+  cd_.assign(3 * n1_, 0.0);
+  crad_.assign(3 * n1_, 0.0);
+  cmag_.assign(3 * n1_, 0.0);
+  gd_.assign(2 * N + 1, 0.0);
+  u1_ = make_vec(3);
 }
 
 inline void certifier::fail(outcome_kind cause, double value) const {
@@ -189,17 +208,32 @@ void certifier::add_segment(const chebyshev_segment<T>& seg) {
 // ---- one segment ---------------------------------------------------------------------------
 
 inline void certifier::chebyshev_coefficients() {
+  // The columns j and N - j of the transform differ by the factor (-1)^k (T_k(-s) =
+  // (-1)^k T_k(s) and the nodes are symmetric), so the sums and differences of mirrored values
+  // halve the products.
   detail::interval& t = t_[0];
-  for (int i = 0; i < 3; ++i)
+  const std::size_t half = n1_ / 2;  // pairs j < half with N - j; N even leaves j = N/2 alone
+  for (int i = 0; i < 3; ++i) {
+    const detail::interval* v = &v_[i * n1_];
+    for (std::size_t j = 0; j < half; ++j) {
+      mpfi_add(fold_plus_[j].get(), v[j].get(), v[N_ - j].get());
+      mpfi_sub(fold_minus_[j].get(), v[j].get(), v[N_ - j].get());
+    }
     for (std::size_t k = 0; k < n1_; ++k) {
       detail::interval& ck = c_[i * n1_ + k];
+      const ivec& folded = (k % 2) ? fold_minus_ : fold_plus_;
       mpfi_set_ui(ck.get(), 0);
-      for (std::size_t j = 0; j < n1_; ++j) {
-        mpfi_mul(t.get(), M_[k * n1_ + j].get(), v_[i * n1_ + j].get());
+      for (std::size_t j = 0; j < half; ++j) {
+        mpfi_mul(t.get(), M_[k * n1_ + j].get(), folded[j].get());
+        mpfi_add(ck.get(), ck.get(), t.get());
+      }
+      if (n1_ % 2) {
+        mpfi_mul(t.get(), M_[k * n1_ + half].get(), v[half].get());
         mpfi_add(ck.get(), ck.get(), t.get());
       }
       mpfi_set(p_[i * n1_ + k].get(), ck.get());
     }
+  }
   for (int i = 0; i < 3; ++i) mpfi_add(p_[i * n1_].get(), p_[i * n1_].get(), X0_[i].get());
 }
 
@@ -210,19 +244,40 @@ inline void certifier::picard_residual() {
   // T_m T_n = (T_{m+n} + T_{|m-n|}) / 2.
   const int pair[3][2] = {{1, 2}, {0, 2}, {0, 1}};
   const int sign[3] = {-1, 1, -1};
+  coefficient_doubles();
   for (int i = 0; i < 3; ++i) {
     detail::interval* out = &prod_[i * np];
     for (std::size_t k = 0; k < np; ++k) mpfi_set_ui(out[k].get(), 0);
-    const detail::interval* A = &p_[pair[i][0] * n1_];
-    const detail::interval* Bp = &p_[pair[i][1] * n1_];
+    const int ca = pair[i][0], cb = pair[i][1];
+    const detail::interval* A = &p_[ca * n1_];
+    const detail::interval* Bp = &p_[cb * n1_];
+    // The products of large coefficients in intervals; those far below the precision of the
+    // reference (|a_m| |b_n| < 2^-(bits - 54) of the state squared) in double, with a bound
+    // `rem` of their total error, which the integral turns into a function bound below.
+    std::fill(gd_.begin(), gd_.end(), 0.0);
+    double rem = 0, small = 0;
     for (std::size_t m = 0; m < n1_; ++m)
       for (std::size_t n = 0; n < n1_; ++n) {
+        const std::size_t d = m > n ? m - n : n - m;
+        if (cmag_[ca * n1_ + m] * cmag_[cb * n1_ + n] < tail_level_) {
+          const double pr = 0.5 * cd_[ca * n1_ + m] * cd_[cb * n1_ + n];
+          gd_[m + n] += pr;
+          gd_[d] += pr;
+          small += std::abs(pr);
+          rem += cmag_[ca * n1_ + m] * crad_[cb * n1_ + n] + crad_[ca * n1_ + m] * cmag_[cb * n1_ + n];
+          continue;
+        }
         mpfi_mul(t.get(), A[m].get(), Bp[n].get());
         mpfi_mul_2si(t.get(), t.get(), -1);
         mpfi_add(out[m + n].get(), out[m + n].get(), t.get());
-        const std::size_t d = m > n ? m - n : n - m;
         mpfi_add(out[d].get(), out[d].get(), t.get());
       }
+    for (std::size_t k = 0; k < np; ++k)
+      if (gd_[k] != 0) mpfi_add_d(out[k].get(), out[k].get(), gd_[k]);
+    // Each double sum has at most 2 (N+1) terms; the exact a_m differ from cd_ by crad_.
+    // (plus an underflow allowance: each double operation errs by at most denorm_min beyond u)
+    product_rem_[i] = (detail::gamma_of(2 * n1_ + 2) * 2 * small + rem + detail::underflow_allowance(4 * n1_ * n1_)) *
+                      (1 + 1e-12);
     for (std::size_t k = 0; k < np; ++k)
       if (sign[i] < 0) mpfi_neg(out[k].get(), out[k].get());
     mpfi_add(out[0].get(), out[0].get(), problem_.G[i].get());
@@ -249,7 +304,8 @@ inline void certifier::picard_residual() {
     for (std::size_t k = 0; k < nr; ++k) mpfi_mul(r[k].get(), r[k].get(), hl_.get());
     for (std::size_t k = 0; k < n1_; ++k) mpfi_sub(r[k].get(), r[k].get(), c_[i * n1_ + k].get());
     mpfi_add(r[0].get(), r[0].get(), v_[i * n1_].get());
-    // sup |r| <= sum |r_k|; r(1) = sum r_k.
+    // sup |r| <= sum |r_k|; r(1) = sum r_k; both widened by the double products' error,
+    // integrated: |hl int_{-1}^s e| <= 2 |hl| rem.
     mpfi_set_ui(rsup_[i].get(), 0);
     mpfi_set_ui(r1_[i].get(), 0);
     for (std::size_t k = 0; k < nr; ++k) {
@@ -257,6 +313,15 @@ inline void certifier::picard_residual() {
       mpfi_add(rsup_[i].get(), rsup_[i].get(), t.get());
       mpfi_add(r1_[i].get(), r1_[i].get(), r[k].get());
     }
+    mpfi_set_d(t.get(), product_rem_[i]);
+    mpfi_mul(t.get(), t.get(), hl_.get());
+    mpfi_mul_2si(t.get(), t.get(), 1);
+    mpfi_abs(t.get(), t.get());
+    detail::to_upper_point(t);
+    r_rem_[i] = detail::magnitude_up(t);
+    mpfi_add(rsup_[i].get(), rsup_[i].get(), t.get());
+    mpfi_interv_d(t.get(), -r_rem_[i], r_rem_[i]);
+    mpfi_add(r1_[i].get(), r1_[i].get(), t.get());
   }
 }
 
@@ -349,18 +414,20 @@ inline void certifier::validate_segment() {
   if (!(mpfi_cmp(L.get(), R_.get()) < 0)) fail(outcome_kind::certify_a_priori);
   detail::to_zero_hull(R_);
 
-  // The integral term of step 3: h exp(mu h) (|J| sup|r| + R^2/sqrt(3)).
-  mpfi_mul(ell_.get(), jmax_.get(), rsup2_.get());
-  mpfi_sqr(t.get(), R_.get());
-  mpfi_div(t.get(), t.get(), s3.get());
-  mpfi_add(ell_.get(), ell_.get(), t.get());
+  // The quadratic part of the integral term of step 3: h exp(mu h) R^2/sqrt(3) (its linear part,
+  // int Phi J r, is signed_integral_term's).
+  mpfi_sqr(ell_.get(), R_.get());
+  mpfi_div(ell_.get(), ell_.get(), s3.get());
   mpfi_mul(e.get(), mu_.get(), h_.get());
   mpfi_exp(e.get(), e.get());
   mpfi_mul(ell_.get(), ell_.get(), e.get());
   mpfi_mul(ell_.get(), ell_.get(), h_.get());
 
-  variational_matrix(mpfi_get_d(hl_.get()), detail::magnitude_up(mu_), detail::magnitude_up(jmax_),
-                     detail::magnitude_up(h_));
+  doubles_of_polynomials();
+  const double hl = mpfi_get_d(hl_.get()), mu = detail::magnitude_up(mu_), jmax = detail::magnitude_up(jmax_),
+               h = detail::magnitude_up(h_);
+  variational_matrix(hl, mu, jmax, h);
+  signed_integral_term(hl, mu, jmax, h);
   lohner_step();
   for (int i = 0; i < 3; ++i) {
     mpfi_add(prev_end_[i].get(), X0_[i].get(), v_[i * n1_ + N_].get());
@@ -370,41 +437,84 @@ inline void certifier::validate_segment() {
   ++segments_;
 }
 
+// P's coefficients as doubles (cd_), each with a bound of its distance to the exact one (crad_)
+// and of its magnitude (cmag_); tail_level_ separates the products done in double.
+inline void certifier::coefficient_doubles() {
+  mpfr_t lo, hi;
+  mpfr_inits2(bits_, lo, hi, static_cast<mpfr_ptr>(nullptr));
+  double scale = 0;
+  for (std::size_t q = 0; q < 3 * n1_; ++q) {
+    const detail::interval& x = p_[q];
+    const double d = mpfi_get_d(x.get());
+    mpfi_get_left(lo, x.get());
+    mpfi_get_right(hi, x.get());
+    mpfr_sub_d(lo, lo, d, MPFR_RNDD);
+    mpfr_sub_d(hi, hi, d, MPFR_RNDU);
+    cd_[q] = d;
+    crad_[q] = std::max(-mpfr_get_d(lo, MPFR_RNDD), mpfr_get_d(hi, MPFR_RNDU)) * (1 + 1e-12);
+    cmag_[q] = (std::abs(d) + crad_[q]) * (1 + 1e-15);
+    scale = std::max(scale, cmag_[q]);
+  }
+  mpfr_clears(lo, hi, static_cast<mpfr_ptr>(nullptr));
+  tail_level_ = std::ldexp(scale * scale, -static_cast<int>(bits_ - 64 + 40 - 53));
+  if (!(tail_level_ > 1e-250)) tail_level_ = 0;  // deep MPFR levels: everything in intervals
+}
+
+// P's coefficients as doubles (pd_), each component with a bound of their distance to the
+// exact ones (prad_); the same for r (rd_, rrad_).
+inline void certifier::doubles_of_polynomials() {
+  const std::size_t nr = 2 * N_ + 2;
+  auto to_doubles = [&](const ivec& src, std::size_t n, std::vector<double>& out, std::array<double, 3>& rad) {
+    mpfr_t lo, hi;
+    mpfr_inits2(bits_, lo, hi, static_cast<mpfr_ptr>(nullptr));
+    for (int i = 0; i < 3; ++i) {
+      rad[i] = 0;
+      for (std::size_t k = 0; k < n; ++k) {
+        const detail::interval& x = src[i * n + k];
+        const double d = mpfi_get_d(x.get());
+        out[i * n + k] = d;
+        mpfi_get_left(lo, x.get());
+        mpfi_get_right(hi, x.get());
+        mpfr_sub_d(lo, lo, d, MPFR_RNDD);
+        mpfr_sub_d(hi, hi, d, MPFR_RNDU);
+        rad[i] += std::max(-mpfr_get_d(lo, MPFR_RNDD), mpfr_get_d(hi, MPFR_RNDU));
+      }
+      rad[i] *= 1 + 1e-12;
+    }
+    mpfr_clears(lo, hi, static_cast<mpfr_ptr>(nullptr));
+  };
+  to_doubles(p_, n1_, pd_, prad_);
+  to_doubles(r_, nr, rd_, rrad_);
+  for (int i = 0; i < 3; ++i) rrad_[i] += r_rem_[i];  // the double products' share of r
+}
+
+// The nonzero entries of row i of J = DN(P) (Eq. 5): J_ik = sign P_c.
+struct jacobian_entry {
+  int k, c;
+  double sign;
+};
+inline constexpr jacobian_entry jacobian_row[3][2] = {
+    {{1, 2, -1}, {2, 1, -1}},  // row 1: -P3 in column 2, -P2 in column 3
+    {{0, 2, 1}, {2, 0, 1}},    // row 2:  P3, P1
+    {{0, 1, -1}, {1, 0, -1}},  // row 3: -P2, -P1
+};
+
 // Phi' = hl J(P(s)) Phi on s in [-1, 1], Phi(-1) = I: Picard iteration in double on the Lobatto
-// nodes of phi_basis_, then a bound of the exact Phi(b, a) - Phi_num(1) from the residual
-// R(s) = I + hl int J Phi_num - Phi_num of the polynomial Phi_num (Chebyshev coefficients in
-// double, exact by definition): E = Phi - Phi_num solves E = R + hl int J E, so
+// nodes of phi_basis_; Phi_num is the polynomial of its Chebyshev coefficients (exact doubles by
+// definition). Its residual R(s) = I + hl int J Phi_num - Phi_num is bounded with every rounding
+// (bounded_chebyshev.hpp); E = Phi - Phi_num solves E = R + hl int J E, so
 // |E(1)| <= sup|R| (1 + h exp(mu h) |J|).
 inline void certifier::variational_matrix(double hl, double mu, double jmax, double h) {
   const std::size_t m = phi_basis_.degree, m1 = m + 1;
   const double u = std::numeric_limits<double>::epsilon() / 2;
-  // P's coefficients as doubles, with the distance to the exact ones.
-  for (int i = 0; i < 3; ++i) {
-    prad_[i] = 0;
-    for (std::size_t k = 0; k < n1_; ++k) {
-      const detail::interval& pk = p_[i * n1_ + k];
-      const double d = mpfi_get_d(pk.get());
-      pd_[i * n1_ + k] = d;
-      mpfr_t lo, hi;
-      mpfr_inits2(bits_, lo, hi, static_cast<mpfr_ptr>(nullptr));
-      mpfi_get_left(lo, pk.get());
-      mpfi_get_right(hi, pk.get());
-      mpfr_sub_d(lo, lo, d, MPFR_RNDD);
-      mpfr_sub_d(hi, hi, d, MPFR_RNDU);
-      prad_[i] += std::max(-mpfr_get_d(lo, MPFR_RNDD), mpfr_get_d(hi, MPFR_RNDU));
-      mpfr_clears(lo, hi, static_cast<mpfr_ptr>(nullptr));
-    }
-    prad_[i] *= 1 + 1e-12;
-  }
-  // J at the nodes.
   std::vector<double> J(m1 * 9), Phi(m1 * 9), F(m1 * 9);
   for (std::size_t l = 0; l < m1; ++l) {
     double P[3];
     for (int i = 0; i < 3; ++i) P[i] = detail::clenshaw(&pd_[i * n1_], n1_, 1, phi_basis_.nodes[l]);
     double* Jl = &J[l * 9];
-    Jl[0] = 0, Jl[1] = -P[2], Jl[2] = -P[1];
-    Jl[3] = P[2], Jl[4] = 0, Jl[5] = P[0];
-    Jl[6] = -P[1], Jl[7] = -P[0], Jl[8] = 0;
+    std::fill(Jl, Jl + 9, 0.0);
+    for (int i = 0; i < 3; ++i)
+      for (const jacobian_entry& e : jacobian_row[i]) Jl[i * 3 + e.k] = e.sign * P[e.c];
   }
   for (std::size_t l = 0; l < m1; ++l)
     for (int q = 0; q < 9; ++q) Phi[l * 9 + q] = (q % 4 == 0) ? 1.0 : 0.0;
@@ -429,87 +539,28 @@ inline void certifier::variational_matrix(double hl, double mu, double jmax, dou
     if (!std::isfinite(change)) fail(outcome_kind::certify_non_finite);
     if (change <= 4 * u * size) break;
   }
-  // Chebyshev coefficients of Phi_num: exact doubles, they define the polynomial.
-  std::vector<double> phi(9 * m1);
+  std::vector<double> phi(9 * m1);  // entry q = 3 i + j, coefficients k
   for (int q = 0; q < 9; ++q)
     for (std::size_t k = 0; k < m1; ++k) {
       double acc = 0;
       for (std::size_t l = 0; l < m1; ++l) acc += phi_basis_.coeffs[k * m1 + l] * Phi[l * 9 + q];
       phi[q * m1 + k] = acc;
     }
-  // The residual of each entry in double, with a bound of every rounding: (J Phi)_ij is two
-  // products P_c Phi_kj. A computed sum of n products differs from the exact one by at most
-  // gamma_n = n u / (1 - n u) times the sum of their magnitudes (Higham 2002, section 3.1);
-  // over all coefficients these magnitudes add up to at most sum|P_c| sum|Phi_kj|.
-  const int col[3][2] = {{2, 1}, {2, 0}, {1, 0}};  // P index of J_ik for the two nonzero k
-  const int kk[3][2] = {{1, 2}, {0, 2}, {0, 1}};
-  const double sgn[3][2] = {{-1, -1}, {1, 1}, {-1, -1}};
-  const std::size_t np = n1_ + m1 - 1, nF = np + 1;
-  const double gamma = [&] {
-    const double n = static_cast<double>(4 * (n1_ + m1) + nF + 16);
-    return n * u / (1 - n * u);
-  }();
-  std::vector<double> g(np), Fc(nF);
-  double sup_F2 = 0;  // sum over entries of sup|R_ij|^2
-  double abs_phi[9];
-  for (int q = 0; q < 9; ++q) {
-    abs_phi[q] = 0;
-    for (std::size_t k = 0; k < m1; ++k) abs_phi[q] += std::abs(phi[q * m1 + k]);
-  }
-  double abs_p[3];
-  for (int c = 0; c < 3; ++c) {
-    abs_p[c] = 0;
-    for (std::size_t k = 0; k < n1_; ++k) abs_p[c] += std::abs(pd_[c * n1_ + k]);
-  }
+  double sup2 = 0;  // sum over entries of sup|R_ij|^2
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
-      std::fill(g.begin(), g.end(), 0.0);
-      double magnitude = 0, radius = 0;
+      std::array<detail::product_term, 2> terms;
       for (int t = 0; t < 2; ++t) {
-        const int c = col[i][t], k = kk[i][t];
-        const double* a = &pd_[c * n1_];
-        const double* b = &phi[(k * 3 + j) * m1];
-        for (std::size_t x = 0; x < n1_; ++x)
-          for (std::size_t y = 0; y < m1; ++y) {
-            const double pr = sgn[i][t] * 0.5 * a[x] * b[y];
-            g[x + y] += pr;
-            g[x > y ? x - y : y - x] += pr;
-          }
-        magnitude += abs_p[c] * abs_phi[k * 3 + j];
-        radius += prad_[c] * abs_phi[k * 3 + j];
+        const jacobian_entry& e = jacobian_row[i][t];
+        terms[t] = {e.sign, {&pd_[e.c * n1_], n1_, prad_[e.c]}, {&phi[(e.k * 3 + j) * m1], m1, 0.0}};
       }
-      // Integral: b_1 = g_0 - g_2/2, b_k = (g_{k-1} - g_{k+1}) / (2k), b_0 from F(-1) = 0.
-      double abs_g = 0;
-      for (double x : g) abs_g += std::abs(x);
-      for (std::size_t k = 1; k < nF; ++k) {
-        const double lo = g[k - 1], hi = k + 1 < np ? g[k + 1] : 0.0;
-        Fc[k] = k == 1 ? lo - hi / 2 : (lo - hi) / static_cast<double>(2 * k);
-      }
-      Fc[0] = 0;
-      for (std::size_t k = 1; k < nF; ++k) Fc[0] += (k % 2) ? Fc[k] : -Fc[k];
-      double abs_F = 0;
-      for (double x : Fc) abs_F += std::abs(x);
-      // R = delta_ij + hl F - phi_ij.
-      double sup = 0, abs_terms = 0;
-      for (std::size_t k = 0; k < nF; ++k) {
-        double rk = hl * Fc[k];
-        const double ph = k < m1 ? phi[(i * 3 + j) * m1 + k] : 0.0;
-        abs_terms += std::abs(rk) + std::abs(ph);
-        rk -= ph;
-        if (k == 0 && i == j) rk += 1, abs_terms += 1;
-        sup += std::abs(rk);
-      }
-      // Errors: products (and P's own radius), integrated over a length of at most 2; the
-      // integration's roundings; the final combination.
-      const double err = std::abs(hl) * (2 * (gamma * magnitude + radius) * (1 + gamma) + gamma * (abs_g + 2 * abs_F)) +
-                         gamma * abs_terms;
-      const double bound = (sup + err) * (1 + 1e-12);
-      sup_F2 += bound * bound;
+      product_sum_.compute(hl, terms);
+      const double b = detail::residual_bound(i == j ? 1.0 : 0.0, product_sum_, {&phi[(i * 3 + j) * m1], m1, 0.0});
+      sup2 += b * b;
     }
-  const double supR = std::sqrt(sup_F2) * (1 + 1e-12);
+  const double supR = std::sqrt(sup2) * (1 + 1e-12);
   if (!std::isfinite(supR)) fail(outcome_kind::certify_non_finite);
   // eps_phi = supR (1 + h exp(mu h) |J|), and Phi_num(1) = sum_k phi_k, in intervals.
-  detail::interval& t = t_[0];
   mpfi_set_d(eps_phi_.get(), mu);
   mpfi_mul_d(eps_phi_.get(), eps_phi_.get(), h);
   mpfi_exp(eps_phi_.get(), eps_phi_.get());
@@ -521,10 +572,84 @@ inline void certifier::variational_matrix(double hl, double mu, double jmax, dou
     mpfi_set_ui(Phi1_[q].get(), 0);
     for (std::size_t k = 0; k < m1; ++k) mpfi_add_d(Phi1_[q].get(), Phi1_[q].get(), phi[q * m1 + k]);
   }
-  (void)t;
 }
 
-// e(b) in Phi1 B x + r(1) + a ball of radius ell + eps_phi |e(a)|; the new B is the Q of a QR
+// The signed integral term of step 3, u(b) = int_a^b Phi(b, s) J(s) r(s) ds: u solves
+// u = hl int J (u + r) (s from -1), computed in double by Picard iteration on Chebyshev
+// coefficients (degree 2N + 1, like r), then bounded: with R_u = hl int J (u_num + r) - u_num,
+// E = u - u_num solves E = R_u + hl int J E, so |E(1)| <= sup|R_u| (1 + h exp(mu h) |J|). u_num(1)
+// joins r(1) as a signed vector; only |E(1)| is a ball. It is about ten times r(1) where a segment
+// spans a good part of a rotation, so bounding it by norms would dominate the whole bound.
+inline void certifier::signed_integral_term(double hl, double mu, double jmax, double h) {
+  const std::size_t nr = 2 * N_ + 2;
+  std::vector<double>& ud = ud_;
+  std::vector<double> w(3 * nr);
+  ud.assign(3 * nr, 0.0);
+  // The iteration needs u to a few digits only, so it drops P's coefficients below 1e-9 of the
+  // largest (the final residual uses them all).
+  std::array<std::size_t, 3> short_length;
+  for (int c = 0; c < 3; ++c) {
+    double big = 0;
+    for (std::size_t k = 0; k < n1_; ++k) big = std::max(big, std::abs(pd_[c * n1_ + k]));
+    std::size_t n = n1_;
+    while (n > 1 && std::abs(pd_[c * n1_ + n - 1]) < 1e-9 * big) --n;
+    short_length[c] = n;
+  }
+  auto J_times = [&](int i, const double* wc, double wrad_each[3], bool full) {
+    std::array<detail::product_term, 2> terms;
+    for (int t = 0; t < 2; ++t) {
+      const jacobian_entry& e = jacobian_row[i][t];
+      terms[t] = {e.sign, {&pd_[e.c * n1_], full ? n1_ : short_length[e.c], prad_[e.c]},
+                  {&wc[e.k * nr], nr, wrad_each[e.k]}};
+    }
+    product_sum_.compute(hl, terms);
+  };
+  double zero_rad[3] = {0, 0, 0};
+  for (int it = 0; it < 60; ++it) {
+    for (std::size_t q = 0; q < 3 * nr; ++q) w[q] = ud[q] + rd_[q];
+    double change = 0, size = 0;
+    std::vector<double> next(3 * nr);
+    for (int i = 0; i < 3; ++i) {
+      J_times(i, w.data(), zero_rad, false);
+      for (std::size_t k = 0; k < nr; ++k) next[i * nr + k] = product_sum_.coeffs[k];  // truncated
+    }
+    for (std::size_t q = 0; q < 3 * nr; ++q) {
+      change = std::max(change, std::abs(next[q] - ud[q]));
+      size = std::max(size, std::abs(next[q]));
+    }
+    ud.swap(next);
+    if (!std::isfinite(change)) fail(outcome_kind::certify_non_finite);
+    if (change <= 1e-5 * size) break;  // enough: the residual bound covers the rest
+  }
+  // The residual of the exact polynomials: u_num exact, r = rd + (its radius).
+  std::vector<double> uplusr(3 * nr);
+  for (std::size_t q = 0; q < 3 * nr; ++q) uplusr[q] = ud[q] + rd_[q];
+  double sup2 = 0;
+  for (int i = 0; i < 3; ++i) {
+    // u_num + r as a view: the sum rounded to uplusr, its error in the radius.
+    double rad[3];
+    for (int k = 0; k < 3; ++k)
+      rad[k] = rrad_[k] + detail::gamma_of(2) * (detail::abs_sum(&ud[k * nr], nr) + detail::abs_sum(&rd_[k * nr], nr));
+    J_times(i, uplusr.data(), rad, true);
+    const double b = detail::residual_bound(0.0, product_sum_, {&ud[i * nr], nr, 0.0});
+    sup2 += b * b;
+  }
+  const double supR = std::sqrt(sup2) * (1 + 1e-12);
+  if (!std::isfinite(supR)) fail(outcome_kind::certify_non_finite);
+  mpfi_set_d(eps_u_.get(), mu);
+  mpfi_mul_d(eps_u_.get(), eps_u_.get(), h);
+  mpfi_exp(eps_u_.get(), eps_u_.get());
+  mpfi_mul_d(eps_u_.get(), eps_u_.get(), h);
+  mpfi_mul_d(eps_u_.get(), eps_u_.get(), jmax);
+  mpfi_add_ui(eps_u_.get(), eps_u_.get(), 1);
+  mpfi_mul_d(eps_u_.get(), eps_u_.get(), supR);
+  for (int i = 0; i < 3; ++i) {
+    mpfi_set_ui(u1_[i].get(), 0);
+    for (std::size_t k = 0; k < nr; ++k) mpfi_add_d(u1_[i].get(), u1_[i].get(), ud[i * nr + k]);
+  }
+}
+
+// e(b) in Phi1 B x + r(1) + u_num(1) + a ball of radius ell + eps_u + eps_phi |e(a)|; the new B is the Q of a QR
 // factorisation of mid(Phi1 B) (columns by decreasing length), x the box (Q^-1 Phi1 B) x + Q^-1
 // (r(1) + ball), with Q^-1 enclosed from the computed Q.
 inline void certifier::lohner_step() {
@@ -609,12 +734,16 @@ inline void certifier::lohner_step() {
   detail::interval ball = make();
   mpfi_mul(ball.get(), eps_phi_.get(), rho_a_.get());
   mpfi_add(ball.get(), ball.get(), ell_.get());
+  mpfi_add(ball.get(), ball.get(), eps_u_.get());
   {
     const double bmax = detail::magnitude_up(ball);
     mpfi_interv_d(ball.get(), -bmax, bmax);
   }
   ivec local = make_vec(3);
-  for (int i = 0; i < 3; ++i) mpfi_add(local[i].get(), r1_[i].get(), ball.get());
+  for (int i = 0; i < 3; ++i) {
+    mpfi_add(local[i].get(), r1_[i].get(), u1_[i].get());
+    mpfi_add(local[i].get(), local[i].get(), ball.get());
+  }
   // x' = (Q^-1 A) x + Q^-1 local
   ivec C = make_vec(9);
   for (int i = 0; i < 3; ++i)
@@ -662,25 +791,30 @@ detail::interval certifier::row_radius(const T& tau, const std::array<std::strin
   mpfi_mul(t.get(), t.get(), e.get());
   mpfi_mul(t.get(), t.get(), dt.get());
   mpfi_add(out.get(), out.get(), t.get());
-  // |printed - P(tau)|: P by Clenshaw at s = dt / hl - 1, in intervals.
+  // |printed - P(tau)|: P = sum p_k T_k(s) at s = dt / hl - 1, with T_k(s) = cos(k acos s) enclosed
+  // for each k. (Clenshaw's recurrence in intervals doubles the widths at every step: 2^93 at
+  // mpfr:256's degree, which would swamp the bound.)
   mpfi_div(s.get(), dt.get(), hl_.get());
   mpfi_sub_ui(s.get(), s.get(), 1);
-  detail::interval b0 = make(), b1 = make(), b2 = make(), sq = make();
+  detail::interval theta = make(), sq = make(), b0 = make();
+  {
+    detail::interval unit = make();
+    mpfi_interv_si(unit.get(), -1, 1);
+    mpfi_intersect(s.get(), s.get(), unit.get());  // the exact s lies in [-1, 1]
+  }
+  mpfi_acos(theta.get(), s.get());
+  Tk_.resize(n1_, make());
+  for (std::size_t k = 0; k < n1_; ++k) {
+    mpfi_mul_ui(Tk_[k].get(), theta.get(), static_cast<unsigned long>(k));
+    mpfi_cos(Tk_[k].get(), Tk_[k].get());
+  }
   mpfi_set_ui(sq.get(), 0);
   for (int i = 0; i < 3; ++i) {
-    mpfi_set_ui(b1.get(), 0);
-    mpfi_set_ui(b2.get(), 0);
-    for (std::size_t k = n1_; k-- > 1;) {
-      mpfi_mul(b0.get(), s.get(), b1.get());
-      mpfi_mul_2si(b0.get(), b0.get(), 1);
-      mpfi_sub(b0.get(), b0.get(), b2.get());
-      mpfi_add(b0.get(), b0.get(), p_[i * n1_ + k].get());
-      mpfi_swap(b2.get(), b1.get());
-      mpfi_swap(b1.get(), b0.get());
+    mpfi_set_ui(b0.get(), 0);
+    for (std::size_t k = 0; k < n1_; ++k) {
+      mpfi_mul(t.get(), p_[i * n1_ + k].get(), Tk_[k].get());
+      mpfi_add(b0.get(), b0.get(), t.get());
     }
-    mpfi_mul(b0.get(), s.get(), b1.get());
-    mpfi_sub(b0.get(), b0.get(), b2.get());
-    mpfi_add(b0.get(), b0.get(), p_[i * n1_].get());
     detail::set_decimal(t, printed[i]);
     mpfi_sub(t.get(), t.get(), b0.get());
     mpfi_abs(t.get(), t.get());
