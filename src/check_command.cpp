@@ -194,6 +194,14 @@ struct tally {
   // error) and across it, largest over the rows; absent without the torque.
   bool has_direction = false;
   double max_along = 0, max_across = 0;
+  // Against a certified reference (a `radius` column, docs/certified.md): each row's error is the
+  // interval error +- radius. A row fails only when error - radius exceeds the bar, and is
+  // uncertain when the bar lies inside its interval.
+  bool certified = false;
+  double max_radius = 0;
+  std::size_t uncertain = 0;
+  std::vector<std::size_t> uncertain_lines;  // the first max_listed_lines of them
+  static constexpr std::size_t max_listed_lines = 1000;
 };
 
 // Streams the per-row errors into an atomic file (so the file appears only when complete).
@@ -202,12 +210,17 @@ class errors_writer {
   errors_writer(const std::optional<std::string>& path) {
     if (path) file_ = std::make_unique<atomic_file>(*path);
   }
-  void header(const std::string& time_name) {
-    if (file_) buffer_ += fmt::format("line,{},error,bar\n", time_name);
+  // With a certified reference, a last column `radius`.
+  void header(const std::string& time_name, bool certified) {
+    if (file_) buffer_ += fmt::format("line,{},error,bar{}\n", time_name, certified ? ",radius" : "");
   }
-  void row(std::size_t line, const std::string& time, double error, std::optional<double> bar) {
+  void row(std::size_t line, const std::string& time, double error, std::optional<double> bar,
+           const std::optional<decimal>& radius) {
     if (!file_) return;
-    buffer_ += bar ? fmt::format("{},{},{},{}\n", line, time, error, *bar) : fmt::format("{},{},{},\n", line, time, error);
+    buffer_ += fmt::format("{},{},{},", line, time, error);
+    if (bar) buffer_ += fmt::format("{}", *bar);
+    if (radius) buffer_ += "," + radius->text;
+    buffer_ += "\n";
     if (buffer_.size() > (1u << 16)) flush();
   }
   void commit() {
@@ -267,18 +280,27 @@ void record_metrics(const check_job& job, tally& t, const vec3<T>& ref, const ve
   t.max_across = std::max(t.max_across, static_cast<double>(across2 > 0 ? sqrt(across2) : T(0)));
 }
 
+// `radius`: the reference row's certified radius, if it has one.
 template <scalar T>
 void record(const check_job& job, tally& t, errors_writer& out, std::size_t line, const decimal& time,
-            const vec3<T>& ref, const vec3<T>& Om, const euler_problem<T>* problem) {
+            const vec3<T>& ref, const vec3<T>& Om, const euler_problem<T>* problem,
+            const std::optional<decimal>& radius = std::nullopt) {
   const double e = static_cast<double>(eq20_error(ref, Om));
   if (!std::isfinite(e)) throw numerical_failure({outcome_kind::error_non_finite, time.value});
   record_metrics(job, t, ref, Om, problem);
+  const double r = radius ? radius->value : 0.0;
+  if (radius) t.max_radius = std::max(t.max_radius, r);
   std::optional<double> bar;
   if (job.tol || job.rel_tol) {
     using std::sqrt;
     const double norm = static_cast<double>(sqrt(ref[0] * ref[0] + ref[1] * ref[1] + ref[2] * ref[2]));
     bar = job.tol.value_or(0.0) + job.rel_tol.value_or(0.0) * norm;
-    if (e > *bar) {
+    // The true error lies in [e - r, e + r]: failing only if certainly above the bar.
+    if (radius && e - r <= *bar && e + r > *bar) {
+      ++t.uncertain;
+      if (t.uncertain_lines.size() < tally::max_listed_lines) t.uncertain_lines.push_back(line);
+    }
+    if (e - r > *bar) {
       if (!t.exceeding) {
         t.first_exceeding_time = time.text;
         t.first_exceeding_line = line;
@@ -295,7 +317,7 @@ void record(const check_job& job, tally& t, errors_writer& out, std::size_t line
     t.max_line = line;
   }
   t.sum_squares += static_cast<long double>(e) * e;
-  out.row(line, time.text, e, bar);
+  out.row(line, time.text, e, bar, radius);
 }
 
 // A trajectory row: its time and state, checked (numbers, time >= 0 and increasing).
@@ -372,7 +394,7 @@ check_result check_against_scene(const check_job& job) {
   // (integrate_at would fall back to the dense output otherwise).
   check_result r;
   r.time_name = cols.time_name;
-  out.header(cols.time_name);
+  out.header(cols.time_name, false);
   std::ifstream in = open_input_file("trajectory", job.trajectory_path);
   csv_rows rows(in, "trajectory " + job.trajectory_path);
   row_reader reader{rows, cols};
@@ -498,8 +520,11 @@ check_result check_against_file(const check_job& job, reference_csv_reader& ref)
 
   check_result r;
   r.time_name = cols.time_name;
+  // A certified reference: each row's radius (of Omega, the state compared here).
+  const std::optional<std::size_t> radius_column = ref.rows().column("radius");
+  r.t.certified = radius_column.has_value();
   errors_writer out(job.errors_out);
-  out.header(cols.time_name);
+  out.header(cols.time_name, r.t.certified);
   row_reader reader{rows, cols};
   reference_cursor cursor(ref, ref_time);
   while (rows.next()) {
@@ -508,7 +533,9 @@ check_result check_against_file(const check_job& job, reference_csv_reader& ref)
     cursor.seek(time, rows, cols.time_name);
     vec3<T> Om = {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
     if (scale) Om = scale->Omega_of_omega(Om);
-    record<T>(job, r.t, out, rows.line(), time, ref.template Omega<T>(), Om, problem ? &*problem : nullptr);
+    std::optional<decimal> radius;
+    if (radius_column) radius = ref.rows().number(*radius_column);
+    record<T>(job, r.t, out, rows.line(), time, ref.template Omega<T>(), Om, problem ? &*problem : nullptr, radius);
   }
   if (!r.t.rows) throw input_error(fmt::format("{}: no data rows", rows.where()));
   out.commit();
@@ -550,6 +577,12 @@ int report(const check_job& job, const check_result& r, std::ostream& standard_o
     j["first_exceeding_line"] = t.first_exceeding_time ? nlohmann::ordered_json(t.first_exceeding_line)
                                                        : nlohmann::ordered_json(nullptr);
     j["pass"] = pass;
+    // Against a certified reference: the rows whose verdict the radius leaves open.
+    j["certified_reference"] = t.certified;
+    j["max_reference_radius"] = t.certified ? nlohmann::ordered_json(t.max_radius) : nlohmann::ordered_json(nullptr);
+    j["uncertain_rows"] = t.certified && has_bar ? nlohmann::ordered_json(t.uncertain) : nlohmann::ordered_json(nullptr);
+    j["uncertain_lines"] = t.certified && has_bar ? nlohmann::ordered_json(t.uncertain_lines) : nlohmann::ordered_json(nullptr);
+    j["all_rows_certain"] = t.certified && has_bar ? nlohmann::ordered_json(t.uncertain == 0) : nlohmann::ordered_json(nullptr);
     const auto digits = [](double max_error) {
       const double d = digits_of(max_error);
       return std::isfinite(d) ? nlohmann::ordered_json(d) : nlohmann::ordered_json(nullptr);  // null: exact
@@ -593,6 +626,10 @@ int report(const check_job& job, const check_result& r, std::ostream& standard_o
       if (job.tol) bar = fmt::format("{}", *job.tol);
       if (job.rel_tol) bar += fmt::format("{}{} |Omega_ref|", bar.empty() ? "" : " + ", *job.rel_tol);
       put("tolerance: error <= {}\n", bar);
+      if (t.certified)
+        put("certified reference: each error is +- its row's radius (max {:.3g}); a row fails only if error - "
+            "radius > bar; {} of {} rows uncertain\n",
+            t.max_radius, t.uncertain, t.rows);
       if (pass)
         put("result: PASS (every row within tolerance)\n");
       else

@@ -76,7 +76,13 @@ reference_run stream_rows(const reference_job& job, const T& tau_end, const samp
     };
   const reference_run run = integrate_streaming<T>(
       to_problem<T>(s), tau_end, times.tau, job.settings, "reference", [&](std::size_t i, const vec3<T>& Om) {
-        if (certificate) {
+        if (certificate && scale) {
+          const vec3<T> om = scale->omega_of_Omega(Om);
+          const std::array<std::string, 3> Omega_cells = {to_text(Om[0]), to_text(Om[1]), to_text(Om[2])};
+          const std::array<std::string, 3> omega_cells = {to_text(om[0]), to_text(om[1]), to_text(om[2])};
+          rows.certified_row(times.tau[i], Omega_cells, times.t[i], omega_cells,
+                             certificate->physical_radii(times.tau[i], times.t[i], Omega_cells, omega_cells));
+        } else if (certificate) {
           const std::array<std::string, 3> cells = {to_text(Om[0]), to_text(Om[1]), to_text(Om[2])};
           rows.certified_row(times.tau[i], cells, certificate->radius(times.tau[i], cells));
         } else if (scale && scale->is_direct())
@@ -124,6 +130,10 @@ reference_metadata run_in(const reference_job& job, scratch_file& rows_out) {
     const std::string worst = certificate->max_radius();
     m.certified_max_error = decimal{worst, std::strtod(worst.c_str(), nullptr)};
     m.certify_method = certificate->method();
+    if (job.scn.is_physical()) {
+      const std::string worst_omega = certificate->max_radius_omega();
+      m.certified_max_error_omega = decimal{worst_omega, std::strtod(worst_omega.c_str(), nullptr)};
+    }
   }
   if (job.verify) {
     const verify_result check = verify<T>(job.scn, tau_end, times.tau, kept, job.precision);

@@ -32,14 +32,18 @@ reference_metadata metadata_of(const csv_rows& rows) {
   for (const std::string& l : rows.comments()) {
     ++line;  // the comments come first in the file (blank lines aside)
     auto value = [&](std::string_view key) { return metadata_value(l, key); };
+    // A bound or an estimate: a non-negative decimal, kept as its text (for display) and value.
+    auto non_negative = [&](std::string_view key, const std::string& text) {
+      const auto parsed = parse_decimal(text);
+      if (!parsed.number || parsed.number->value < 0)
+        throw input_error(
+            fmt::format("{}: line {}: {} `{}` is not a non-negative number", rows.where(), line, key, text));
+      return decimal{text, parsed.number->value};
+    };
     if (auto v = value("precision")) {
       m.precision = parse_precision(*v, rows.where(), line);
     } else if (auto e = value("estimated_max_error")) {
-      const auto parsed = parse_decimal(*e);
-      if (!parsed.number || parsed.number->value < 0)
-        throw input_error(fmt::format("{}: line {}: estimated_max_error `{}` is not a non-negative number",
-                                      rows.where(), line, *e));
-      m.estimated_max_error = decimal{*e, parsed.number->value};  // the text as written, for display
+      m.estimated_max_error = non_negative("estimated_max_error", *e);
     } else if (auto n = value("scene")) {
       m.scene_name = *n;
     } else if (auto o = value("scene_source")) {
@@ -59,11 +63,9 @@ reference_metadata metadata_of(const csv_rows& rows) {
     } else if (auto wv = value("wall_seconds_verify")) {
       m.wall_seconds_verify = seconds_of(*wv);
     } else if (auto ce = value("certified_max_error")) {
-      const auto parsed = parse_decimal(*ce);
-      if (!parsed.number || parsed.number->value < 0)
-        throw input_error(fmt::format("{}: line {}: certified_max_error `{}` is not a non-negative number",
-                                      rows.where(), line, *ce));
-      m.certified_max_error = decimal{*ce, parsed.number->value};
+      m.certified_max_error = non_negative("certified_max_error", *ce);
+    } else if (auto co = value("certified_max_error_omega")) {
+      m.certified_max_error_omega = non_negative("certified_max_error_omega", *co);
     } else if (auto cm = value("certify_method")) {
       m.certify_method = *cm;
     } else if (l.starts_with("# scene_text:")) {
@@ -109,6 +111,7 @@ std::string reference_csv_header(const reference_metadata& m, reference_layout l
   }
   if (m.certified_max_error) {
     line("# certified_max_error: {}", m.certified_max_error->text);
+    if (m.certified_max_error_omega) line("# certified_max_error_omega: {}", m.certified_max_error_omega->text);
     line("# certify_method: {}", m.certify_method);
   }
   std::istringstream scene_lines(m.scene_text);
@@ -120,7 +123,9 @@ std::string reference_csv_header(const reference_metadata& m, reference_layout l
     case reference_layout::normalized:
       line("tau,Omega1,Omega2,Omega3{}", m.certified_max_error ? ",radius" : "");
       break;
-    case reference_layout::physical: line("tau,Omega1,Omega2,Omega3,t,omega1,omega2,omega3"); break;
+    case reference_layout::physical:
+      line("tau,Omega1,Omega2,Omega3,t,omega1,omega2,omega3{}", m.certified_max_error ? ",radius,radius_omega" : "");
+      break;
     case reference_layout::direct: line("t,omega1,omega2,omega3"); break;
   }
   return fmt::to_string(out);

@@ -40,6 +40,7 @@ struct reference_metadata {
   std::string verify_method;                     // # verify_method (with --verify)
   std::optional<double> wall_seconds_verify;     // # wall_seconds_verify
   std::optional<decimal> certified_max_error;    // # certified_max_error (--certify; rows then carry `radius`)
+  std::optional<decimal> certified_max_error_omega;  // # certified_max_error_omega (physical scenes, rad/s)
   std::string certify_method;                    // # certify_method (with --certify)
   std::string scene_text;                        // # scene_text lines, each ending in '\n'
 
@@ -83,6 +84,16 @@ class reference_csv_row_writer {
   template <scalar T>
   void certified_row(const T& tau, const std::array<std::string, 3>& cells, const std::string& radius) {
     fmt::format_to(std::back_inserter(buffer_), "{},{},{},{},{}", to_text(tau), cells[0], cells[1], cells[2], radius);
+    end_row();
+  }
+  // A certified row of the physical layout: then t, omega's cells, the radius of Omega and that
+  // of omega.
+  template <scalar T>
+  void certified_row(const T& tau, const std::array<std::string, 3>& Omega_cells, const T& t,
+                     const std::array<std::string, 3>& omega_cells, const std::array<std::string, 2>& radii) {
+    fmt::format_to(std::back_inserter(buffer_), "{},{},{},{},{},{},{},{},{},{}", to_text(tau), Omega_cells[0],
+                   Omega_cells[1], Omega_cells[2], to_text(t), omega_cells[0], omega_cells[1], omega_cells[2],
+                   radii[0], radii[1]);
     end_row();
   }
   // Hands over the rows still buffered.

@@ -2,7 +2,11 @@
 // cannot be certified (exit 2), and a certificate that does not close (exit 3, no file).
 #include "cli_test_support.hpp"
 
+#include <eulervop/scalar.hpp>
+
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cstdlib>
 #include <string>
@@ -52,8 +56,8 @@ TEST(Certify, UnsupportedCombinationsAreOneLineErrors) {
   expect_one_line_error(run(dir.path(), {"reference", "--certify", "--precision", "double", "--out", "x.csv"}),
                         "precision double is not certified");
   expect_one_line_error(
-      run(dir.path(), {"reference", source_dir + "/data/scenes/spacecraft-physical.toml", "--certify", "--out", "x.csv"}),
-      "is physical");
+      run(dir.path(), {"reference", source_dir + "/data/scenes/hard/near-symmetric.toml", "--certify", "--out", "x.csv"}),
+      "direct form");
   write_file(dir.path() / "u.toml", R"(name = "u"
 [torque]
 G = [0.0, 0.0, 0.0]
@@ -80,6 +84,80 @@ TEST(Certify, ABoundThatDoesNotCloseExitsThreeWithTheTauAndNoFile) {
   EXPECT_NE(r.err.find("certification does not close"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("higher precision"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir.path() / "x.csv"));
+}
+
+// check against a certified reference: the error of each row is an interval (error +- radius);
+// only a row certainly beyond the bar fails, and the JSON lists the rows left undecided.
+TEST(Certify, CheckTreatsEachErrorAsAnInterval) {
+  temp_dir dir;
+  ASSERT_EQ(run(dir.path(), {"reference", "--certify", "--tau-end", "5", "--samples", "11", "--out", "ref.csv"}).exit_code, 0);
+  // Trajectories: the reference's own rows (error 0), and the same with Omega1 moved by 1e-15.
+  std::string same = "tau,Omega1,Omega2,Omega3\n", moved = same;
+  for (const std::string& l : lines_of(read_file(dir.path() / "ref.csv"))) {
+    if (l.empty() || l[0] == '#' || l.starts_with("tau,")) continue;
+    const auto c = cells_of(l);
+    same += fmt::format("{},{},{},{}\n", c[0], c[1], c[2], c[3]);
+    moved += fmt::format("{},{:.17e},{},{}\n", c[0], std::strtod(c[1].c_str(), nullptr) + 1e-15, c[2], c[3]);
+  }
+  write_file(dir.path() / "same.csv", same);
+  write_file(dir.path() / "moved.csv", moved);
+  auto json_of = [&](const std::vector<std::string>& args) {
+    const run_result r = run(dir.path(), args);
+    EXPECT_TRUE(r.exit_code == 0 || r.exit_code == 1) << r.err;
+    return nlohmann::json::parse(r.out);
+  };
+  // A bar of 0: error 0 +- radius straddles it on every row, so no row fails and none is certain.
+  auto j = json_of({"check", "ref.csv", "same.csv", "--tol", "0", "--format", "json"});
+  EXPECT_EQ(j["certified_reference"], true);
+  EXPECT_EQ(j["pass"], true);
+  EXPECT_EQ(j["uncertain_rows"], 11);
+  EXPECT_EQ(j["uncertain_lines"].size(), 11u);
+  EXPECT_EQ(j["all_rows_certain"], false);
+  EXPECT_GT(j["max_reference_radius"].get<double>(), 0.0);
+  // A bar far above the radii: every row certainly passes.
+  j = json_of({"check", "ref.csv", "same.csv", "--tol", "1e-20", "--format", "json"});
+  EXPECT_EQ(j["uncertain_rows"], 0);
+  EXPECT_EQ(j["all_rows_certain"], true);
+  // Moved by ~1e-15 against a bar of 1e-20: every row certainly fails.
+  j = json_of({"check", "ref.csv", "moved.csv", "--tol", "1e-20", "--format", "json"});
+  EXPECT_EQ(j["pass"], false);
+  EXPECT_EQ(j["exceeding_rows"], 11);
+  EXPECT_EQ(j["uncertain_rows"], 0);
+}
+
+// A physical scene: omega in rad/s at each row's t must lie within radius_omega of the exact
+// solution, here an mpfr:256 reference of the same scene at the same t (every 60 s, exact in both
+// precisions; its own error is below 1e-70, beyond the 1e-31 radii tested).
+TEST(Certify, PhysicalSceneOmegaWithinRadiusOmega) {
+  temp_dir dir;
+  const std::string scene = source_dir + "/data/scenes/spacecraft-physical.toml";
+  const run_result q = run(dir.path(), {"reference", scene, "--certify", "--samples", "61", "--out", "q.csv"});
+  ASSERT_EQ(q.exit_code, 0) << q.err;
+  const run_result m = run(dir.path(), {"reference", scene, "--precision", "mpfr:256", "--samples", "61", "--out", "m.csv"});
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  auto rows_of = [&](const std::string& file) {
+    std::vector<std::vector<std::string>> rows;
+    for (const std::string& l : lines_of(read_file(dir.path() / file)))
+      if (!l.empty() && l[0] != '#' && !l.starts_with("tau,")) rows.push_back(cells_of(l));
+    return rows;
+  };
+  const auto qr = rows_of("q.csv"), mr = rows_of("m.csv");
+  ASSERT_EQ(qr.size(), 61u);
+  ASSERT_EQ(mr.size(), 61u);
+  eulervop::mpfr_precision_scope scope(256);
+  double worst_radius = 0;
+  for (std::size_t i = 0; i < qr.size(); ++i) {
+    ASSERT_EQ(qr[i].size(), 10u);
+    ASSERT_EQ(eulervop::mpfr_real(qr[i][4]), eulervop::mpfr_real(mr[i][4])) << "the same t";
+    eulervop::mpfr_real s = 0;
+    for (int c = 5; c < 8; ++c) {
+      const eulervop::mpfr_real d = eulervop::mpfr_real(qr[i][c]) - eulervop::mpfr_real(mr[i][c]);
+      s += d * d;
+    }
+    EXPECT_LE(sqrt(s), eulervop::mpfr_real(qr[i][9])) << "t = " << qr[i][4];
+    worst_radius = std::max(worst_radius, std::strtod(qr[i][8].c_str(), nullptr));
+  }
+  EXPECT_LT(worst_radius, 1e-28) << "Omega's radius on the spacecraft scene";
 }
 
 }  // namespace

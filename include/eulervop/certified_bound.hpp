@@ -61,10 +61,23 @@ class certifier {
   template <scalar T>
   void add_segment(const chebyshev_segment<T>& seg);
 
+  // At tau in the latest segment: `error` = [0, e] with |y(tau) - P(tau)|_2 <= e, and P(tau)
+  // enclosed; `state` = [0, Y] with |y| <= Y on the whole segment, and `rate` = [0, F] with
+  // |y'| <= F wherever |y| <= 2 Y (for moving a bound along tau by a rounding's worth).
+  struct enclosure {
+    detail::interval error;
+    std::vector<detail::interval> P;
+    detail::interval state, rate;
+  };
+  template <scalar T>
+  enclosure enclose(const T& tau) const;
+
   // An upper bound of |y(tau) - printed|_2 (Eq. 20's norm), for tau in the latest segment, the
   // row printed as the decimals `printed` (three texts). Also raises max_radius().
   template <scalar T>
   detail::interval row_radius(const T& tau, const std::array<std::string, 3>& printed);
+  // The same from an enclosure at that tau.
+  detail::interval row_radius(const enclosure& at, const std::array<std::string, 3>& printed);
 
   // The largest row radius so far (an upper bound: the interval's right end).
   const detail::interval& max_radius() const { return max_radius_; }
@@ -121,7 +134,6 @@ class certifier {
   detail::interval eps_u_;
   // scratch
   mutable ivec t_;
-  ivec Tk_;  // T_k(s) of a row
 };
 
 // ---- implementation ----------------------------------------------------------------------------
@@ -773,15 +785,16 @@ inline void certifier::lohner_step() {
 }
 
 template <scalar T>
-detail::interval certifier::row_radius(const T& tau, const std::array<std::string, 3>& printed) {
-  detail::interval dt = make(), s = make(), e = make(), out = make(), t = make(), s3 = make();
+certifier::enclosure certifier::enclose(const T& tau) const {
+  enclosure out{make(), make_vec(3), make(), make()};
+  detail::interval dt = make(), s = make(), e = make(), t = make(), s3 = make();
   detail::set_exact(dt, tau);
   mpfi_sub(dt.get(), dt.get(), a_.get());
   // exp(mu dt) |e(a)| + sup|r| + dt exp(mu dt) (|J| sup|r| + R^2/sqrt(3))
   mpfi_mul(e.get(), mu_.get(), dt.get());
   mpfi_exp(e.get(), e.get());
-  mpfi_mul(out.get(), e.get(), rho_a_.get());
-  mpfi_add(out.get(), out.get(), rsup2_.get());
+  mpfi_mul(out.error.get(), e.get(), rho_a_.get());
+  mpfi_add(out.error.get(), out.error.get(), rsup2_.get());
   mpfi_set_ui(s3.get(), 3);
   mpfi_sqrt(s3.get(), s3.get());
   mpfi_sqr(t.get(), R_.get());
@@ -790,42 +803,74 @@ detail::interval certifier::row_radius(const T& tau, const std::array<std::strin
   mpfi_add(t.get(), t.get(), s.get());
   mpfi_mul(t.get(), t.get(), e.get());
   mpfi_mul(t.get(), t.get(), dt.get());
-  mpfi_add(out.get(), out.get(), t.get());
-  // |printed - P(tau)|: P = sum p_k T_k(s) at s = dt / hl - 1, with T_k(s) = cos(k acos s) enclosed
-  // for each k. (Clenshaw's recurrence in intervals doubles the widths at every step: 2^93 at
-  // mpfr:256's degree, which would swamp the bound.)
+  mpfi_add(out.error.get(), out.error.get(), t.get());
+  detail::to_zero_hull(out.error);
+  // P = sum p_k T_k(s) at s = dt / hl - 1, summed directly: T_k from the three-term recurrence,
+  // each clipped to [-1, 1] (where the exact T_k(s) lies). The recurrence's widths grow like
+  // 2.4^k, but they multiply p_k, which decay faster; Clenshaw's algorithm instead multiplies the
+  // coefficients' own widths by 2.4^k (2^118 at mpfr:256's degree), which would swamp the bound.
   mpfi_div(s.get(), dt.get(), hl_.get());
   mpfi_sub_ui(s.get(), s.get(), 1);
-  detail::interval theta = make(), sq = make(), b0 = make();
-  {
-    detail::interval unit = make();
-    mpfi_interv_si(unit.get(), -1, 1);
-    mpfi_intersect(s.get(), s.get(), unit.get());  // the exact s lies in [-1, 1]
+  detail::interval unit = make();
+  mpfi_interv_si(unit.get(), -1, 1);
+  mpfi_intersect(s.get(), s.get(), unit.get());  // the exact s lies in [-1, 1]
+  ivec Tk = make_vec(n1_);
+  mpfi_set_ui(Tk[0].get(), 1);
+  if (n1_ > 1) mpfi_set(Tk[1].get(), s.get());
+  for (std::size_t k = 2; k < n1_; ++k) {
+    mpfi_mul(Tk[k].get(), Tk[k - 1].get(), s.get());
+    mpfi_mul_2si(Tk[k].get(), Tk[k].get(), 1);
+    mpfi_sub(Tk[k].get(), Tk[k].get(), Tk[k - 2].get());
+    mpfi_intersect(Tk[k].get(), Tk[k].get(), unit.get());
   }
-  mpfi_acos(theta.get(), s.get());
-  Tk_.resize(n1_, make());
-  for (std::size_t k = 0; k < n1_; ++k) {
-    mpfi_mul_ui(Tk_[k].get(), theta.get(), static_cast<unsigned long>(k));
-    mpfi_cos(Tk_[k].get(), Tk_[k].get());
+  for (int i = 0; i < 3; ++i) {
+    mpfi_set_ui(out.P[i].get(), 0);
+    for (std::size_t k = 0; k < n1_; ++k) {
+      mpfi_mul(t.get(), p_[i * n1_ + k].get(), Tk[k].get());
+      mpfi_add(out.P[i].get(), out.P[i].get(), t.get());
+    }
   }
+  // Y = |sup P|_2 + R; F = |G|_2 + (2 Y)^2 / sqrt(3) (|N(y)| <= |y|^2 / sqrt(3)).
+  mpfi_set_ui(out.state.get(), 0);
+  mpfi_set_ui(out.rate.get(), 0);
+  for (int i = 0; i < 3; ++i) {
+    mpfi_sqr(t.get(), psup_[i].get());
+    mpfi_add(out.state.get(), out.state.get(), t.get());
+    mpfi_sqr(t.get(), problem_.G[i].get());
+    mpfi_add(out.rate.get(), out.rate.get(), t.get());
+  }
+  mpfi_sqrt(out.state.get(), out.state.get());
+  mpfi_add(out.state.get(), out.state.get(), R_.get());
+  detail::to_zero_hull(out.state);
+  mpfi_sqrt(out.rate.get(), out.rate.get());
+  mpfi_mul_ui(t.get(), out.state.get(), 2);
+  mpfi_sqr(t.get(), t.get());
+  mpfi_div(t.get(), t.get(), s3.get());
+  mpfi_add(out.rate.get(), out.rate.get(), t.get());
+  detail::to_zero_hull(out.rate);
+  return out;
+}
+
+inline detail::interval certifier::row_radius(const enclosure& at, const std::array<std::string, 3>& printed) {
+  detail::interval out = make(), t = make(), sq = make();
   mpfi_set_ui(sq.get(), 0);
   for (int i = 0; i < 3; ++i) {
-    mpfi_set_ui(b0.get(), 0);
-    for (std::size_t k = 0; k < n1_; ++k) {
-      mpfi_mul(t.get(), p_[i * n1_ + k].get(), Tk_[k].get());
-      mpfi_add(b0.get(), b0.get(), t.get());
-    }
     detail::set_decimal(t, printed[i]);
-    mpfi_sub(t.get(), t.get(), b0.get());
+    mpfi_sub(t.get(), t.get(), at.P[i].get());
     mpfi_abs(t.get(), t.get());
     mpfi_sqr(t.get(), t.get());
     mpfi_add(sq.get(), sq.get(), t.get());
   }
   mpfi_sqrt(sq.get(), sq.get());
-  mpfi_add(out.get(), out.get(), sq.get());
+  mpfi_add(out.get(), at.error.get(), sq.get());
   detail::to_zero_hull(out);  // the upper end only: [0, sup]
   mpfi_put(max_radius_.get(), out.get());
   return out;
+}
+
+template <scalar T>
+detail::interval certifier::row_radius(const T& tau, const std::array<std::string, 3>& printed) {
+  return row_radius(enclose(tau), printed);
 }
 
 }  // namespace eulervop

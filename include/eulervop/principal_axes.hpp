@@ -49,6 +49,9 @@ class principal_axes {
 
   // I1 < I2 < I3.
   const inertia<T>& moments() const { return I_; }
+  // Principal axis i is the user's axis `axis(i)`, times `sign(i)` (+1 or -1).
+  int axis(int i) const { return perm_[i]; }
+  int sign(int i) const { return sign_[i]; }
   // True when the user's axes are already the principal ones.
   bool identity() const { return perm_ == std::array<int, 3>{0, 1, 2}; }
 
