@@ -102,7 +102,7 @@ class certifier {
   void variational_matrix(double hl, double mu, double jmax, double h);  // Phi1_, eps_phi_
   void signed_integral_term(double hl, double mu, double jmax, double h);  // u1_, eps_u_
   void lohner_step();              // B_, x_ to the segment's end
-  double norm_box_up() const;      // an upper bound of |B x|_2 over the box
+  void box_norm(detail::interval& out) const;  // [0, an upper bound of |B x|_2 over the box]
 
   mpfr_prec_t bits_;
   std::size_t N_, n1_;
@@ -131,6 +131,8 @@ class certifier {
   std::vector<double> cd_, crad_, cmag_, gd_;  // P's coefficients in double; double products
   double tail_level_ = 0;
   std::array<double, 3> product_rem_{}, r_rem_{};  // the double products' error, and in r
+  long r_scale_ = 0;  // r is 2^-r_scale_ times its doubles rd_
+  ivec r_scaled_;
   detail::interval eps_u_;
   // scratch
   mutable ivec t_;
@@ -187,6 +189,7 @@ inline certifier::certifier(mpfr_prec_t bits, std::size_t degree, certified_prob
   cmag_.assign(3 * n1_, 0.0);
   gd_.assign(2 * N + 1, 0.0);
   u1_ = make_vec(3);
+  r_scaled_ = make_vec(3 * (2 * N + 2));
 }
 
 inline void certifier::fail(outcome_kind cause, double value) const {
@@ -268,6 +271,7 @@ inline void certifier::picard_residual() {
     // `rem` of their total error, which the integral turns into a function bound below.
     std::fill(gd_.begin(), gd_.end(), 0.0);
     double rem = 0, small = 0;
+    std::size_t in_double = 0;
     for (std::size_t m = 0; m < n1_; ++m)
       for (std::size_t n = 0; n < n1_; ++n) {
         const std::size_t d = m > n ? m - n : n - m;
@@ -276,6 +280,7 @@ inline void certifier::picard_residual() {
           gd_[m + n] += pr;
           gd_[d] += pr;
           small += std::abs(pr);
+          ++in_double;
           rem += cmag_[ca * n1_ + m] * crad_[cb * n1_ + n] + crad_[ca * n1_ + m] * cmag_[cb * n1_ + n];
           continue;
         }
@@ -288,8 +293,9 @@ inline void certifier::picard_residual() {
       if (gd_[k] != 0) mpfi_add_d(out[k].get(), out[k].get(), gd_[k]);
     // Each double sum has at most 2 (N+1) terms; the exact a_m differ from cd_ by crad_.
     // (plus an underflow allowance: each double operation errs by at most denorm_min beyond u)
-    product_rem_[i] = (detail::gamma_of(2 * n1_ + 2) * 2 * small + rem + detail::underflow_allowance(4 * n1_ * n1_)) *
-                      (1 + 1e-12);
+    product_rem_[i] = in_double ? (detail::gamma_of(2 * n1_ + 2) * 2 * small + rem +
+                                   detail::underflow_allowance(4 * n1_ * n1_)) * (1 + 1e-12)
+                                : 0.0;
     for (std::size_t k = 0; k < np; ++k)
       if (sign[i] < 0) mpfi_neg(out[k].get(), out[k].get());
     mpfi_add(out[0].get(), out[0].get(), problem_.G[i].get());
@@ -337,12 +343,11 @@ inline void certifier::picard_residual() {
   }
 }
 
-inline double certifier::norm_box_up() const {
-  // |B x|_2 with B point doubles: each component an interval, then the norm's upper end.
-  detail::interval& s = t_[1];
+inline void certifier::box_norm(detail::interval& out) const {
+  // |B x|_2 with B point doubles: each component an interval, then [0, the norm's upper end].
   detail::interval& c = t_[2];
   detail::interval& t = t_[3];
-  mpfi_set_ui(s.get(), 0);
+  mpfi_set_ui(out.get(), 0);
   for (int i = 0; i < 3; ++i) {
     mpfi_set_ui(c.get(), 0);
     for (int k = 0; k < 3; ++k) {
@@ -351,10 +356,10 @@ inline double certifier::norm_box_up() const {
     }
     mpfi_abs(c.get(), c.get());
     mpfi_sqr(c.get(), c.get());
-    mpfi_add(s.get(), s.get(), c.get());
+    mpfi_add(out.get(), out.get(), c.get());
   }
-  mpfi_sqrt(s.get(), s.get());
-  return detail::magnitude_up(s);
+  mpfi_sqrt(out.get(), out.get());
+  detail::to_zero_hull(out);
 }
 
 inline void certifier::validate_segment() {
@@ -380,8 +385,7 @@ inline void certifier::validate_segment() {
         mpfi_add(x_[i].get(), x_[i].get(), t.get());
       }
   }
-  mpfi_set_d(rho_a_.get(), norm_box_up());
-  detail::to_zero_hull(rho_a_);  // [0, rho]
+  box_norm(rho_a_);  // [0, rho]
 
   picard_residual();
   // sup |P_i| <= sum |p_ik|; mu = sup |P_2| bounds the logarithmic norm of J (the symmetric part
@@ -496,8 +500,24 @@ inline void certifier::doubles_of_polynomials() {
     mpfr_clears(lo, hi, static_cast<mpfr_ptr>(nullptr));
   };
   to_doubles(p_, n1_, pd_, prad_);
-  to_doubles(r_, nr, rd_, rrad_);
-  for (int i = 0; i < 3; ++i) rrad_[i] += r_rem_[i];  // the double products' share of r
+  // r is scaled by 2^r_scale_ to about 1 before it becomes doubles: at deep MPFR levels it lies
+  // far below double's range. The integral term is linear in r, so its results are scaled back
+  // exactly (signed_integral_term).
+  mpfr_exp_t top = std::numeric_limits<mpfr_exp_t>::min();
+  {
+    mpfr_t m;
+    mpfr_init2(m, bits_);
+    for (const detail::interval& x : r_) {
+      mpfi_mag(m, x.get());
+      if (mpfr_regular_p(m)) top = std::max(top, mpfr_get_exp(m));
+    }
+    mpfr_clear(m);
+  }
+  r_scale_ = top == std::numeric_limits<mpfr_exp_t>::min() ? 0 : -static_cast<long>(top);
+  for (std::size_t q = 0; q < r_.size(); ++q) mpfi_mul_2si(r_scaled_[q].get(), r_[q].get(), r_scale_);
+  to_doubles(r_scaled_, nr, rd_, rrad_);
+  for (int i = 0; i < 3; ++i)  // the double products' share of r
+    rrad_[i] += std::ldexp(r_rem_[i], static_cast<int>(std::clamp(r_scale_, -2000L, 2000L))) * (1 + 1e-12);
 }
 
 // The nonzero entries of row i of J = DN(P) (Eq. 5): J_ik = sign P_c.
@@ -658,7 +678,9 @@ inline void certifier::signed_integral_term(double hl, double mu, double jmax, d
   for (int i = 0; i < 3; ++i) {
     mpfi_set_ui(u1_[i].get(), 0);
     for (std::size_t k = 0; k < nr; ++k) mpfi_add_d(u1_[i].get(), u1_[i].get(), ud[i * nr + k]);
+    mpfi_mul_2si(u1_[i].get(), u1_[i].get(), -r_scale_);  // back from r's scaling
   }
+  mpfi_mul_2si(eps_u_.get(), eps_u_.get(), -r_scale_);
 }
 
 // e(b) in Phi1 B x + r(1) + u_num(1) + a ball of radius ell + eps_u + eps_phi |e(a)|; the new B is the Q of a QR
@@ -748,8 +770,10 @@ inline void certifier::lohner_step() {
   mpfi_add(ball.get(), ball.get(), ell_.get());
   mpfi_add(ball.get(), ball.get(), eps_u_.get());
   {
-    const double bmax = detail::magnitude_up(ball);
-    mpfi_interv_d(ball.get(), -bmax, bmax);
+    detail::to_upper_point(ball);
+    detail::interval negative = make();
+    mpfi_neg(negative.get(), ball.get());
+    mpfi_put(ball.get(), negative.get());  // [-b, b]
   }
   ivec local = make_vec(3);
   for (int i = 0; i < 3; ++i) {
@@ -778,7 +802,9 @@ inline void certifier::lohner_step() {
   x_ = std::move(xn);
   for (int q = 0; q < 9; ++q) B_[q] = Q[q];
   // The bound must stay meaningful: beyond 2^-20 of the state it is of no use to anyone.
-  const double size = norm_box_up();
+  detail::interval norm = make();
+  box_norm(norm);
+  const double size = detail::magnitude_up(norm);
   double state = 0;
   for (int i = 0; i < 3; ++i) state = std::max(state, detail::magnitude_up(psup_[i]));
   if (!(size <= std::ldexp(1.0, -20) * std::max(1.0, state))) fail(outcome_kind::certify_growth, size / std::max(1.0, state));
