@@ -97,6 +97,7 @@ class certifier {
   void validate_segment();         // steps 1-5 on the values in v_, a_, hl_
   void chebyshev_coefficients();   // v_ -> c_ (and P coefficients p_)
   void picard_residual();          // p_ -> r_, rsup_, r1_
+  double to_double(const detail::interval& x, double& radius) const;
   void coefficient_doubles();      // p_ -> cd_, crad_, cmag_, tail_level_
   void doubles_of_polynomials();   // p_, r_ -> pd_, prad_, rd_, rrad_
   void variational_matrix(double hl, double mu, double jmax, double h);  // Phi1_, eps_phi_
@@ -127,15 +128,24 @@ class certifier {
   std::array<double, 3> prad_{}, rrad_{};  // bounds of sum |exact - double| per component
   detail::integrated_products product_sum_;
   ivec u1_;          // u_num(1), the signed integral term
-  ivec fold_plus_, fold_minus_;  // mirrored node values, summed and subtracted
+
   std::vector<double> cd_, crad_, cmag_, gd_;  // P's coefficients in double; double products
   double tail_level_ = 0;
-  std::array<double, 3> product_rem_{}, r_rem_{};  // the double products' error, and in r
+  // Bounds at 64 bits, rounded up: the inexact products' total error per component, its image in
+  // r ([-b, b]), and the pieces of the midpoint bounds.
+  std::vector<detail::real> product_rem_, Pabs_, Prad_;
+  ivec r_rem_;
+  detail::real F_{64}, bound_scratch_{64}, transform_error_scale_{64}, product_error_scale_{64};
+  // Midpoints at the working precision: node values, M, folded values, P and products.
+  std::vector<detail::real> vmid_, Mmid_, fold_plus_, fold_minus_, pmid_, pmid_half_, outmid_;
+  detail::real cmid_{64}, mid_scratch_{64};
   long r_scale_ = 0;  // r is 2^-r_scale_ times its doubles rd_
   ivec r_scaled_;
+
   detail::interval eps_u_;
   // scratch
   mutable ivec t_;
+  mutable detail::real scratch_fr_{64}, scratch_lo_{64};  // at the working precision (constructor)
 };
 
 // ---- implementation ----------------------------------------------------------------------------
@@ -182,8 +192,43 @@ inline certifier::certifier(mpfr_prec_t bits, std::size_t degree, certified_prob
   t_ = make_vec(4);
   pd_.assign(3 * n1_, 0.0);
   rd_.assign(3 * (2 * N + 2), 0.0);
-  fold_plus_ = make_vec(n1_ / 2);
-  fold_minus_ = make_vec(n1_ / 2);
+  const detail::real wide(bits), narrow(64);
+  scratch_lo_ = wide;  // end points at the working precision: their difference is the width
+  scratch_fr_ = wide;
+  fold_plus_.assign(n1_ / 2, wide);
+  fold_minus_.assign(n1_ / 2, wide);
+  vmid_.assign(3 * n1_, wide);
+  pmid_.assign(3 * n1_, wide);
+  pmid_half_.assign(3 * n1_, wide);
+  outmid_.assign(2 * N + 1, wide);
+  cmid_ = wide;
+  mid_scratch_ = wide;
+  product_rem_.assign(3, narrow);
+  Pabs_.assign(3, narrow);
+  Prad_.assign(3, narrow);
+  r_rem_ = make_vec(3);
+  // M's midpoints, dM >= max |M - M^| (the widths), Mmax >= max |M^|.
+  Mmid_.assign(n1_ * n1_, wide);
+  detail::real dM(64), Mmax(64);
+  for (std::size_t q = 0; q < n1_ * n1_; ++q) {
+    mpfi_mid(Mmid_[q].get(), M_[q].get());
+    mpfi_get_left(scratch_lo_.get(), M_[q].get());
+    mpfi_get_right(scratch_fr_.get(), M_[q].get());
+    mpfr_sub(scratch_fr_.get(), scratch_fr_.get(), scratch_lo_.get(), MPFR_RNDU);
+    mpfr_max(dM.get(), dM.get(), scratch_fr_.get(), MPFR_RNDU);
+    mpfr_abs(scratch_fr_.get(), Mmid_[q].get(), MPFR_RNDU);
+    mpfr_max(Mmax.get(), Mmax.get(), scratch_fr_.get(), MPFR_RNDU);
+  }
+  // (1 + 2^-40) (dM + Mmax (n + 2) 2^-p (1 + 2^-20)), n = half + 1 terms; and (2N + 6) 2^-p (1 + 2^-20).
+  mpfr_set_ui(transform_error_scale_.get(), static_cast<unsigned long>(n1_ / 2 + 3), MPFR_RNDU);
+  mpfr_mul_2si(transform_error_scale_.get(), transform_error_scale_.get(), -static_cast<long>(bits), MPFR_RNDU);
+  mpfr_mul_d(transform_error_scale_.get(), transform_error_scale_.get(), 1 + std::ldexp(1.0, -20), MPFR_RNDU);
+  mpfr_mul(transform_error_scale_.get(), transform_error_scale_.get(), Mmax.get(), MPFR_RNDU);
+  mpfr_add(transform_error_scale_.get(), transform_error_scale_.get(), dM.get(), MPFR_RNDU);
+  mpfr_mul_d(transform_error_scale_.get(), transform_error_scale_.get(), 1 + std::ldexp(1.0, -40), MPFR_RNDU);
+  mpfr_set_ui(product_error_scale_.get(), static_cast<unsigned long>(2 * N + 6), MPFR_RNDU);
+  mpfr_mul_2si(product_error_scale_.get(), product_error_scale_.get(), -static_cast<long>(bits), MPFR_RNDU);
+  mpfr_mul_d(product_error_scale_.get(), product_error_scale_.get(), 1 + std::ldexp(1.0, -20), MPFR_RNDU);
   cd_.assign(3 * n1_, 0.0);
   crad_.assign(3 * n1_, 0.0);
   cmag_.assign(3 * n1_, 0.0);
@@ -213,7 +258,10 @@ void certifier::add_segment(const chebyshev_segment<T>& seg) {
     detail::set_exact(X0_[i], seg.base[i]);
     detail::set_exact(t_[0], seg.base_lo[i]);
     mpfi_add(X0_[i].get(), X0_[i].get(), t_[0].get());
-    for (std::size_t j = 0; j < n1_; ++j) detail::set_exact(v_[i * n1_ + j], seg.values[j][i]);
+    for (std::size_t j = 0; j < n1_; ++j) {
+      detail::set_exact(v_[i * n1_ + j], seg.values[j][i]);
+      mpfi_get_left(vmid_[i * n1_ + j].get(), v_[i * n1_ + j].get());  // a point: exact
+    }
   }
   for (const detail::interval& x : v_)
     if (!mpfi_bounded_p(x.get())) fail(outcome_kind::certify_non_finite);
@@ -225,28 +273,46 @@ void certifier::add_segment(const chebyshev_segment<T>& seg) {
 inline void certifier::chebyshev_coefficients() {
   // The columns j and N - j of the transform differ by the factor (-1)^k (T_k(-s) =
   // (-1)^k T_k(s) and the nodes are symmetric), so the sums and differences of mirrored values
-  // halve the products.
-  detail::interval& t = t_[0];
+  // halve the products. The sums are done on midpoints, rounded to nearest at the working
+  // precision p, and then widened by one bound E per component:
+  //   |c_k - c^_k| <= sum_j |M_kj - M^_kj| |f_j| + |M^_kj| |f_j - f^_j| + gamma_n sum |M^_kj| |f^_j|
+  //               <= F^ (1 + 2^-p) (dM + Mmax ((n + 2) 2^-p (1 + 2^-20))),
+  // F^ = sum |f^_j| (Higham 2002, section 3.1, for the dot products); plain MPFR operations cost
+  // less than half of interval ones.
   const std::size_t half = n1_ / 2;  // pairs j < half with N - j; N even leaves j = N/2 alone
+  mpfr_ptr tmp = mid_scratch_.get();
+  detail::interval widen = make();
   for (int i = 0; i < 3; ++i) {
-    const detail::interval* v = &v_[i * n1_];
+    const detail::real* v = &vmid_[i * n1_];
+    mpfr_set_ui(F_.get(), 0, MPFR_RNDU);
     for (std::size_t j = 0; j < half; ++j) {
-      mpfi_add(fold_plus_[j].get(), v[j].get(), v[N_ - j].get());
-      mpfi_sub(fold_minus_[j].get(), v[j].get(), v[N_ - j].get());
+      mpfr_add(fold_plus_[j].get(), v[j].get(), v[N_ - j].get(), MPFR_RNDN);
+      mpfr_sub(fold_minus_[j].get(), v[j].get(), v[N_ - j].get(), MPFR_RNDN);
+      detail::add_abs_up(F_, fold_plus_[j].get());
+      detail::add_abs_up(F_, fold_minus_[j].get());
     }
+    if (n1_ % 2) detail::add_abs_up(F_, v[half].get());
     for (std::size_t k = 0; k < n1_; ++k) {
-      detail::interval& ck = c_[i * n1_ + k];
-      const ivec& folded = (k % 2) ? fold_minus_ : fold_plus_;
-      mpfi_set_ui(ck.get(), 0);
+      const std::vector<detail::real>& folded = (k % 2) ? fold_minus_ : fold_plus_;
+      mpfr_ptr ck = cmid_.get();
+      mpfr_set_ui(ck, 0, MPFR_RNDN);
       for (std::size_t j = 0; j < half; ++j) {
-        mpfi_mul(t.get(), M_[k * n1_ + j].get(), folded[j].get());
-        mpfi_add(ck.get(), ck.get(), t.get());
+        mpfr_mul(tmp, Mmid_[k * n1_ + j].get(), folded[j].get(), MPFR_RNDN);
+        mpfr_add(ck, ck, tmp, MPFR_RNDN);
       }
       if (n1_ % 2) {
-        mpfi_mul(t.get(), M_[k * n1_ + half].get(), v[half].get());
-        mpfi_add(ck.get(), ck.get(), t.get());
+        mpfr_mul(tmp, Mmid_[k * n1_ + half].get(), v[half].get(), MPFR_RNDN);
+        mpfr_add(ck, ck, tmp, MPFR_RNDN);
       }
-      mpfi_set(p_[i * n1_ + k].get(), ck.get());
+      mpfi_set_fr(c_[i * n1_ + k].get(), ck);
+    }
+    mpfr_mul(F_.get(), F_.get(), transform_error_scale_.get(), MPFR_RNDU);
+    mpfi_interv_fr(widen.get(), F_.get(), F_.get());
+    mpfi_neg(widen.get(), widen.get());
+    mpfi_put_fr(widen.get(), F_.get());  // [-E, E]
+    for (std::size_t k = 0; k < n1_; ++k) {
+      mpfi_add(c_[i * n1_ + k].get(), c_[i * n1_ + k].get(), widen.get());
+      mpfi_set(p_[i * n1_ + k].get(), c_[i * n1_ + k].get());
     }
   }
   for (int i = 0; i < 3; ++i) mpfi_add(p_[i * n1_].get(), p_[i * n1_].get(), X0_[i].get());
@@ -260,15 +326,34 @@ inline void certifier::picard_residual() {
   const int pair[3][2] = {{1, 2}, {0, 2}, {0, 1}};
   const int sign[3] = {-1, 1, -1};
   coefficient_doubles();
+  // The products of the large coefficients on midpoints (p^ = mid p, |p - p^| <= width), rounded
+  // to nearest at the working precision: summed over the coefficients of one product, the error
+  // is at most A B' + A' B + A' B' + (2N + 6) 2^-p (1 + 2^-20) A B, with A = sum |a^_m|,
+  // A' = sum width(a_m) (the same for b), and enters `rem` below.
+  for (int c = 0; c < 3; ++c) {
+    mpfr_set_ui(Pabs_[c].get(), 0, MPFR_RNDU);
+    mpfr_set_ui(Prad_[c].get(), 0, MPFR_RNDU);
+    for (std::size_t k = 0; k < n1_; ++k) {
+      const std::size_t q = c * n1_ + k;
+      mpfi_mid(pmid_[q].get(), p_[q].get());
+      mpfr_mul_2si(pmid_half_[q].get(), pmid_[q].get(), -1, MPFR_RNDN);  // exact
+      detail::add_abs_up(Pabs_[c], pmid_[q].get());
+      mpfi_get_left(scratch_lo_.get(), p_[q].get());
+      mpfi_get_right(scratch_fr_.get(), p_[q].get());
+      mpfr_sub(scratch_fr_.get(), scratch_fr_.get(), scratch_lo_.get(), MPFR_RNDU);
+      mpfr_add(Prad_[c].get(), Prad_[c].get(), scratch_fr_.get(), MPFR_RNDU);
+    }
+  }
+  mpfr_ptr tmp = mid_scratch_.get();
   for (int i = 0; i < 3; ++i) {
     detail::interval* out = &prod_[i * np];
-    for (std::size_t k = 0; k < np; ++k) mpfi_set_ui(out[k].get(), 0);
     const int ca = pair[i][0], cb = pair[i][1];
-    const detail::interval* A = &p_[ca * n1_];
-    const detail::interval* Bp = &p_[cb * n1_];
-    // The products of large coefficients in intervals; those far below the precision of the
-    // reference (|a_m| |b_n| < 2^-(bits - 54) of the state squared) in double, with a bound
-    // `rem` of their total error, which the integral turns into a function bound below.
+    const detail::real* A = &pmid_half_[ca * n1_];  // a^_m / 2: T_m T_n's factor 1/2
+    const detail::real* Bp = &pmid_[cb * n1_];
+    for (std::size_t k = 0; k < np; ++k) mpfr_set_ui(outmid_[k].get(), 0, MPFR_RNDN);
+    // The products of large coefficients here; those far below the precision of the reference
+    // (|a_m| |b_n| < 2^-(bits - 54) of the state squared) in double, with a bound `rem` of their
+    // total error, which the integral turns into a function bound below.
     std::fill(gd_.begin(), gd_.end(), 0.0);
     double rem = 0, small = 0;
     std::size_t in_double = 0;
@@ -284,18 +369,30 @@ inline void certifier::picard_residual() {
           rem += cmag_[ca * n1_ + m] * crad_[cb * n1_ + n] + crad_[ca * n1_ + m] * cmag_[cb * n1_ + n];
           continue;
         }
-        mpfi_mul(t.get(), A[m].get(), Bp[n].get());
-        mpfi_mul_2si(t.get(), t.get(), -1);
-        mpfi_add(out[m + n].get(), out[m + n].get(), t.get());
-        mpfi_add(out[d].get(), out[d].get(), t.get());
+        mpfr_mul(tmp, A[m].get(), Bp[n].get(), MPFR_RNDN);
+        mpfr_add(outmid_[m + n].get(), outmid_[m + n].get(), tmp, MPFR_RNDN);
+        mpfr_add(outmid_[d].get(), outmid_[d].get(), tmp, MPFR_RNDN);
       }
-    for (std::size_t k = 0; k < np; ++k)
+    for (std::size_t k = 0; k < np; ++k) {
+      mpfi_set_fr(out[k].get(), outmid_[k].get());
       if (gd_[k] != 0) mpfi_add_d(out[k].get(), out[k].get(), gd_[k]);
-    // Each double sum has at most 2 (N+1) terms; the exact a_m differ from cd_ by crad_.
-    // (plus an underflow allowance: each double operation errs by at most denorm_min beyond u)
-    product_rem_[i] = in_double ? (detail::gamma_of(2 * n1_ + 2) * 2 * small + rem +
-                                   detail::underflow_allowance(4 * n1_ * n1_)) * (1 + 1e-12)
-                                : 0.0;
+    }
+    // The double sums have at most 2 (N+1) terms each; the exact a_m differ from cd_ by crad_;
+    // an underflow allowance covers results near zero.
+    const double rem_double = in_double ? (detail::gamma_of(2 * n1_ + 2) * 2 * small + rem +
+                                           detail::underflow_allowance(4 * n1_ * n1_)) * (1 + 1e-12)
+                                        : 0.0;
+    detail::real& e = product_rem_[i];
+    detail::real& w = bound_scratch_;
+    mpfr_mul(e.get(), Pabs_[ca].get(), Prad_[cb].get(), MPFR_RNDU);
+    mpfr_mul(w.get(), Prad_[ca].get(), Pabs_[cb].get(), MPFR_RNDU);
+    mpfr_add(e.get(), e.get(), w.get(), MPFR_RNDU);
+    mpfr_mul(w.get(), Prad_[ca].get(), Prad_[cb].get(), MPFR_RNDU);
+    mpfr_add(e.get(), e.get(), w.get(), MPFR_RNDU);
+    mpfr_mul(w.get(), Pabs_[ca].get(), Pabs_[cb].get(), MPFR_RNDU);
+    mpfr_mul(w.get(), w.get(), product_error_scale_.get(), MPFR_RNDU);
+    mpfr_add(e.get(), e.get(), w.get(), MPFR_RNDU);
+    mpfr_add_d(e.get(), e.get(), rem_double, MPFR_RNDU);
     for (std::size_t k = 0; k < np; ++k)
       if (sign[i] < 0) mpfi_neg(out[k].get(), out[k].get());
     mpfi_add(out[0].get(), out[0].get(), problem_.G[i].get());
@@ -331,15 +428,16 @@ inline void certifier::picard_residual() {
       mpfi_add(rsup_[i].get(), rsup_[i].get(), t.get());
       mpfi_add(r1_[i].get(), r1_[i].get(), r[k].get());
     }
-    mpfi_set_d(t.get(), product_rem_[i]);
+    mpfi_set_fr(t.get(), product_rem_[i].get());
     mpfi_mul(t.get(), t.get(), hl_.get());
     mpfi_mul_2si(t.get(), t.get(), 1);
     mpfi_abs(t.get(), t.get());
     detail::to_upper_point(t);
-    r_rem_[i] = detail::magnitude_up(t);
     mpfi_add(rsup_[i].get(), rsup_[i].get(), t.get());
-    mpfi_interv_d(t.get(), -r_rem_[i], r_rem_[i]);
-    mpfi_add(r1_[i].get(), r1_[i].get(), t.get());
+    mpfi_set(r_rem_[i].get(), t.get());
+    mpfi_neg(t.get(), t.get());
+    mpfi_put(r_rem_[i].get(), t.get());  // [-b, b]
+    mpfi_add(r1_[i].get(), r1_[i].get(), r_rem_[i].get());
   }
 }
 
@@ -453,25 +551,29 @@ inline void certifier::validate_segment() {
   ++segments_;
 }
 
+// x's midpoint rounded to double, and an upper bound of max |x - d| over the interval: its
+// width plus an ulp of d (the midpoint's own roundings are below half an ulp each), plus
+// denorm_min for a d that underflows.
+inline double certifier::to_double(const detail::interval& x, double& radius) const {
+  const double d = mpfi_get_d(x.get());
+  mpfi_get_left(scratch_lo_.get(), x.get());   // rounded down (MPFI rounds end points outward)
+  mpfi_get_right(scratch_fr_.get(), x.get());  // rounded up
+  mpfr_sub(scratch_fr_.get(), scratch_fr_.get(), scratch_lo_.get(), MPFR_RNDU);
+  radius = (mpfr_get_d(scratch_fr_.get(), MPFR_RNDU) + std::abs(d) * std::numeric_limits<double>::epsilon() +
+            std::numeric_limits<double>::denorm_min()) *
+           (1 + 1e-15);
+  return d;
+}
+
 // P's coefficients as doubles (cd_), each with a bound of its distance to the exact one (crad_)
 // and of its magnitude (cmag_); tail_level_ separates the products done in double.
 inline void certifier::coefficient_doubles() {
-  mpfr_t lo, hi;
-  mpfr_inits2(bits_, lo, hi, static_cast<mpfr_ptr>(nullptr));
   double scale = 0;
   for (std::size_t q = 0; q < 3 * n1_; ++q) {
-    const detail::interval& x = p_[q];
-    const double d = mpfi_get_d(x.get());
-    mpfi_get_left(lo, x.get());
-    mpfi_get_right(hi, x.get());
-    mpfr_sub_d(lo, lo, d, MPFR_RNDD);
-    mpfr_sub_d(hi, hi, d, MPFR_RNDU);
-    cd_[q] = d;
-    crad_[q] = std::max(-mpfr_get_d(lo, MPFR_RNDD), mpfr_get_d(hi, MPFR_RNDU)) * (1 + 1e-12);
-    cmag_[q] = (std::abs(d) + crad_[q]) * (1 + 1e-15);
+    cd_[q] = to_double(p_[q], crad_[q]);
+    cmag_[q] = (std::abs(cd_[q]) + crad_[q]) * (1 + 1e-15);
     scale = std::max(scale, cmag_[q]);
   }
-  mpfr_clears(lo, hi, static_cast<mpfr_ptr>(nullptr));
   tail_level_ = std::ldexp(scale * scale, -static_cast<int>(bits_ - 64 + 40 - 53));
   if (!(tail_level_ > 1e-250)) tail_level_ = 0;  // deep MPFR levels: everything in intervals
 }
@@ -481,25 +583,23 @@ inline void certifier::coefficient_doubles() {
 inline void certifier::doubles_of_polynomials() {
   const std::size_t nr = 2 * N_ + 2;
   auto to_doubles = [&](const ivec& src, std::size_t n, std::vector<double>& out, std::array<double, 3>& rad) {
-    mpfr_t lo, hi;
-    mpfr_inits2(bits_, lo, hi, static_cast<mpfr_ptr>(nullptr));
     for (int i = 0; i < 3; ++i) {
       rad[i] = 0;
       for (std::size_t k = 0; k < n; ++k) {
-        const detail::interval& x = src[i * n + k];
-        const double d = mpfi_get_d(x.get());
-        out[i * n + k] = d;
-        mpfi_get_left(lo, x.get());
-        mpfi_get_right(hi, x.get());
-        mpfr_sub_d(lo, lo, d, MPFR_RNDD);
-        mpfr_sub_d(hi, hi, d, MPFR_RNDU);
-        rad[i] += std::max(-mpfr_get_d(lo, MPFR_RNDD), mpfr_get_d(hi, MPFR_RNDU));
+        double r = 0;
+        out[i * n + k] = to_double(src[i * n + k], r);
+        rad[i] += r;
       }
       rad[i] *= 1 + 1e-12;
     }
-    mpfr_clears(lo, hi, static_cast<mpfr_ptr>(nullptr));
   };
-  to_doubles(p_, n1_, pd_, prad_);
+  // P's doubles are coefficient_doubles' (the same conversion).
+  pd_ = cd_;
+  for (int i = 0; i < 3; ++i) {
+    prad_[i] = 0;
+    for (std::size_t k = 0; k < n1_; ++k) prad_[i] += crad_[i * n1_ + k];
+    prad_[i] *= 1 + 1e-12;
+  }
   // r is scaled by 2^r_scale_ to about 1 before it becomes doubles: at deep MPFR levels it lies
   // far below double's range. The integral term is linear in r, so its results are scaled back
   // exactly (signed_integral_term).
@@ -516,8 +616,11 @@ inline void certifier::doubles_of_polynomials() {
   r_scale_ = top == std::numeric_limits<mpfr_exp_t>::min() ? 0 : -static_cast<long>(top);
   for (std::size_t q = 0; q < r_.size(); ++q) mpfi_mul_2si(r_scaled_[q].get(), r_[q].get(), r_scale_);
   to_doubles(r_scaled_, nr, rd_, rrad_);
-  for (int i = 0; i < 3; ++i)  // the double products' share of r
-    rrad_[i] += std::ldexp(r_rem_[i], static_cast<int>(std::clamp(r_scale_, -2000L, 2000L))) * (1 + 1e-12);
+  for (int i = 0; i < 3; ++i) {  // the inexact products' share of r, scaled like r
+    detail::interval scaled = r_rem_[i];
+    mpfi_mul_2si(scaled.get(), scaled.get(), r_scale_);
+    rrad_[i] += detail::magnitude_up(scaled) * (1 + 1e-12);
+  }
 }
 
 // The nonzero entries of row i of J = DN(P) (Eq. 5): J_ik = sign P_c.

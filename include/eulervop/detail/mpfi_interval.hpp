@@ -55,6 +55,48 @@ class interval {
   mpfi_t v_;
 };
 
+// An owning MPFR number (midpoints at the working precision; bounds at 64 bits, rounded up).
+class real {
+ public:
+  explicit real(mpfr_prec_t bits) {
+    mpfr_init2(v_, bits);
+    mpfr_set_ui(v_, 0, MPFR_RNDN);
+  }
+  real(const real& o) {
+    mpfr_init2(v_, mpfr_get_prec(o.v_));
+    mpfr_set(v_, o.v_, MPFR_RNDN);
+  }
+  real(real&& o) noexcept {
+    mpfr_init2(v_, MPFR_PREC_MIN);
+    mpfr_swap(v_, o.v_);
+  }
+  real& operator=(const real& o) {
+    if (this != &o) {
+      mpfr_set_prec(v_, mpfr_get_prec(o.v_));
+      mpfr_set(v_, o.v_, MPFR_RNDN);
+    }
+    return *this;
+  }
+  real& operator=(real&& o) noexcept {
+    mpfr_swap(v_, o.v_);
+    return *this;
+  }
+  ~real() { mpfr_clear(v_); }
+  mpfr_ptr get() { return v_; }
+  mpfr_srcptr get() const { return v_; }
+
+ private:
+  mpfr_t v_;
+};
+
+// bound += |x|, rounded up.
+inline void add_abs_up(real& bound, mpfr_srcptr x) {
+  if (mpfr_sgn(x) < 0)
+    mpfr_sub(bound.get(), bound.get(), x, MPFR_RNDU);
+  else
+    mpfr_add(bound.get(), bound.get(), x, MPFR_RNDU);
+}
+
 // The exact value of x (quad or MPFR) as a point interval. Exact when `out` has at least the
 // bits of x (quad: 113); otherwise rounded outward.
 template <scalar T>
