@@ -275,7 +275,6 @@ TEST(TorquedCertificate, RandomPointsOfAnInitialBoxStayInside) {
   for (const auto& r : rows) taus.push_back(r.tau);
   std::mt19937_64 rng(20261123);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  double closest = 1e300;  // the smallest margin radius - distance seen
   for (int sample = 0; sample < 1000; ++sample) {
     eulervop::euler_problem<quad> p = run;
     for (int i = 0; i < 3; ++i) p.Omega0[i] = quad(center[i] + half_width * unit(rng));
@@ -288,7 +287,6 @@ TEST(TorquedCertificate, RandomPointsOfAnInitialBoxStayInside) {
       }
       const double dist = static_cast<double>(sqrt(s));
       ASSERT_LE(dist, rows[i].radius) << "sample " << sample << " tau " << static_cast<double>(rows[i].tau);
-      closest = std::min(closest, rows[i].radius - dist);
       ++i;
     });
   }

@@ -81,11 +81,6 @@ class certifier {
 
   // The largest row radius so far (an upper bound: the interval's right end).
   const detail::interval& max_radius() const { return max_radius_; }
-  std::size_t segments() const { return segments_; }
-
-  // sup |printed - P| is bounded exactly; these are for tests and docs: the bound of |e| at the
-  // latest segment's start, and the residual bound on it.
-  double start_error_bound() const { return detail::magnitude_up(rho_a_); }
 
  private:
   using ivec = std::vector<detail::interval>;
@@ -99,9 +94,10 @@ class certifier {
   void picard_residual();          // p_ -> r_, rsup_, r1_
   double to_double(const detail::interval& x, double& radius) const;
   void coefficient_doubles();      // p_ -> cd_, crad_, cmag_, tail_level_
-  void doubles_of_polynomials();   // p_, r_ -> pd_, prad_, rd_, rrad_
+  void doubles_of_polynomials();   // crad_ -> prad_; r_ -> rd_, rrad_
   void variational_matrix(double hl, double mu, double jmax, double h);  // Phi1_, eps_phi_
   void signed_integral_term(double hl, double mu, double jmax, double h);  // u1_, eps_u_
+  void error_at_end(detail::interval& out, double supR, double mu, double h, double jmax) const;
   void lohner_step();              // B_, x_ to the segment's end
   void box_norm(detail::interval& out) const;  // [0, an upper bound of |B x|_2 over the box]
 
@@ -121,10 +117,9 @@ class certifier {
   ivec prev_end_;    // P(b) of the previous segment, exactly
   detail::interval prev_b_;
   bool started_ = false;
-  std::size_t segments_ = 0;
   // Phi in double, on m+1 Lobatto nodes
   detail::chebyshev_basis<double> phi_basis_;
-  std::vector<double> pd_, rd_, ud_;  // P, r and u_num as doubles, 3 x (N+1) and 3 x (2N+2)
+  std::vector<double> rd_, ud_;  // r and u_num as doubles, 3 x (2N+2) (P's are cd_)
   std::array<double, 3> prad_{}, rrad_{};  // bounds of sum |exact - double| per component
   detail::integrated_products product_sum_;
   ivec u1_;          // u_num(1), the signed integral term
@@ -190,7 +185,6 @@ inline certifier::certifier(mpfr_prec_t bits, std::size_t degree, certified_prob
   Qinv_ = make_vec(9);
   prev_end_ = make_vec(3);
   t_ = make_vec(4);
-  pd_.assign(3 * n1_, 0.0);
   rd_.assign(3 * (2 * N + 2), 0.0);
   const detail::real wide(bits), narrow(64);
   scratch_lo_ = wide;  // end points at the working precision: their difference is the width
@@ -548,7 +542,6 @@ inline void certifier::validate_segment() {
   }
   mpfi_add(prev_b_.get(), a_.get(), h_.get());
   started_ = true;
-  ++segments_;
 }
 
 // x's midpoint rounded to double, and an upper bound of max |x - d| over the interval: its
@@ -578,8 +571,8 @@ inline void certifier::coefficient_doubles() {
   if (!(tail_level_ > 1e-250)) tail_level_ = 0;  // deep MPFR levels: everything in intervals
 }
 
-// P's coefficients as doubles (pd_), each component with a bound of their distance to the
-// exact ones (prad_); the same for r (rd_, rrad_).
+// Per component, a bound of the distance of P's doubles (cd_) to the exact coefficients (prad_);
+// r as doubles with the same bound (rd_, rrad_).
 inline void certifier::doubles_of_polynomials() {
   const std::size_t nr = 2 * N_ + 2;
   auto to_doubles = [&](const ivec& src, std::size_t n, std::vector<double>& out, std::array<double, 3>& rad) {
@@ -593,8 +586,6 @@ inline void certifier::doubles_of_polynomials() {
       rad[i] *= 1 + 1e-12;
     }
   };
-  // P's doubles are coefficient_doubles' (the same conversion).
-  pd_ = cd_;
   for (int i = 0; i < 3; ++i) {
     prad_[i] = 0;
     for (std::size_t k = 0; k < n1_; ++k) prad_[i] += crad_[i * n1_ + k];
@@ -634,6 +625,19 @@ inline constexpr jacobian_entry jacobian_row[3][2] = {
     {{0, 1, -1}, {1, 0, -1}},  // row 3: -P2, -P1
 };
 
+// A Picard residual bound sup|R| of a linear solution on the segment, as an error bound at its
+// end: E = R + hl int J E gives |E(1)| <= sup|R| (1 + h exp(mu h) |J|).
+inline void certifier::error_at_end(detail::interval& out, double supR, double mu, double h, double jmax) const {
+  if (!std::isfinite(supR)) fail(outcome_kind::certify_non_finite);
+  mpfi_set_d(out.get(), mu);
+  mpfi_mul_d(out.get(), out.get(), h);
+  mpfi_exp(out.get(), out.get());
+  mpfi_mul_d(out.get(), out.get(), h);
+  mpfi_mul_d(out.get(), out.get(), jmax);
+  mpfi_add_ui(out.get(), out.get(), 1);
+  mpfi_mul_d(out.get(), out.get(), supR);
+}
+
 // Phi' = hl J(P(s)) Phi on s in [-1, 1], Phi(-1) = I: Picard iteration in double on the Lobatto
 // nodes of phi_basis_; Phi_num is the polynomial of its Chebyshev coefficients (exact doubles by
 // definition). Its residual R(s) = I + hl int J Phi_num - Phi_num is bounded with every rounding
@@ -645,7 +649,7 @@ inline void certifier::variational_matrix(double hl, double mu, double jmax, dou
   std::vector<double> J(m1 * 9), Phi(m1 * 9), F(m1 * 9);
   for (std::size_t l = 0; l < m1; ++l) {
     double P[3];
-    for (int i = 0; i < 3; ++i) P[i] = detail::clenshaw(&pd_[i * n1_], n1_, 1, phi_basis_.nodes[l]);
+    for (int i = 0; i < 3; ++i) P[i] = detail::clenshaw(&cd_[i * n1_], n1_, 1, phi_basis_.nodes[l]);
     double* Jl = &J[l * 9];
     std::fill(Jl, Jl + 9, 0.0);
     for (int i = 0; i < 3; ++i)
@@ -687,22 +691,14 @@ inline void certifier::variational_matrix(double hl, double mu, double jmax, dou
       std::array<detail::product_term, 2> terms;
       for (int t = 0; t < 2; ++t) {
         const jacobian_entry& e = jacobian_row[i][t];
-        terms[t] = {e.sign, {&pd_[e.c * n1_], n1_, prad_[e.c]}, {&phi[(e.k * 3 + j) * m1], m1, 0.0}};
+        terms[t] = {e.sign, {&cd_[e.c * n1_], n1_, prad_[e.c]}, {&phi[(e.k * 3 + j) * m1], m1, 0.0}};
       }
       product_sum_.compute(hl, terms);
       const double b = detail::residual_bound(i == j ? 1.0 : 0.0, product_sum_, {&phi[(i * 3 + j) * m1], m1, 0.0});
       sup2 += b * b;
     }
-  const double supR = std::sqrt(sup2) * (1 + 1e-12);
-  if (!std::isfinite(supR)) fail(outcome_kind::certify_non_finite);
-  // eps_phi = supR (1 + h exp(mu h) |J|), and Phi_num(1) = sum_k phi_k, in intervals.
-  mpfi_set_d(eps_phi_.get(), mu);
-  mpfi_mul_d(eps_phi_.get(), eps_phi_.get(), h);
-  mpfi_exp(eps_phi_.get(), eps_phi_.get());
-  mpfi_mul_d(eps_phi_.get(), eps_phi_.get(), h);
-  mpfi_mul_d(eps_phi_.get(), eps_phi_.get(), jmax);
-  mpfi_add_ui(eps_phi_.get(), eps_phi_.get(), 1);
-  mpfi_mul_d(eps_phi_.get(), eps_phi_.get(), supR);
+  // eps_phi bounds |Phi(b, a) - Phi_num(1)|; Phi_num(1) = sum_k phi_k, in intervals.
+  error_at_end(eps_phi_, std::sqrt(sup2) * (1 + 1e-12), mu, h, jmax);
   for (int q = 0; q < 9; ++q) {
     mpfi_set_ui(Phi1_[q].get(), 0);
     for (std::size_t k = 0; k < m1; ++k) mpfi_add_d(Phi1_[q].get(), Phi1_[q].get(), phi[q * m1 + k]);
@@ -725,25 +721,25 @@ inline void certifier::signed_integral_term(double hl, double mu, double jmax, d
   std::array<std::size_t, 3> short_length;
   for (int c = 0; c < 3; ++c) {
     double big = 0;
-    for (std::size_t k = 0; k < n1_; ++k) big = std::max(big, std::abs(pd_[c * n1_ + k]));
+    for (std::size_t k = 0; k < n1_; ++k) big = std::max(big, std::abs(cd_[c * n1_ + k]));
     std::size_t n = n1_;
-    while (n > 1 && std::abs(pd_[c * n1_ + n - 1]) < 1e-9 * big) --n;
+    while (n > 1 && std::abs(cd_[c * n1_ + n - 1]) < 1e-9 * big) --n;
     short_length[c] = n;
   }
   auto J_times = [&](int i, const double* wc, double wrad_each[3], bool full) {
     std::array<detail::product_term, 2> terms;
     for (int t = 0; t < 2; ++t) {
       const jacobian_entry& e = jacobian_row[i][t];
-      terms[t] = {e.sign, {&pd_[e.c * n1_], full ? n1_ : short_length[e.c], prad_[e.c]},
+      terms[t] = {e.sign, {&cd_[e.c * n1_], full ? n1_ : short_length[e.c], prad_[e.c]},
                   {&wc[e.k * nr], nr, wrad_each[e.k]}};
     }
     product_sum_.compute(hl, terms);
   };
   double zero_rad[3] = {0, 0, 0};
+  std::vector<double> next(3 * nr);
   for (int it = 0; it < 60; ++it) {
     for (std::size_t q = 0; q < 3 * nr; ++q) w[q] = ud[q] + rd_[q];
     double change = 0, size = 0;
-    std::vector<double> next(3 * nr);
     for (int i = 0; i < 3; ++i) {
       J_times(i, w.data(), zero_rad, false);
       for (std::size_t k = 0; k < nr; ++k) next[i * nr + k] = product_sum_.coeffs[k];  // truncated
@@ -769,15 +765,7 @@ inline void certifier::signed_integral_term(double hl, double mu, double jmax, d
     const double b = detail::residual_bound(0.0, product_sum_, {&ud[i * nr], nr, 0.0});
     sup2 += b * b;
   }
-  const double supR = std::sqrt(sup2) * (1 + 1e-12);
-  if (!std::isfinite(supR)) fail(outcome_kind::certify_non_finite);
-  mpfi_set_d(eps_u_.get(), mu);
-  mpfi_mul_d(eps_u_.get(), eps_u_.get(), h);
-  mpfi_exp(eps_u_.get(), eps_u_.get());
-  mpfi_mul_d(eps_u_.get(), eps_u_.get(), h);
-  mpfi_mul_d(eps_u_.get(), eps_u_.get(), jmax);
-  mpfi_add_ui(eps_u_.get(), eps_u_.get(), 1);
-  mpfi_mul_d(eps_u_.get(), eps_u_.get(), supR);
+  error_at_end(eps_u_, std::sqrt(sup2) * (1 + 1e-12), mu, h, jmax);
   for (int i = 0; i < 3; ++i) {
     mpfi_set_ui(u1_[i].get(), 0);
     for (std::size_t k = 0; k < nr; ++k) mpfi_add_d(u1_[i].get(), u1_[i].get(), ud[i * nr + k]);
