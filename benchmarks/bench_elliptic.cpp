@@ -1,6 +1,6 @@
 // Nanoseconds per evaluation of sn, cn, dn, am(u), Z(u), E(u) (and K, E when k changes), in
-// double: eulervop's fused AGM (include/eulervop/elliptic.hpp) and its theta-function route
-// (include/eulervop/jacobi_theta.hpp: sn, cn, dn, Z, E(u), no am) against Boost.Math computing
+// double: eulervop's fused AGM (include/eulervop/special/elliptic.hpp) and its theta-function route
+// (include/eulervop/special/jacobi_theta.hpp: sn, cn, dn, Z, E(u), no am) against Boost.Math computing
 // the same quantities (boost_elliptic_set.hpp), with double -> long double promotion off and
 // with Boost's default policy.
 //
@@ -12,8 +12,8 @@
 // Inputs cycle through 1024 fixed pseudo-random (u, k) pairs: u in [-4K, 4K], k in [0.05, 0.95]
 // (cached: k = 0.5).
 #include "boost_elliptic_set.hpp"
-#include "eulervop/elliptic.hpp"
-#include "eulervop/jacobi_theta.hpp"
+#include "eulervop/special/elliptic.hpp"
+#include "eulervop/special/jacobi_theta.hpp"
 
 #include <benchmark/benchmark.h>
 

@@ -11,8 +11,8 @@
 // `sweep` print as seconds / rhs_evals).
 //
 //   cmake --build build --target bench_in_run && build/benchmarks/bench_in_run
-#include <eulervop/comparison_run.hpp>
-#include <eulervop/elliptic.hpp>
+#include <eulervop/runs/comparison_run.hpp>
+#include <eulervop/special/elliptic.hpp>
 
 #include <benchmark/benchmark.h>
 #include <boost/numeric/odeint.hpp>

@@ -25,9 +25,9 @@
 //          1e-60: the rows the speed targets compare), --repeat N, --no-mpfr,
 //          --mpfr-cap SECONDS (default 600), --recompute-truth.
 // Progress goes to standard error; the table to standard output.
-#include <eulervop/chebyshev_picard.hpp>
-#include <eulervop/model.hpp>
-#include <eulervop/scalar.hpp>
+#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/model/euler_problem.hpp>
+#include <eulervop/core/scalar.hpp>
 
 #include <boost/multiprecision/float128.hpp>
 #include <boost/multiprecision/mpfr.hpp>

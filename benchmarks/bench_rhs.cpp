@@ -12,8 +12,8 @@
 // Inputs cycle through 1024 fixed pseudo-random elements: c2 in [0.5, 100], u in [-50, 50].
 #include "boost_elliptic_set.hpp"
 
-#include <eulervop/model.hpp>
-#include <eulervop/vop.hpp>
+#include <eulervop/model/euler_problem.hpp>
+#include <eulervop/vop/vop_system.hpp>
 
 #include <benchmark/benchmark.h>
 

@@ -5,7 +5,7 @@
 // into numbers by to_problem / tau_end_of / sample_times_of for double and quad, which convert
 // every decimal again in the target type (scene_problem.hpp); those must not throw either.
 // Any other exception reaches std::terminate, which libFuzzer reports as a crash with the input.
-#include <eulervop/scalar.hpp>
+#include <eulervop/core/scalar.hpp>
 #include <eulervop/scene/scene.hpp>
 #include <eulervop/scene/scene_problem.hpp>
 

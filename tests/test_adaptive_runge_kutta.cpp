@@ -1,4 +1,4 @@
-// Tests of include/eulervop/adaptive_runge_kutta.hpp: the embedded pairs, the PI controller and
+// Tests of include/eulervop/rk/adaptive.hpp: the embedded pairs, the PI controller and
 // the adaptive driver.
 //
 // Reference values and their provenance:
@@ -17,10 +17,10 @@
 #include "slope_test_support.hpp"
 #include "type_test_names.hpp"
 
-#include <eulervop/adaptive_runge_kutta.hpp>
-#include <eulervop/model.hpp>
+#include <eulervop/rk/adaptive.hpp>
+#include <eulervop/model/euler_problem.hpp>
 #include <eulervop/oracle.hpp>
-#include <eulervop/scalar.hpp>
+#include <eulervop/core/scalar.hpp>
 
 #include <gtest/gtest.h>
 

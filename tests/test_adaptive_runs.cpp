@@ -13,11 +13,11 @@
 // VOP estimate is the same kind of estimate, on other variables).
 #include "slope_test_support.hpp"
 
-#include <eulervop/chebyshev_picard.hpp>
-#include <eulervop/comparison_run.hpp>
-#include <eulervop/error_measure.hpp>
-#include <eulervop/outcome_text.hpp>
-#include <eulervop/vop.hpp>
+#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/runs/comparison_run.hpp>
+#include <eulervop/model/error_measure.hpp>
+#include <eulervop/core/outcome_text.hpp>
+#include <eulervop/vop/vop_system.hpp>
 
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // Output files appear complete or not at all, and a run killed with SIGKILL (which no handler can
 // catch) leaves its temporary "<out>.tmp.<host>.<pid>.XXXXXX" behind: the next run that writes
 // beside it removes it, when it was made on this machine by a process that no longer exists.
-#include "atomic_file.hpp"
+#include "io/atomic_file.hpp"
 #include "cli_test_support.hpp"
 
 #include <gtest/gtest.h>

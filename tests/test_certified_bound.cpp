@@ -9,7 +9,7 @@
 //     below 1e-70, about 1e40 times smaller than the radii tested here).
 // Each perturbation test also checks that the perturbation is visible in the rows (beyond the
 // unperturbed radius), so a certificate that ignored it would fail the test.
-#include <eulervop/certified_bound.hpp>
+#include <eulervop/certify/certifier.hpp>
 
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // cannot be certified (exit 2), and a certificate that does not close (exit 3, no file).
 #include "cli_test_support.hpp"
 
-#include <eulervop/scalar.hpp>
+#include <eulervop/core/scalar.hpp>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>

@@ -4,10 +4,10 @@
 // naming the line and column, exit 2.
 #include "cli_test_support.hpp"
 
-#include <eulervop/chebyshev_picard.hpp>
-#include <eulervop/error_measure.hpp>
-#include <eulervop/model.hpp>
-#include <eulervop/scalar.hpp>
+#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/model/error_measure.hpp>
+#include <eulervop/model/euler_problem.hpp>
+#include <eulervop/core/scalar.hpp>
 
 #include <boost/numeric/odeint.hpp>
 #include <fmt/format.h>

@@ -3,7 +3,7 @@
 // docs/design.md section 5.3.
 #include "cli_test_support.hpp"
 
-#include <eulervop/scalar.hpp>
+#include <eulervop/core/scalar.hpp>
 
 #include <gtest/gtest.h>
 

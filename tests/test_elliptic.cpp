@@ -1,4 +1,4 @@
-// Tests of include/eulervop/elliptic.hpp: sn, cn, dn, am, Z, E(u), K, E, F.
+// Tests of include/eulervop/special/elliptic.hpp: sn, cn, dn, am, Z, E(u), K, E, F.
 //
 // Reference values (provenance): Boost.Math 1.81 evaluated in boost::multiprecision::mpfr_float at
 // ref_bits = 2 * bits(T) + 256 bits, at exactly the T-rounded inputs (converted to MPFR without
@@ -46,9 +46,9 @@
 //   K, E: relative <= 4 ulp.  F(phi) (|phi| <= 20): mixed (w.r.t. phi) <= 8.
 //   F(am(u)) = u for 1e-3 <= |u| <= 1e5: |F(am u) - u| <= 8 eps (|u| + |am| / dn(u)) (am is
 //       rounded to eps |am|, and dF/dphi = 1/dn).
-#include "eulervop/elliptic.hpp"
-#include "eulervop/detail/sincos_double.hpp"
-#include "eulervop/jacobi_theta.hpp"
+#include "eulervop/special/elliptic.hpp"
+#include "eulervop/special/detail/sincos_double.hpp"
+#include "eulervop/special/jacobi_theta.hpp"
 #include "type_test_names.hpp"
 
 #include <gtest/gtest.h>

@@ -6,9 +6,9 @@
 // numbers and the sum of 73 of them to be exact), so the comparison measures the kernel's error alone. The bound checked is the one the
 // header derives: 2^-(p+3) n max_k |A_rk| max|x| + ulp(y_r) (the quad form, 2^-116 n ... +
 // 2 ulp, is tighter than this for p = 113).
-#include <eulervop/detail/chebyshev_basis.hpp>
-#include <eulervop/detail/fixed_point_matvec.hpp>
-#include <eulervop/scalar.hpp>
+#include <eulervop/reference/detail/chebyshev_basis.hpp>
+#include <eulervop/reference/detail/fixed_point_matvec.hpp>
+#include <eulervop/core/scalar.hpp>
 
 #include <gtest/gtest.h>
 

@@ -15,9 +15,9 @@
 //   reported with tau and cause, exit code 3 and no output file, by `reference` and `report`.
 #include "cli_test_support.hpp"
 
-#include <eulervop/chebyshev_picard.hpp>
-#include <eulervop/error_measure.hpp>
-#include <eulervop/scalar.hpp>
+#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/model/error_measure.hpp>
+#include <eulervop/core/scalar.hpp>
 #include <eulervop/scene/scene.hpp>
 #include <eulervop/scene/scene_problem.hpp>
 

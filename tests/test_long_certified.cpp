@@ -8,7 +8,7 @@
 // which round back to those binary values exactly), so the two are compared at the same times.
 #include "cli_test_support.hpp"
 
-#include <eulervop/scalar.hpp>
+#include <eulervop/core/scalar.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // The reference CSV: what the writer prints, the reader gives back, with the numbers as numbers.
-#include "reference_csv.hpp"
-#include "scene_library.hpp"
+#include "io/reference_csv.hpp"
+#include "compute/scene_library.hpp"
 
 #include <gtest/gtest.h>
 

@@ -4,16 +4,16 @@
 // dense trajectory, sampled afterwards, and the whole CSV built in a string. A run that fails
 // half-way must leave neither the output nor a scratch file.
 #include "cli_test_support.hpp"
-#include "reference_command.hpp"
-#include "reference_compute.hpp"
-#include "reference_csv.hpp"
-#include "scene_library.hpp"
-#include "scene_overrides.hpp"
-#include "with_scalar.hpp"
+#include "commands/reference_command.hpp"
+#include "compute/reference_compute.hpp"
+#include "io/reference_csv.hpp"
+#include "compute/scene_library.hpp"
+#include "compute/scene_overrides.hpp"
+#include "compute/with_scalar.hpp"
 
-#include <eulervop/chebyshev_picard.hpp>
-#include <eulervop/model.hpp>
-#include <eulervop/scalar.hpp>
+#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/model/euler_problem.hpp>
+#include <eulervop/core/scalar.hpp>
 
 #include <gtest/gtest.h>
 

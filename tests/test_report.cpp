@@ -3,10 +3,10 @@
 // Also the step rule in process (resolve_step).
 #include "cli_test_support.hpp"
 
-#include "report_command.hpp"
-#include "step_rule.hpp"
+#include "commands/report_command.hpp"
+#include "compute/step_rule.hpp"
 
-#include <eulervop/elliptic.hpp>
+#include <eulervop/special/elliptic.hpp>
 #include <eulervop/scene/scene.hpp>
 
 #include <gtest/gtest.h>

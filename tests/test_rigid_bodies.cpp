@@ -3,10 +3,10 @@
 // Eq. 1 in MPFR at 256 bits (a Taylor series method written here, sharing no code with the
 // Chebyshev-Picard integrator or the scene's change of variables), and every relabelling of a
 // body's axes must give the same rates in the user's axes.
-#include <eulervop/chebyshev_picard.hpp>
-#include <eulervop/model.hpp>
+#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/model/euler_problem.hpp>
 #include <eulervop/oracle.hpp>
-#include <eulervop/scalar.hpp>
+#include <eulervop/core/scalar.hpp>
 #include <eulervop/scene/scene.hpp>
 #include <eulervop/scene/scene_problem.hpp>
 

@@ -1,4 +1,4 @@
-// Tests of include/eulervop/runge_kutta.hpp.
+// Tests of include/eulervop/rk/explicit_rk.hpp.
 //
 // Reference values and their provenance:
 //   - rotation x1' = -x2, x2' = x1: exact solution (cos t, sin t), evaluated in quad.
@@ -13,9 +13,9 @@
 #include "rk_test_systems.hpp"
 #include "type_test_names.hpp"
 
-#include <eulervop/model.hpp>
-#include <eulervop/runge_kutta.hpp>
-#include <eulervop/scalar.hpp>
+#include <eulervop/model/euler_problem.hpp>
+#include <eulervop/rk/explicit_rk.hpp>
+#include <eulervop/core/scalar.hpp>
 
 #include <gmp.h>
 #include <gtest/gtest.h>

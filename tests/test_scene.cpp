@@ -3,9 +3,9 @@
 // "Scenes").
 #include "type_test_names.hpp"
 
-#include <eulervop/chebyshev_picard.hpp>
-#include <eulervop/model.hpp>
-#include <eulervop/scalar.hpp>
+#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/model/euler_problem.hpp>
+#include <eulervop/core/scalar.hpp>
 #include <eulervop/scene/decimal.hpp>
 #include <eulervop/scene/input_error.hpp>
 #include <eulervop/scene/scene.hpp>

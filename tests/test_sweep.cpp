@@ -3,7 +3,7 @@
 // cheapest.csv and summary.json, and bad flags.
 #include "cli_test_support.hpp"
 
-#include <eulervop/comparison_run.hpp>
+#include <eulervop/runs/comparison_run.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

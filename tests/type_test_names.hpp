@@ -4,7 +4,7 @@
 // with them it reads as "Elliptic/quad.CompleteIntegralsAgainstBoostMpfr".
 #pragma once
 
-#include <eulervop/scalar.hpp>
+#include <eulervop/core/scalar.hpp>
 
 #include <string>
 #include <type_traits>

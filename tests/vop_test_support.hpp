@@ -2,8 +2,8 @@
 // right-hand side against Euler's equations (Eq. 5).
 #pragma once
 
-#include <eulervop/model.hpp>
-#include <eulervop/scalar.hpp>
+#include <eulervop/model/euler_problem.hpp>
+#include <eulervop/core/scalar.hpp>
 
 #include <algorithm>
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes include/eulervop/detail/theta_tables.hpp, the generated constants of the theta-function
+"""Writes include/eulervop/special/detail/theta_tables.hpp, the generated constants of the theta-function
 route (jacobi_theta.hpp), after checking each against mpmath at 60 digits:
 
 1. Piecewise polynomials, in double, for the two modulus quantities on its critical path:
@@ -23,7 +23,7 @@ The script evaluates the rounded coefficients in double in the same order as the
 scheme) at 400 points per interval (20,000 for the kernel) and prints the worst relative error
 in units of 2^-52; it refuses to write the header if any exceeds 1.
 
-Usage: tools/derive_theta_tables.py [output]   (default include/eulervop/detail/theta_tables.hpp)
+Usage: tools/derive_theta_tables.py [output]   (default include/eulervop/special/detail/theta_tables.hpp)
 Needs mpmath (Debian: python3-mpmath); the build does not run it, the header is committed.
 """
 import sys
@@ -144,7 +144,7 @@ def kernel_worst(S, C):
 
 
 def main():
-    out = sys.argv[1] if len(sys.argv) > 1 else "include/eulervop/detail/theta_tables.hpp"
+    out = sys.argv[1] if len(sys.argv) > 1 else "include/eulervop/special/detail/theta_tables.hpp"
     tables = {"g": [], "rate": []}
     worst = {"g": 0.0, "rate": 0.0}
     for row in range(ROWS):

@@ -37,10 +37,10 @@
 #error "eulervop needs GNU extensions for quad (__float128): compile with -std=gnu++20 (CMake: CXX_EXTENSIONS ON, the default)"
 #endif
 
-#include <eulervop/chebyshev_picard.hpp>
-#include <eulervop/error_measure.hpp>
-#include <eulervop/model.hpp>
-#include <eulervop/scalar.hpp>
+#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/model/error_measure.hpp>
+#include <eulervop/model/euler_problem.hpp>
+#include <eulervop/core/scalar.hpp>
 
 #include <cstddef>
 #include <stdexcept>

@@ -5,7 +5,7 @@
 // as text and converted once, in the target type, by to_scalar<T>.
 #pragma once
 
-#include <eulervop/scalar.hpp>
+#include <eulervop/core/scalar.hpp>
 
 #include <optional>
 #include <stdexcept>

@@ -10,7 +10,7 @@
 #include <eulervop/scene/decimal.hpp>
 #include <eulervop/scene/input_error.hpp>
 
-#include <eulervop/scalar.hpp>
+#include <eulervop/core/scalar.hpp>
 
 #include <array>
 #include <cstdint>

@@ -9,8 +9,8 @@
 
 #include <eulervop/scene/scene.hpp>
 
-#include <eulervop/model.hpp>
-#include <eulervop/scalar.hpp>
+#include <eulervop/model/euler_problem.hpp>
+#include <eulervop/core/scalar.hpp>
 
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
 

@@ -1,0 +1,33 @@
+// The exception that carries a failed outcome (outcome.hpp) to the program, which maps it to
+// exit code 3: the reference integrator gave up, or a reference cannot be used.
+#pragma once
+
+#include <eulervop/core/outcome.hpp>
+#include <eulervop/core/outcome_text.hpp>
+
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace eulervop {
+
+// what() is "numerical failure at tau=X: " and the outcome's text.
+class numerical_failure : public std::runtime_error {
+ public:
+  explicit numerical_failure(const outcome& status)
+      : std::runtime_error("numerical failure at tau=" + format_tau(status.tau) + ": " + describe(status)),
+        status_(status) {}
+  double tau() const { return status_.tau.value_or(std::numeric_limits<double>::quiet_NaN()); }
+  const outcome& status() const { return status_; }
+
+ private:
+  static std::string format_tau(const std::optional<double>& tau) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.9g", tau.value_or(std::numeric_limits<double>::quiet_NaN()));
+    return buf;
+  }
+  outcome status_;
+};
+
+}  // namespace eulervop

@@ -1,0 +1,318 @@
+// y = A x for quad (IEEE binary128) and MPFR matrices and vectors, in integer arithmetic.
+//
+// The reference integrator's residual in the wide type is a dense matrix-vector product, and it
+// dominated the run time: soft-float quad costs about 20 ns per multiply or add (libgcc's
+// __multf3 and __addtf3), and an MPFR fused multiply-add rounds, normalizes and manages
+// temporaries on every term. Here each row of A and the vector x are scaled by powers of two
+// into integers (A once, x per call, each by its own largest entry), the products are exact
+// integer products and the sums exact integer sums: a fixed-point dot product in the manner of
+// Kulisch's long accumulator, rounded to the wide type once at the end.
+#pragma once
+
+#include <eulervop/core/scalar.hpp>
+
+#include <boost/multiprecision/gmp.hpp>
+
+#include <gmp.h>
+#include <mpfr.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+namespace eulervop::detail {
+
+template <scalar T>
+class fixed_point_matrix;
+
+// Quad: the entries become signed 128-bit integers with 116 significant bits, split into 64-bit
+// halves whose products are exact. Row r of A and x enter rounded to nearest, with absolute
+// errors of at most 2^-117 max_k |A_rk| and 2^-117 max|x| (none for entries within 3 binades of
+// those largest), the dropped low half of each product is below 2^-168 max_k |A_rk| max|x|, and
+// the result is rounded to quad once, then by at most half an ulp again when the two partial
+// sums are added. So
+//   |y_r - (A x)_r| <= 2^-116 n max_k |A_rk| max|x| + 2 ulp(y_r),
+// the same order as n products and n sums in quad arithmetic, at a small fraction of the cost.
+template <>
+class fixed_point_matrix<quad> {
+ public:
+  // Bits of the integer images of A and x: products stay below 2^232 and the middle partial sums
+  // below 2^127 for up to max_columns columns.
+  static constexpr int fraction_bits = 116;
+  static constexpr std::size_t max_columns = 1000;
+
+  fixed_point_matrix() = default;
+  // A row-major rows x cols matrix.
+  fixed_point_matrix(const std::vector<quad>& a, std::size_t rows, std::size_t cols)
+      : rows_(rows), cols_(cols), hi_(a.size()), lo_(a.size()), xh_(cols), xl_(cols) {
+    if (cols > max_columns || a.size() != rows * cols)
+      throw std::invalid_argument("fixed_point_matrix: at most 1000 columns, rows x cols entries");
+    // Each row by its own largest entry: rows of the Picard matrix near the segment's start are
+    // small (integrals over short intervals) and keep their relative accuracy.
+    a_shift_.resize(rows);
+    for (std::size_t r = 0; r < rows; ++r) {
+      quad amax = 0;
+      for (std::size_t k = 0; k < cols; ++k) amax = std::max(amax, quad(abs(a[r * cols + k])));
+      a_shift_[r] = amax > 0 ? shift_for(amax) : 0;
+      const quad scale = ldexp(quad(1), a_shift_[r]);
+      for (std::size_t k = 0; k < cols; ++k)
+        split(nearest_integer(a[r * cols + k] * scale), hi_[r * cols + k], lo_[r * cols + k]);  // exact scaling
+    }
+  }
+
+  std::size_t rows() const { return rows_; }
+  std::size_t cols() const { return cols_; }
+
+  // y[r] = sum_k A[r][k] x[k] for rows [first_row, rows). Not const: x is split into scratch
+  // storage (one object per thread).
+  void multiply(const quad* x, quad* y, std::size_t first_row = 0) {
+    quad xmax = 0;
+    for (std::size_t k = 0; k < cols_; ++k) xmax = std::max(xmax, quad(abs(x[k])));
+    if (xmax == 0) {
+      for (std::size_t r = first_row; r < rows_; ++r) y[r] = 0;
+      return;
+    }
+    const int x_shift = shift_for(xmax);
+    const quad scale = ldexp(quad(1), x_shift);
+    for (std::size_t k = 0; k < cols_; ++k) split(nearest_integer(x[k] * scale), xh_[k], xl_[k]);
+    for (std::size_t r = first_row; r < rows_; ++r) {
+      // y = (H 2^128 + M 2^64) 2^-(a_shift + x_shift), with H and M exact integer sums.
+      const quad unit_hi = ldexp(quad(1), 128 - a_shift_[r] - x_shift);
+      const quad unit_mid = ldexp(quad(1), 64 - a_shift_[r] - x_shift);
+      const std::int64_t* ah = &hi_[r * cols_];
+      const std::uint64_t* al = &lo_[r * cols_];
+      __int128 H = 0, M = 0;
+      for (std::size_t k = 0; k < cols_; ++k) {
+        H += static_cast<__int128>(ah[k]) * xh_[k];
+        M += static_cast<__int128>(ah[k]) * static_cast<__int128>(xl_[k]) +
+             static_cast<__int128>(xh_[k]) * static_cast<__int128>(al[k]) +
+             static_cast<__int128>((static_cast<unsigned __int128>(al[k]) * xl_[k]) >> 64);
+      }
+      // Carry the middle sum's high half into H, so that the first term holds all but 64 bits.
+      H += M >> 64;
+      const auto m_low = static_cast<std::uint64_t>(M);
+      y[r] = quad(static_cast<__float128>(H)) * unit_hi + quad(static_cast<__float128>(m_low)) * unit_mid;
+    }
+  }
+
+ private:
+  // The power of two that brings max (> 0) just below 2^fraction_bits.
+  static int shift_for(const quad& max) {
+    int e = 0;
+    (void)frexp(max, &e);  // max = m 2^e, m in [0.5, 1)
+    return fraction_bits - e;
+  }
+  // Rounded to nearest (truncation would bias every sum towards zero). The conversion truncates;
+  // the remainder is exact in quad, so comparing it with one half rounds correctly.
+  static __int128 nearest_integer(const quad& v) {
+    const __float128 x = v.backend().value();
+    __int128 n = static_cast<__int128>(x);
+    const __float128 rest = x - static_cast<__float128>(n);
+    if (rest > __float128(0.5)) ++n;
+    else if (rest < __float128(-0.5)) --n;
+    return n;
+  }
+  // v = hi 2^64 + lo with lo in [0, 2^64).
+  static void split(__int128 v, std::int64_t& hi, std::uint64_t& lo) {
+    hi = static_cast<std::int64_t>(v >> 64);
+    lo = static_cast<std::uint64_t>(v);
+  }
+
+  std::size_t rows_ = 0, cols_ = 0;
+  std::vector<int> a_shift_;  // per row
+  std::vector<std::int64_t> hi_;
+  std::vector<std::uint64_t> lo_;
+  std::vector<std::int64_t> xh_;
+  std::vector<std::uint64_t> xl_;
+};
+
+// MPFR at p bits: the entries become integers of L = ceil((p + 4) / 64) limbs (fraction bits
+// 64 L), which hold every entry within 4 binades of its row's or the vector's largest exactly
+// and smaller ones truncated below 2^-(p+4) of that largest. The products are summed exactly in
+// a two's-complement accumulator (negated where their sign is), and the sum is rounded to p
+// bits once (mpfr_set_z_2exp).
+//
+// Up to 8 limbs (p up to 508 bits) the limb loops are unrolled at compile time, with the product
+// and the accumulator in registers: a product of two entries is the sum of the limb products
+// a_i b_j 2^(64 (i + j)), and those with i + j >= L - 2 are summed column by column with the
+// carries passed up, while the lower ones, all below 2^(64 L) in the scaled units, are dropped:
+// less than L 2^-(64 L + 62) max_k |A_rk| max|x| per column of A, far below the truncation of
+// the inputs. Wider entries are multiplied exactly by mpn_mul_n. In both cases
+//   |y_r - (A x)_r| <= 2^-(p+3) n max_k |A_rk| max|x| + ulp(y_r) / 2.
+template <>
+class fixed_point_matrix<mpfr_real> {
+ public:
+  // Sums of at most max_columns products keep 10 bits of headroom in the accumulator's top limb.
+  static constexpr std::size_t max_columns = 1000;
+
+  fixed_point_matrix() = default;
+  // A row-major rows x cols matrix whose entries carry at most `bits` significant bits.
+  fixed_point_matrix(const std::vector<mpfr_real>& a, std::size_t rows, std::size_t cols, unsigned bits)
+      : rows_(rows), cols_(cols), limbs_((bits + 4 + 63) / 64), fraction_bits_(64 * static_cast<long>(limbs_)),
+        a_(a.size() * limbs_), a_negative_(a.size()), a_shift_(rows), x_(cols * limbs_), x_negative_(cols),
+        product_(2 * limbs_), sum_(2 * limbs_ + 1) {
+    if (a.size() != rows * cols || cols > max_columns)
+      throw std::invalid_argument("fixed_point_matrix: at most 1000 columns, rows x cols entries");
+    for (std::size_t r = 0; r < rows; ++r) {
+      const mpfr_real* row = &a[r * cols];
+      a_shift_[r] = shift_for(row, cols);
+      for (std::size_t k = 0; k < cols; ++k)
+        to_fixed(row[k], a_shift_[r], &a_[(r * cols + k) * limbs_], a_negative_[r * cols + k]);
+    }
+  }
+
+  std::size_t rows() const { return rows_; }
+  std::size_t cols() const { return cols_; }
+
+  // y[r] = sum_k A[r][k] x[k] for rows [first_row, rows), rounded to the precision of y[r]. Not
+  // const: works in scratch storage (one object per thread).
+  void multiply(const mpfr_real* x, mpfr_real* y, std::size_t first_row = 0) {
+    const long x_shift = shift_for(x, cols_);
+    for (std::size_t k = 0; k < cols_; ++k) to_fixed(x[k], x_shift, &x_[k * limbs_], x_negative_[k]);
+    switch (limbs_) {
+      case 1: return unrolled_rows<1>(first_row, x_shift, y);
+      case 2: return unrolled_rows<2>(first_row, x_shift, y);
+      case 3: return unrolled_rows<3>(first_row, x_shift, y);
+      case 4: return unrolled_rows<4>(first_row, x_shift, y);
+      case 5: return unrolled_rows<5>(first_row, x_shift, y);
+      case 6: return unrolled_rows<6>(first_row, x_shift, y);
+      case 7: return unrolled_rows<7>(first_row, x_shift, y);
+      case 8: return unrolled_rows<8>(first_row, x_shift, y);
+      default: return wide_rows(first_row, x_shift, y);
+    }
+  }
+
+ private:
+  using limb_pair = unsigned __int128;
+
+  // Column S of a b from limb I up: c (192 bits: c, c2) += a_I b_(S-I) + ...
+  template <std::size_t L, std::size_t S, std::size_t I>
+  [[gnu::always_inline]] static inline void column(const mp_limb_t* a, const mp_limb_t* b, limb_pair& c,
+                                                   std::uint64_t& c2) {
+    if constexpr (I < L && I <= S) {
+      if constexpr (S - I < L) {
+        const limb_pair p = static_cast<limb_pair>(a[I]) * b[S - I];
+        c += p;
+        c2 += c < p;
+      }
+      column<L, S, I + 1>(a, b, c, c2);
+    }
+  }
+  // Columns S .. 2 L - 2 of a b into out[S - lowest ...], the carry into the last limb.
+  template <std::size_t L, std::size_t S, std::size_t lowest>
+  [[gnu::always_inline]] static inline void columns(const mp_limb_t* a, const mp_limb_t* b, mp_limb_t* out,
+                                                    limb_pair c) {
+    if constexpr (S + 1 < 2 * L) {
+      std::uint64_t c2 = 0;
+      column<L, S, 0>(a, b, c, c2);
+      out[S - lowest] = static_cast<mp_limb_t>(c);
+      columns<L, S + 1, lowest>(a, b, out, (c >> 64) | (static_cast<limb_pair>(c2) << 64));
+    } else {
+      out[S - lowest] = static_cast<mp_limb_t>(c);
+    }
+  }
+
+  template <std::size_t L>
+  void unrolled_rows(std::size_t first_row, long x_shift, mpfr_real* y) {
+    constexpr std::size_t lowest = L >= 2 ? L - 2 : 0;  // the lowest column summed
+    constexpr std::size_t width = 2 * L - lowest;       // product limbs: columns lowest .. 2 L - 1
+    for (std::size_t r = first_row; r < rows_; ++r) {
+      std::array<mp_limb_t, width + 1> sum{};
+      for (std::size_t k = 0; k < cols_; ++k) {
+        std::array<mp_limb_t, L> a, b;
+        std::copy_n(&a_[(r * cols_ + k) * L], L, a.begin());
+        std::copy_n(&x_[k * L], L, b.begin());
+        std::array<mp_limb_t, width> product;
+        columns<L, lowest, lowest>(a.data(), b.data(), product.data(), 0);
+        // sum += product, or -product = (product XOR m) + 1 with m all ones, sign-extended.
+        const mp_limb_t m = mp_limb_t(0) - mp_limb_t(a_negative_[r * cols_ + k] ^ x_negative_[k]);
+        limb_pair carry = m & 1;
+#pragma GCC unroll 32
+        for (std::size_t t = 0; t < width; ++t) {
+          carry += static_cast<limb_pair>(sum[t]) + (product[t] ^ m);
+          sum[t] = static_cast<mp_limb_t>(carry);
+          carry >>= 64;
+        }
+        sum[width] += m + static_cast<mp_limb_t>(carry);
+      }
+      std::copy(sum.begin(), sum.end(), sum_.begin());
+      round_sum(width + 1, y[r], a_shift_[r] + x_shift - 64 * static_cast<long>(lowest));
+    }
+  }
+
+  void wide_rows(std::size_t first_row, long x_shift, mpfr_real* y) {
+    const auto n = static_cast<mp_size_t>(limbs_);
+    for (std::size_t r = first_row; r < rows_; ++r) {
+      std::fill(sum_.begin(), sum_.end(), 0);
+      for (std::size_t k = 0; k < cols_; ++k) {
+        mpn_mul_n(product_.data(), &a_[(r * cols_ + k) * limbs_], &x_[k * limbs_], n);
+        const bool negative = a_negative_[r * cols_ + k] != x_negative_[k];
+        const mp_limb_t carry = negative ? mpn_sub_n(sum_.data(), sum_.data(), product_.data(), 2 * n)
+                                         : mpn_add_n(sum_.data(), sum_.data(), product_.data(), 2 * n);
+        sum_[2 * limbs_] += negative ? mp_limb_t(0) - carry : carry;
+      }
+      round_sum(sum_.size(), y[r], a_shift_[r] + x_shift);
+    }
+  }
+
+  // y = sum_ 2^-shift for the two's-complement integer in the first n limbs of sum_
+  // (overwritten), rounded to nearest.
+  void round_sum(std::size_t n, mpfr_real& y, long shift) {
+    mp_limb_t* sum = sum_.data();
+    const bool negative = sum[n - 1] >> 63;
+    if (negative) mpn_neg(sum, sum, static_cast<mp_size_t>(n));
+    mp_size_t size = static_cast<mp_size_t>(n);
+    while (size > 0 && sum[size - 1] == 0) --size;
+    mpz_t view;
+    mpz_srcptr z = mpz_roinit_n(view, sum, negative ? -size : size);
+    mpfr_set_z_2exp(y.backend().data(), z, -shift, MPFR_RNDN);
+  }
+
+  // The power of two that brings the largest |v| of the span just below 2^fraction_bits (0 for
+  // an all-zero span).
+  long shift_for(const mpfr_real* v, std::size_t count) const {
+    bool any = false;
+    mpfr_exp_t e = 0;
+    for (std::size_t k = 0; k < count; ++k) {
+      mpfr_srcptr p = v[k].backend().data();
+      if (mpfr_zero_p(p)) continue;
+      e = any ? std::max(e, mpfr_get_exp(p)) : mpfr_get_exp(p);  // |v| < 2^exp
+      any = true;
+    }
+    return any ? fraction_bits_ - static_cast<long>(e) : 0;
+  }
+
+  // v 2^shift as a sign and `limbs_` limbs of magnitude: exact when v's last bit is at or above
+  // 2^-shift, truncated otherwise.
+  void to_fixed(const mpfr_real& v, long shift, mp_limb_t* out, unsigned char& negative) {
+    std::fill(out, out + limbs_, 0);
+    negative = 0;
+    mpfr_srcptr p = v.backend().data();
+    if (mpfr_zero_p(p)) return;
+    mpz_ptr z = scratch_.backend().data();
+    const long s = static_cast<long>(mpfr_get_z_2exp(z, p)) + shift;  // v = z 2^e exactly
+    if (s >= 0)
+      mpz_mul_2exp(z, z, static_cast<mp_bitcnt_t>(s));
+    else
+      mpz_tdiv_q_2exp(z, z, static_cast<mp_bitcnt_t>(-s));
+    negative = mpz_sgn(z) < 0;
+    const std::size_t size = mpz_size(z);  // <= limbs_, as |v| 2^shift < 2^fraction_bits
+    for (std::size_t i = 0; i < size; ++i) out[i] = mpz_getlimbn(z, static_cast<mp_size_t>(i));
+  }
+
+  std::size_t rows_ = 0, cols_ = 0, limbs_ = 0;
+  long fraction_bits_ = 0;
+  std::vector<mp_limb_t> a_;  // magnitudes, limbs_ per entry, row-major
+  std::vector<unsigned char> a_negative_;
+  std::vector<long> a_shift_;  // per row
+  std::vector<mp_limb_t> x_;
+  std::vector<unsigned char> x_negative_;
+  std::vector<mp_limb_t> product_, sum_;  // scratch: a product, and the sum of a row
+  boost::multiprecision::mpz_int scratch_;
+};
+
+}  // namespace eulervop::detail

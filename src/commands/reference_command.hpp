@@ -1,0 +1,40 @@
+// `eulervop reference [SCENE] [options]`: the high-precision reference solution as CSV
+// (layout in the README, "Command line").
+#pragma once
+
+#include "compute/scene_overrides.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <ostream>
+#include <string>
+
+namespace eulervop::app {
+
+// The subcommand's flags exactly as given (validated by run_reference, so every message can
+// quote the user's text).
+struct reference_options {
+  std::optional<std::string> scene_path;  // none: the embedded default scene
+  scene_override_flags overrides;         // --tau-end, --samples, --precision, ...
+  std::optional<std::string> out;         // none: standard output
+  bool verify = false;
+  bool certify = false;
+  // Not flags: set by main() and by `batch`.
+  std::string command;       // "# command: ..." (the argv that made the file, without --out); none if empty
+  bool omit_timing = false;  // leave out the "# wall_seconds" lines (batch: byte-identical reruns)
+};
+
+// Adds the `reference` subcommand to `app`, binding its flags to `options`.
+CLI::App* add_reference_command(CLI::App& app, reference_options& options);
+
+// Runs the command. Throws input_error (bad scene or flags, before any computation) and
+// eulervop::numerical_failure (the integrator gave up). Writes the CSV to `--out` atomically,
+// or to `standard_output`.
+void run_reference(const reference_options& options, std::ostream& standard_output);
+
+// The "# command:" text of a run: "eulervop" and the arguments after the program name, each
+// shell-quoted when needed, with `--out FILE` left out (where the CSV went is not what made it).
+std::string command_text(int argc, const char* const* argv);
+
+}  // namespace eulervop::app

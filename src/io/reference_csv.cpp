@@ -1,0 +1,159 @@
+#include "io/reference_csv.hpp"
+
+#include "compute/scene_library.hpp"
+
+#include <fmt/format.h>
+
+#include <sstream>
+
+namespace eulervop::app {
+
+namespace {
+
+// Rows are handed over in chunks of this size: large enough that writing costs far less than
+// formatting, small enough not to matter for memory.
+constexpr std::size_t row_chunk = 1 << 16;
+
+// The precision named at the start of a "# precision:" value ("mpfr:256 (effective_bits=257)").
+eulervop::precision parse_precision(const std::string& value, const std::string& where, std::size_t line) {
+  const std::string name = value.substr(0, value.find(' '));
+  const auto p = eulervop::precision::parse(name);
+  if (!p) throw input_error(fmt::format("{}: line {}: unknown precision `{}`", where, line, name));
+  return *p;
+}
+
+double seconds_of(const std::string& value) { return std::strtod(value.c_str(), nullptr); }
+
+// Reads the '#' lines of a reference file into its metadata. Unknown keys are ignored, so a
+// file written by a later version still reads.
+reference_metadata metadata_of(const csv_rows& rows) {
+  reference_metadata m;
+  std::size_t line = 0;
+  for (const std::string& l : rows.comments()) {
+    ++line;  // the comments come first in the file (blank lines aside)
+    auto value = [&](std::string_view key) { return metadata_value(l, key); };
+    // A bound or an estimate: a non-negative decimal, kept as its text (for display) and value.
+    auto non_negative = [&](std::string_view key, const std::string& text) {
+      const auto parsed = parse_decimal(text);
+      if (!parsed.number || parsed.number->value < 0)
+        throw input_error(
+            fmt::format("{}: line {}: {} `{}` is not a non-negative number", rows.where(), line, key, text));
+      return decimal{text, parsed.number->value};
+    };
+    if (auto v = value("precision")) {
+      m.precision = parse_precision(*v, rows.where(), line);
+    } else if (auto e = value("estimated_max_error")) {
+      m.estimated_max_error = non_negative("estimated_max_error", *e);
+    } else if (auto n = value("scene")) {
+      m.scene_name = *n;
+    } else if (auto o = value("scene_source")) {
+      m.scene_source = *o;
+    } else if (auto c = value("command")) {
+      m.command = *c;
+    } else if (auto o2 = value("overrides")) {
+      m.overrides = *o2;
+    } else if (auto me = value("method")) {
+      m.method = *me;
+    } else if (auto w = value("wall_seconds")) {
+      m.wall_seconds = seconds_of(*w);
+    } else if (auto vp = value("verify_precision")) {
+      m.verify_precision = parse_precision(*vp, rows.where(), line);
+    } else if (auto vm = value("verify_method")) {
+      m.verify_method = *vm;
+    } else if (auto wv = value("wall_seconds_verify")) {
+      m.wall_seconds_verify = seconds_of(*wv);
+    } else if (auto ce = value("certified_max_error")) {
+      m.certified_max_error = non_negative("certified_max_error", *ce);
+    } else if (auto co = value("certified_max_error_omega")) {
+      m.certified_max_error_omega = non_negative("certified_max_error_omega", *co);
+    } else if (auto cm = value("certify_method")) {
+      m.certify_method = *cm;
+    } else if (l.starts_with("# scene_text:")) {
+      std::string_view text = std::string_view(l).substr(13);
+      if (text.starts_with(" ")) text.remove_prefix(1);
+      m.scene_text += std::string(text) + "\n";
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+eulervop::precision reference_metadata::reading_precision() const {
+  return precision.type == eulervop::precision::kind::mpfr ? precision : eulervop::precision::binary128();
+}
+
+std::string precision_text(const eulervop::precision& p) {
+  if (p.type == eulervop::precision::kind::mpfr)
+    return fmt::format("{} (effective_bits={})", p.name(), eulervop::mpfr_effective_bits(p.bits));
+  return p.name();
+}
+
+std::string reference_csv_header(const reference_metadata& m, reference_layout layout) {
+  fmt::memory_buffer out;
+  auto line = [&]<class... Args>(fmt::format_string<Args...> format, Args&&... args) {
+    fmt::format_to(std::back_inserter(out), format, std::forward<Args>(args)...);
+    out.push_back('\n');
+  };
+  line("# eulervop {}", EULERVOP_VERSION);
+  line("# scene: {}", m.scene_name);
+  line("# scene_source: {}", m.scene_source);
+  if (!m.command.empty()) line("# command: {}", m.command);
+  if (!m.overrides.empty()) line("# overrides: {}", m.overrides);
+  line("# precision: {}", precision_text(m.precision));
+  line("# method: {}", m.method);
+  if (m.wall_seconds) line("# wall_seconds: {:.3f}", *m.wall_seconds);
+  if (m.estimated_max_error) {
+    line("# estimated_max_error: {}", m.estimated_max_error->text);
+    if (m.verify_precision) line("# verify_precision: {}", precision_text(*m.verify_precision));
+    line("# verify_method: {}", m.verify_method);
+    if (m.wall_seconds_verify) line("# wall_seconds_verify: {:.3f}", *m.wall_seconds_verify);
+  }
+  if (m.certified_max_error) {
+    line("# certified_max_error: {}", m.certified_max_error->text);
+    if (m.certified_max_error_omega) line("# certified_max_error_omega: {}", m.certified_max_error_omega->text);
+    line("# certify_method: {}", m.certify_method);
+  }
+  std::istringstream scene_lines(m.scene_text);
+  for (std::string l; std::getline(scene_lines, l);) {
+    if (!l.empty() && l.back() == '\r') l.pop_back();
+    line("# scene_text: {}", l);
+  }
+  switch (layout) {
+    case reference_layout::normalized:
+      line("tau,Omega1,Omega2,Omega3{}", m.certified_max_error ? ",radius" : "");
+      break;
+    case reference_layout::physical:
+      line("tau,Omega1,Omega2,Omega3,t,omega1,omega2,omega3{}", m.certified_max_error ? ",radius,radius_omega" : "");
+      break;
+    case reference_layout::direct: line("t,omega1,omega2,omega3"); break;
+  }
+  return fmt::to_string(out);
+}
+
+void reference_csv_row_writer::end_row() {
+  buffer_.push_back('\n');
+  if (buffer_.size() >= row_chunk) flush();
+}
+
+void reference_csv_row_writer::flush() {
+  if (buffer_.size() == 0) return;
+  sink_(std::string_view(buffer_.data(), buffer_.size()));
+  buffer_.clear();
+}
+
+reference_csv_reader::reference_csv_reader(std::istream& in, std::string where)
+    : rows_(in, std::move(where)), meta_(metadata_of(rows_)) {
+  const char* state = rows_.column("Omega1") || !rows_.column("omega1") ? "Omega" : "omega";
+  for (int k = 0; k < 3; ++k) Omega_[k] = column(fmt::format("{}{}", state, k + 1));
+}
+
+std::size_t reference_csv_reader::column(const std::string& name, std::string_view why) const {
+  const auto c = rows_.column(name);
+  if (!c)
+    throw input_error(
+        fmt::format("{}: line {}: the header has no column `{}`{}", rows_.where(), rows_.line(), name, why));
+  return *c;
+}
+
+}  // namespace eulervop::app

@@ -1,0 +1,162 @@
+// The reference CSV of `eulervop reference`: its '#' metadata block, its header and its rows.
+//
+// One writer and one streaming reader, so the format has one owner (the layout is described in
+// the README, "Command line"). `reference` and `batch` write it, streaming the rows (the header,
+// which states the finished run, is written last and placed first); `report --reference` and
+// `check` read it. Numbers stay numbers: the estimated error is a decimal (its text as written,
+// three significant digits, and the nearest double), the precision a parsed precision.
+#pragma once
+
+#include "io/csv_rows.hpp"
+#include "compute/scene_library.hpp"
+
+#include <eulervop/model/euler_problem.hpp>
+#include <eulervop/core/scalar.hpp>
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cstddef>
+#include <functional>
+#include <istream>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+
+namespace eulervop::app {
+
+// The '#' lines of a reference file, in the order they are written.
+struct reference_metadata {
+  std::string scene_name;                        // # scene
+  std::string scene_source;                      // # scene_source
+  std::string command;                           // # command (none if empty)
+  std::string overrides;                         // # overrides (none if empty)
+  eulervop::precision precision = eulervop::precision::binary128();  // # precision
+  std::string method;                            // # method
+  std::optional<double> wall_seconds;            // # wall_seconds
+  std::optional<decimal> estimated_max_error;    // # estimated_max_error (--verify)
+  std::optional<eulervop::precision> verify_precision;  // # verify_precision (with --verify)
+  std::string verify_method;                     // # verify_method (with --verify)
+  std::optional<double> wall_seconds_verify;     // # wall_seconds_verify
+  std::optional<decimal> certified_max_error;    // # certified_max_error (--certify; rows then carry `radius`)
+  std::optional<decimal> certified_max_error_omega;  // # certified_max_error_omega (physical scenes, rad/s)
+  std::string certify_method;                    // # certify_method (with --certify)
+  std::string scene_text;                        // # scene_text lines, each ending in '\n'
+
+  // The precision to read the rows in: double values are exact in quad, MPFR at its bits.
+  eulervop::precision reading_precision() const;
+};
+
+// "mpfr:256 (effective_bits=257)": the precision as the metadata states it.
+std::string precision_text(const eulervop::precision& p);
+
+// The columns of a reference file: tau and Omega; then t and omega for a physical scene; or t and
+// omega alone for a body integrated in the direct form of Eq. 1, which has no tau or Omega.
+enum class reference_layout { normalized, physical, direct };
+
+// The metadata block and the column header of a reference file, each line ending in '\n'.
+std::string reference_csv_header(const reference_metadata& m, reference_layout layout);
+
+// Formats the rows of a reference file and hands them to `sink` in chunks of about 64 KiB, so a
+// run streams its rows however many there are.
+class reference_csv_row_writer {
+ public:
+  using sink_function = std::function<void(std::string_view)>;
+  explicit reference_csv_row_writer(sink_function sink) : sink_(std::move(sink)) {}
+
+  template <scalar T>
+  void row(const T& tau, const vec3<T>& Omega) {
+    cells(tau, Omega);
+    end_row();
+  }
+  // A physical scene's row: the normalized state, then the time in seconds and omega in rad/s.
+  // (A row of the direct form is the one-state row, with t and omega.)
+  template <scalar T>
+  void row(const T& tau, const vec3<T>& Omega, const T& t, const vec3<T>& omega) {
+    cells(tau, Omega);
+    buffer_.push_back(',');
+    cells(t, omega);
+    end_row();
+  }
+  // A certified row of the normalized layout: tau, the state as the texts `cells` (already
+  // formatted, as the radius was computed for them), then the radius.
+  template <scalar T>
+  void certified_row(const T& tau, const std::array<std::string, 3>& cells, const std::string& radius) {
+    fmt::format_to(std::back_inserter(buffer_), "{},{},{},{},{}", to_text(tau), cells[0], cells[1], cells[2], radius);
+    end_row();
+  }
+  // A certified row of the physical layout: then t, omega's cells, the radius of Omega and that
+  // of omega.
+  template <scalar T>
+  void certified_row(const T& tau, const std::array<std::string, 3>& Omega_cells, const T& t,
+                     const std::array<std::string, 3>& omega_cells, const std::array<std::string, 2>& radii) {
+    fmt::format_to(std::back_inserter(buffer_), "{},{},{},{},{},{},{},{},{},{}", to_text(tau), Omega_cells[0],
+                   Omega_cells[1], Omega_cells[2], to_text(t), omega_cells[0], omega_cells[1], omega_cells[2],
+                   radii[0], radii[1]);
+    end_row();
+  }
+  // Hands over the rows still buffered.
+  void flush();
+
+ private:
+  template <scalar T>
+  void cells(const T& time, const vec3<T>& v) {
+    fmt::format_to(std::back_inserter(buffer_), "{},{},{},{}", to_text(time), to_text(v[0]), to_text(v[1]),
+                   to_text(v[2]));
+  }
+  void end_row();
+
+  sink_function sink_;
+  fmt::memory_buffer buffer_;
+};
+
+// A whole reference file in memory, header then rows: for small files and the tests.
+class reference_csv_writer {
+ public:
+  reference_csv_writer(const reference_metadata& m, reference_layout layout)
+      : text_(reference_csv_header(m, layout)), rows_([this](std::string_view s) { text_.append(s); }) {}
+  reference_csv_writer(const reference_csv_writer&) = delete;  // rows_ appends to this->text_
+  reference_csv_writer& operator=(const reference_csv_writer&) = delete;
+
+  template <scalar T, class... Physical>
+  void row(const T& tau, const vec3<T>& Omega, const Physical&... t_and_omega) {
+    rows_.row(tau, Omega, t_and_omega...);
+  }
+  std::string text() {
+    rows_.flush();
+    return text_;
+  }
+
+ private:
+  std::string text_;
+  reference_csv_row_writer rows_;
+};
+
+// Streams a reference file: the metadata and the header on construction, then one row per
+// next(). Every problem is an input_error naming `where`, the line and the cell.
+class reference_csv_reader {
+ public:
+  reference_csv_reader(std::istream& in, std::string where);
+
+  const reference_metadata& metadata() const { return meta_; }
+  // The column named `name`; input_error ("the header has no column `name`{why}") if absent.
+  std::size_t column(const std::string& name, std::string_view why = "") const;
+  csv_rows& rows() { return rows_; }
+  const csv_rows& rows() const { return rows_; }
+
+  // The current row's state as numbers in T: Omega, or omega in a file of the direct form
+  // (reference_layout::direct), whose state it is.
+  template <scalar T>
+  vec3<T> Omega() const {
+    return {rows_.number(Omega_[0]).template to_scalar<T>(), rows_.number(Omega_[1]).template to_scalar<T>(),
+            rows_.number(Omega_[2]).template to_scalar<T>()};
+  }
+
+ private:
+  csv_rows rows_;
+  reference_metadata meta_;
+  std::array<std::size_t, 3> Omega_{};
+};
+
+}  // namespace eulervop::app
