@@ -31,7 +31,7 @@ const double h = eulervop::elliptic_modulus<double>(0.5).K() / 3200;
 
 eulervop::euler_problem<double> paper() {
   eulervop::euler_problem<double> p;
-  p.G = {1, 1, 1};
+  p.torque.G = {1, 1, 1};
   p.Omega0 = {0.5, 0, 1};
   return p;
 }

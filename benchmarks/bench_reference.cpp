@@ -103,7 +103,7 @@ std::vector<T> sample_times(int tau_end) {
 template <class T>
 eulervop::euler_problem<T> paper_problem() {
   eulervop::euler_problem<T> p;
-  p.G = {T(1), T(1), T(1)};
+  p.torque.G = {T(1), T(1), T(1)};
   p.Omega0 = {T(1) / T(2), T(0), T(1)};
   p.tau0 = T(0);
   return p;

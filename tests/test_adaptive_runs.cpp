@@ -38,7 +38,7 @@ namespace rk = eulervop::rk;
 
 eulervop::euler_problem<double> problem(const vec3<double>& G, const vec3<double>& Omega0) {
   eulervop::euler_problem<double> p;
-  p.G = G;
+  p.torque.G = G;
   p.Omega0 = Omega0;
   return p;
 }
@@ -120,7 +120,7 @@ TEST(AdaptiveTorqueFree, VopTakesTheMaximumStepEverywhereAndIsExact) {
 TEST(AdaptivePaperScene, ErrorsFallWithTheToleranceAndDop853ReachesOneInATrillion) {
   const auto p = problem({1, 1, 1}, {0.5, 0, 1});
   eulervop::euler_problem<quad> pq;
-  pq.G = {quad(1), quad(1), quad(1)};
+  pq.torque.G = {quad(1), quad(1), quad(1)};
   pq.Omega0 = {quad("0.5"), quad(0), quad(1)};
   const auto ref = eulervop::integrate_reference<quad>(pq, quad(136));
   for (formulation f : eulervop::all_formulations) {
@@ -154,7 +154,7 @@ TEST(AdaptivePaperScene, ErrorsFallWithTheToleranceAndDop853ReachesOneInATrillio
 TEST(AdaptiveSmallTorque, VopErrorIsProportionalToTheTolerance) {
   const auto p = problem({1e-3, 1e-3, 1e-3}, {0.5, 0, 1});
   eulervop::euler_problem<quad> pq;
-  pq.G = {quad("1e-3"), quad("1e-3"), quad("1e-3")};
+  pq.torque.G = {quad("1e-3"), quad("1e-3"), quad("1e-3")};
   pq.Omega0 = {quad("0.5"), quad(0), quad(1)};
   const auto ref = eulervop::integrate_reference<quad>(pq, quad(200));
   for (formulation f : {formulation::vop, formulation::vop_theta}) {
@@ -187,7 +187,7 @@ TEST(AdaptiveSmallTorque, VopErrorIsProportionalToTheTolerance) {
 TEST(AdaptiveBands, CrossingTheSeparatrixIsRecordedAndAccurate) {
   const auto p = problem({0.1, 0, -0.3}, {0.9, 0, 1});
   eulervop::euler_problem<quad> pq;
-  pq.G = {quad("0.1"), quad(0), quad("-0.3")};
+  pq.torque.G = {quad("0.1"), quad(0), quad("-0.3")};
   pq.Omega0 = {quad("0.9"), quad(0), quad(1)};
   const auto ref = eulervop::integrate_reference<quad>(pq, quad(20));
   for (formulation f : {formulation::vop, formulation::vop_theta}) {

@@ -123,7 +123,7 @@ TEST_P(TorqueFreeCertificate, ExactSolutionLiesWithinEveryRadius) {
   eulervop::mpfr_precision_scope scope(2 * working_bits);
   const auto [c1_text, c2_text, max_radius] = GetParam();
   eulervop::euler_problem<quad> p;
-  p.G = {quad(0), quad(0), quad(0)};
+  p.torque.G = {quad(0), quad(0), quad(0)};
   p.Omega0 = {*eulervop::from_text<quad>(c1_text), quad(0), *eulervop::from_text<quad>(c2_text)};
   const double tau_end = 1000;
   const auto rows = certified_rows(p, problem_of({"0", "0", "0"}, {c1_text, "0", c2_text}), tau_end, 400);
@@ -162,7 +162,7 @@ struct torqued_case {
 std::vector<vec3<mpfr_real>> truth_at(const std::vector<certified_row>& rows) {
   eulervop::mpfr_precision_scope scope(256);
   eulervop::euler_problem<mpfr_real> p;
-  p.G = {mpfr_real(1), mpfr_real(1), mpfr_real(1)};
+  p.torque.G = {mpfr_real(1), mpfr_real(1), mpfr_real(1)};
   p.Omega0 = {mpfr_real("0.5"), mpfr_real(0), mpfr_real(1)};
   std::vector<mpfr_real> taus;
   for (const auto& r : rows) taus.push_back(mpfr_real(r.tau));
@@ -174,7 +174,7 @@ std::vector<vec3<mpfr_real>> truth_at(const std::vector<certified_row>& rows) {
 
 torqued_case paper_case() {
   torqued_case c;
-  c.run.G = {quad(1), quad(1), quad(1)};
+  c.run.torque.G = {quad(1), quad(1), quad(1)};
   c.run.Omega0 = {quad(0.5), quad(0), quad(1)};
   return c;
 }
@@ -223,7 +223,7 @@ TEST(TorquedCertificate, PerturbedTorqueIsCoveredOrRefused) {
   double clean_radius = 0;
   for (const auto& r : clean) clean_radius = std::max(clean_radius, r.radius);
   // The run integrates G1 + 1e-20; the certificate is about the scene's G1 = 1.0.
-  c.run.G[0] += quad(1e-20);
+  c.run.torque.G[0] += quad(1e-20);
   try {
     const auto rows = certified_rows(c.run, c.exact, c.tau_end, c.samples);
     const double worst = check_rows(rows, truth_at(rows));
@@ -267,7 +267,7 @@ TEST(TorquedCertificate, RandomPointsOfAnInitialBoxStayInside) {
   for (int i = 0; i < 3; ++i)
     mpfi_interv_d(box.Omega0[i].get(), center[i] - half_width, center[i] + half_width);
   eulervop::euler_problem<quad> run;
-  run.G = {quad(1), quad(1), quad(1)};
+  run.torque.G = {quad(1), quad(1), quad(1)};
   run.Omega0 = {quad(center[0]), quad(center[1]), quad(center[2])};
   const double tau_end = 5;
   const auto rows = certified_rows(run, box, tau_end, 50);

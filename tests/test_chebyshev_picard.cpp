@@ -59,7 +59,7 @@ double torque_free_max_error(const std::string& k_text, double tau_end, int samp
                              const eulervop::picard_settings& settings = {}) {
   const T k = *eulervop::from_text<T>(k_text);
   eulervop::euler_problem<T> p;
-  p.G = {T(0), T(0), T(0)};
+  p.torque.G = {T(0), T(0), T(0)};
   p.Omega0 = {k, T(0), T(1)};
   const auto traj = eulervop::integrate_reference<T>(p, T(tau_end), settings, {}, st);
   std::vector<vec3<std::string>> got(samples + 1);
@@ -133,7 +133,7 @@ TEST(TorqueFree, DoubleIsAccurateToRounding) {
 // Dense output is continuous across segment boundaries and reproduces the segment ends.
 TEST(DenseOutput, ContinuousAcrossSegments) {
   eulervop::euler_problem<quad> p;
-  p.G = {quad(1), quad(1), quad(1)};
+  p.torque.G = {quad(1), quad(1), quad(1)};
   p.Omega0 = {quad(0.5), quad(0), quad(1)};
   const auto traj = eulervop::integrate_reference<quad>(p, quad(10));
   ASSERT_GT(traj.segments(), 10u);
@@ -164,7 +164,7 @@ TEST(DenseOutput, ContinuousAcrossSegments) {
 // Failures carry the tau where they happened.
 TEST(Failures, ReportedWithTau) {
   eulervop::euler_problem<double> p;
-  p.G = {1, 1, 1};
+  p.torque.G = {1, 1, 1};
   p.Omega0 = {0.5, 0, 1};
   eulervop::picard_settings s;
   s.max_segments = 5;
@@ -183,7 +183,7 @@ TEST(Failures, ReportedWithTau) {
 // Same problem, same settings: bit-identical output (determinism).
 TEST(Determinism, RepeatedRunsAreIdentical) {
   eulervop::euler_problem<quad> p;
-  p.G = {quad(1), quad(1), quad(1)};
+  p.torque.G = {quad(1), quad(1), quad(1)};
   p.Omega0 = {quad(0.5), quad(0), quad(1)};
   const auto a = eulervop::integrate_reference<quad>(p, quad(5));
   const auto b = eulervop::integrate_reference<quad>(p, quad(5));
@@ -199,7 +199,7 @@ TEST(Determinism, RepeatedRunsAreIdentical) {
 // samples out of order or beyond the span are refused.
 TEST(StreamingSamples, EqualDenseOutputBitForBit) {
   eulervop::euler_problem<quad> p;
-  p.G = {quad(1), quad(1), quad(1)};
+  p.torque.G = {quad(1), quad(1), quad(1)};
   p.Omega0 = {quad(0.5), quad(0), quad(1)};
   const auto dense = eulervop::integrate_reference<quad>(p, quad(5));
   std::vector<quad> taus;

@@ -7,6 +7,8 @@
 #include <eulervop/reference/chebyshev_picard.hpp>
 #include <eulervop/model/error_measure.hpp>
 #include <eulervop/model/euler_problem.hpp>
+#include <eulervop/model/integrals.hpp>
+#include <eulervop/model/physical_scaling.hpp>
 #include <eulervop/core/scalar.hpp>
 
 #include <boost/numeric/odeint.hpp>
@@ -85,7 +87,7 @@ struct independent_error {
 const independent_error& odeint_error() {
   static const independent_error e = [] {
     eulervop::euler_problem<quad> p;
-    p.G = {quad(1), quad(1), quad(1)};
+    p.torque.G = {quad(1), quad(1), quad(1)};
     p.Omega0 = {quad("0.5"), quad(0), quad(1)};
     const eulervop::dense_trajectory<quad> ref = eulervop::integrate_reference<quad>(p, quad(tau_end));
     const trajectory& t = odeint_trajectory();

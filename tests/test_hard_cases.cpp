@@ -174,14 +174,14 @@ double eq20(const vec3<A>& a, const vec3<B>& b) {
 // quad integration's own error, not the input rounding (amplified by dK/dk ~ 5e5 here).
 TEST(HardReference, NearSeparatrixQuadAgreesWithMpfr192) {
   eulervop::euler_problem<quad> pq;
-  pq.G = {quad(0), quad(0), quad(0)};
+  pq.torque.G = {quad(0), quad(0), quad(0)};
   pq.Omega0 = {*eulervop::from_text<quad>("0.999999"), quad(0), quad(1)};
   const auto t0 = std::chrono::steady_clock::now();
   const auto q = eulervop::integrate_reference<quad>(pq, quad(100));
   const double tq = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   eulervop::mpfr_precision_scope scope(192);
   eulervop::euler_problem<mpfr_real> pm;
-  pm.G = {mpfr_real(0), mpfr_real(0), mpfr_real(0)};
+  pm.torque.G = {mpfr_real(0), mpfr_real(0), mpfr_real(0)};
   pm.Omega0 = {mpfr_real(pq.Omega0[0]), mpfr_real(0), mpfr_real(1)};
   ASSERT_EQ(quad(pm.Omega0[0]), pq.Omega0[0]);  // widened exactly
   const auto t1 = std::chrono::steady_clock::now();
@@ -212,7 +212,7 @@ vec3<mpfr_real> exact_eq12(const mpfr_real& c1, const mpfr_real& c2, const mpfr_
 // at a rotation rate 100 times the paper's.
 TEST(HardReference, LargeOmegaQuadAgreesWithExactEq12) {
   eulervop::euler_problem<quad> p;
-  p.G = {quad(0), quad(0), quad(0)};
+  p.torque.G = {quad(0), quad(0), quad(0)};
   p.Omega0 = {quad(50), quad(0), quad(100)};
   const auto t0 = std::chrono::steady_clock::now();
   eulervop::picard_stats stats;

@@ -19,7 +19,7 @@ using eulervop::quad;
 
 TEST(LongHardReference, SpanOf1e4QuadAgreesWithExactEq12) {
   eulervop::euler_problem<quad> p;
-  p.G = {quad(0), quad(0), quad(0)};
+  p.torque.G = {quad(0), quad(0), quad(0)};
   p.Omega0 = {quad(0.5), quad(0), quad(1)};  // c1 = 0.5, c2 = 1, u(0) = 0: exact in every type
   const auto t0 = std::chrono::steady_clock::now();
   eulervop::picard_stats stats;

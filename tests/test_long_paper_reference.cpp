@@ -19,7 +19,7 @@ template <class T>
 std::vector<std::array<std::string, 3>> paper_samples(double tau_end, double* seconds) {
   const int samples = static_cast<int>(tau_end * 16);
   eulervop::euler_problem<T> p;
-  p.G = {T(1), T(1), T(1)};
+  p.torque.G = {T(1), T(1), T(1)};
   p.Omega0 = {*eulervop::from_text<T>("0.5"), T(0), T(1)};  // c1 = 0.5, c2 = 1, u = 0 (Eq. 18)
   const auto t0 = std::chrono::steady_clock::now();
   const auto traj = eulervop::integrate_reference<T>(p, T(tau_end));

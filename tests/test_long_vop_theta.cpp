@@ -23,13 +23,13 @@ using eulervop::quad;
 // torque along axis 2 is the one whose secular term hurts the paper's VOP the most).
 TEST(LongVopTheta, SecularFreePhaseWinsOnALongBoundedRun) {
   eulervop::euler_problem<double> p;
-  p.G = {0, 0.03, 0};
+  p.torque.G = {0, 0.03, 0};
   p.Omega0 = {0.5, 0, 1};
   const double h = eulervop::elliptic_modulus<double>(0.5).K() / 200;
   const std::size_t n = static_cast<std::size_t>(std::ceil(1e4 / h));
   eulervop::euler_problem<quad> q;
   for (int i = 0; i < 3; ++i) {
-    q.G[i] = p.G[i];
+    q.torque.G[i] = p.torque.G[i];
     q.Omega0[i] = p.Omega0[i];
   }
   const quad tau_end = quad(h) * quad(n);

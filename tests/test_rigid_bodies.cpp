@@ -5,6 +5,8 @@
 // body's axes must give the same rates in the user's axes.
 #include <eulervop/reference/chebyshev_picard.hpp>
 #include <eulervop/model/euler_problem.hpp>
+#include <eulervop/model/integrals.hpp>
+#include <eulervop/model/physical_scaling.hpp>
 #include <eulervop/oracle.hpp>
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/scene/scene.hpp>

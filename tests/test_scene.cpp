@@ -5,6 +5,8 @@
 
 #include <eulervop/reference/chebyshev_picard.hpp>
 #include <eulervop/model/euler_problem.hpp>
+#include <eulervop/model/integrals.hpp>
+#include <eulervop/model/physical_scaling.hpp>
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/scene/decimal.hpp>
 #include <eulervop/scene/input_error.hpp>
@@ -36,7 +38,7 @@ TEST(PaperScene, ShippedFileMatchesThePaper) {
   EXPECT_FALSE(s.is_physical());
   // Section 3: G = (1,1,1), c1 = 0.5, c2 = 1, u = 0, so Omega(0) = (0.5, 0, 1) exactly.
   const auto p = to_problem<quad>(s);
-  EXPECT_EQ(p.G, (vec3<quad>{1, 1, 1}));
+  EXPECT_EQ(p.torque.G, (vec3<quad>{1, 1, 1}));
   EXPECT_EQ(p.Omega0, (vec3<quad>{quad("0.5"), 0, 1}));
   EXPECT_EQ(p.tau0, 0);
   EXPECT_EQ(tau_end_of<quad>(s), 136);
@@ -54,7 +56,7 @@ TEST(PaperScene, EmbeddedDefaultEqualsShippedFile) {
   EXPECT_EQ(embedded.source_text, file.source_text);  // byte for byte
   EXPECT_EQ(embedded.name, file.name);
   EXPECT_EQ(embedded.description, file.description);
-  EXPECT_EQ(to_problem<quad>(embedded).G, to_problem<quad>(file).G);
+  EXPECT_EQ(to_problem<quad>(embedded).torque.G, to_problem<quad>(file).torque.G);
   EXPECT_EQ(to_problem<quad>(embedded).Omega0, to_problem<quad>(file).Omega0);
   EXPECT_EQ(embedded.span_end.text, file.span_end.text);
   EXPECT_EQ(embedded.samples, file.samples);
@@ -97,9 +99,9 @@ TEST(ExactDecimal, QuadGetsTheDecimalNotTheDouble) {
   EXPECT_NE(p.Omega0[1], p.Omega0[0]);
   EXPECT_EQ(p.Omega0[2], quad(1));
   // TOML spellings: digit separators, a leading '+', an exponent.
-  EXPECT_EQ(p.G[0], quad("1000.5"));
-  EXPECT_EQ(p.G[1], quad(2));
-  EXPECT_EQ(p.G[2], quad("-0.3"));
+  EXPECT_EQ(p.torque.G[0], quad("1000.5"));
+  EXPECT_EQ(p.torque.G[1], quad(2));
+  EXPECT_EQ(p.torque.G[2], quad("-0.3"));
   const auto times = sample_times_of<quad>(parse(decimal_scene));
   ASSERT_EQ(times.tau.size(), 2u);
   EXPECT_EQ(times.tau[0], quad("0.1"));
@@ -118,7 +120,7 @@ TEST(ExactDecimal, MpfrGetsTheDecimalAtItsPrecision) {
 TEST(ExactDecimal, DoubleIsCorrectlyRounded) {
   const auto p = to_problem<double>(parse(decimal_scene));
   EXPECT_EQ(p.Omega0[0], 0.1);
-  EXPECT_EQ(p.G[0], 1000.5);
+  EXPECT_EQ(p.torque.G[0], 1000.5);
 }
 
 TEST(ExactDecimal, ParseDecimal) {
@@ -191,7 +193,7 @@ TYPED_TEST(PhysicalConversion, RoundTrips) {
   const auto scale = scaling_of<T>(s);
   const T eps = eulervop::epsilon<T>();
   const vec3<T> omega = scale.omega_of_Omega(p.Omega0);
-  const vec3<T> M = scale.M_of_G(p.G);
+  const vec3<T> M = scale.M_of_G(p.torque.G);
   const vec3<T> omega_in = to_vec3<T>(std::get<initial_rates>(s.initial).rates);
   const vec3<T> M_in = to_vec3<T>(*s.torque);
   for (int i = 0; i < 3; ++i) {

@@ -89,7 +89,7 @@ TEST(VopTorqueFree, ExactToRoundingForAnyStep) {
   // of u itself exceed the 1e-13 bound.
   const double c1 = 0.5, c2 = 1.0;
   eulervop::euler_problem<double> p;
-  p.G = {0, 0, 0};
+  p.torque.G = {0, 0, 0};
   p.Omega0 = {c1, 0, c2};
   for (double h : {0.01, 0.125, 1.0, 7.0}) {
     eulervop::fixed_run_settings s;
@@ -116,9 +116,9 @@ TEST(VopTorqueFree, ExactToRoundingForAnyStep) {
 // run.
 TEST(VopSymmetry, NegativeOmega3MirrorsThePositiveCase) {
   eulervop::euler_problem<double> p, q;
-  p.G = {1, 1, 1};
+  p.torque.G = {1, 1, 1};
   p.Omega0 = {0.5, 0.1, 1};
-  q.G = {1, -1, -1};
+  q.torque.G = {1, -1, -1};
   q.Omega0 = {0.5, -0.1, -1};
   eulervop::fixed_run_settings s{0.01, 500, 50};
   const auto a = eulervop::run_fixed(eulervop::formulation::vop, eulervop::rk::method::rk4, p, s);
@@ -148,11 +148,11 @@ TEST(VopDomain, RefusesStatesOutsideTheRegime) {
 // tau = 10.
 TEST(VopPaperScene, QuadRk8MatchesTheReference) {
   eulervop::euler_problem<quad> p;
-  p.G = {quad(1), quad(1), quad(1)};
+  p.torque.G = {quad(1), quad(1), quad(1)};
   p.Omega0 = {quad("0.5"), quad(0), quad(1)};
   const auto ref = eulervop::integrate_reference<quad>(p, quad(10));
   const auto frame = eulervop::vop_frame<quad>::of(p.Omega0);
-  eulervop::vop_system<quad> sys(frame.rotate(p.G));
+  eulervop::vop_system<quad> sys(frame.rotate(p.torque.G));
   vec3<quad> y = frame.elements_of(p.Omega0);
   const std::size_t n = 20000;  // h = 5e-4: rk8 truncation ~ (5e-4 * |Omega| ~ 1e-2)^8 per unit
   const quad h = quad(10) / n;

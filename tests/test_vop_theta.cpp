@@ -128,7 +128,7 @@ TEST(VopRegimes, TorqueFreeExactToRoundingInEveryRegime) {
   for (formulation f : {formulation::vop, formulation::vop_theta})
     for (const auto& c : cases) {
       eulervop::euler_problem<double> p;
-      p.G = {0, 0, 0};
+      p.torque.G = {0, 0, 0};
       p.Omega0 = c.Omega0;
       for (double h : {0.01, 0.125, 1.0, 7.0}) {
         eulervop::fixed_run_settings s;
@@ -155,9 +155,9 @@ TEST(VopRegimes, TorqueFreeExactToRoundingInEveryRegime) {
 // The minor-axis regime under torque matches its mirror image bit for bit (Omega1 < 0 symmetry).
 TEST(VopRegimes, NegativeOmega1MirrorsThePositiveCase) {
   eulervop::euler_problem<double> p, q;
-  p.G = {0.1, 0.2, -0.1};
+  p.torque.G = {0.1, 0.2, -0.1};
   p.Omega0 = {1, 0.1, 0.5};
-  q.G = {-0.1, -0.2, -0.1};
+  q.torque.G = {-0.1, -0.2, -0.1};
   q.Omega0 = {-1, -0.1, 0.5};
   eulervop::fixed_run_settings s{0.01, 500, 50};
   for (formulation f : {formulation::vop, formulation::vop_theta}) {
@@ -186,7 +186,7 @@ double max_error(const eulervop::run_result& r, const eulervop::dense_trajectory
 eulervop::euler_problem<quad> to_quad(const eulervop::euler_problem<double>& p) {
   eulervop::euler_problem<quad> q;
   for (int i = 0; i < 3; ++i) {
-    q.G[i] = p.G[i];
+    q.torque.G[i] = p.torque.G[i];
     q.Omega0[i] = p.Omega0[i];
   }
   return q;
@@ -199,7 +199,7 @@ eulervop::euler_problem<quad> to_quad(const eulervop::euler_problem<double>& p) 
 // their max error is within 10x Euler's at the same step h = K(0.5)/200.
 TEST(VopCrossing, CarriesKAcrossOneAndRecordsTheBand) {
   eulervop::euler_problem<double> p;
-  p.G = {-0.05, 0, -0.05};
+  p.torque.G = {-0.05, 0, -0.05};
   p.Omega0 = {0.5, 0, 1};
   const double h = eulervop::elliptic_modulus<double>(0.5).K() / 200;
   const std::size_t n = static_cast<std::size_t>(40 / h);
@@ -243,7 +243,7 @@ TEST(VopSmallK, ExactZeroC1) {
       EXPECT_EQ(O[2], 1);
     }
   }
-  p.G = {0.01, 0.01, 0};
+  p.torque.G = {0.01, 0.01, 0};
   const auto ref = eulervop::integrate_reference<quad>(to_quad(p), quad(s.h) * quad(s.n_steps));
   const auto e = eulervop::run_fixed(formulation::euler, eulervop::rk::method::rk4, p, s);
   const double e_max = max_error(e, ref, s.h);
@@ -284,7 +284,7 @@ TEST(VopHardStates, NeverProduceNaN) {
       for (auto m : eulervop::rk::fixed_step_methods) {
         eulervop::euler_problem<double> p;
         p.Omega0 = c.Omega0;
-        p.G = c.G;
+        p.torque.G = c.G;
         const auto r = eulervop::run_fixed(f, m, p, eulervop::fixed_run_settings{0.01, 1000, 10});
         EXPECT_FALSE(r.diverged()) << c.name << " " << eulervop::formulation_name(f) << ": "
                                    << eulervop::describe(r.status);

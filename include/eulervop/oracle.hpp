@@ -40,6 +40,8 @@
 #include <eulervop/reference/chebyshev_picard.hpp>
 #include <eulervop/model/error_measure.hpp>
 #include <eulervop/model/euler_problem.hpp>
+#include <eulervop/model/integrals.hpp>
+#include <eulervop/model/physical_scaling.hpp>
 #include <eulervop/core/scalar.hpp>
 
 #include <cstddef>
@@ -52,7 +54,7 @@ namespace eulervop::oracle {
 template <scalar T>
 euler_problem<T> problem(const vec3<T>& G, const vec3<T>& Omega0) {
   euler_problem<T> p;
-  p.G = G;
+  p.torque.G = G;
   p.Omega0 = Omega0;
   p.tau0 = T(0);
   return p;

@@ -13,6 +13,8 @@
 #include <eulervop/reference/chebyshev_picard.hpp>
 #include <eulervop/model/error_measure.hpp>
 #include <eulervop/model/euler_problem.hpp>
+#include <eulervop/model/integrals.hpp>
+#include <eulervop/model/physical_scaling.hpp>
 #include <eulervop/core/scalar.hpp>
 
 #include <fmt/format.h>
@@ -270,7 +272,7 @@ void record_metrics(const check_job& job, tally& t, const vec3<T>& ref, const ve
   if (!problem) return;
   t.has_invariants = problem->normalized();
   vec3<T> v;
-  problem->rhs(ref, v);
+  problem->rhs(problem->tau0, ref, v);
   const T speed = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   if (!(speed > 0)) return;  // at rest: no direction of motion (the row is left out of the split)
   t.has_direction = true;

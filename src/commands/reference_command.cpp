@@ -12,6 +12,8 @@
 
 #include <eulervop/reference/chebyshev_picard.hpp>
 #include <eulervop/model/euler_problem.hpp>
+#include <eulervop/model/integrals.hpp>
+#include <eulervop/model/physical_scaling.hpp>
 #include <eulervop/core/scalar.hpp>
 
 #include <fmt/format.h>

@@ -19,6 +19,8 @@
 #include <eulervop/special/elliptic.hpp>
 #include <eulervop/model/error_measure.hpp>
 #include <eulervop/model/euler_problem.hpp>
+#include <eulervop/model/integrals.hpp>
+#include <eulervop/model/physical_scaling.hpp>
 #include <eulervop/core/outcome_text.hpp>
 #include <eulervop/rk/explicit_rk.hpp>
 #include <eulervop/core/scalar.hpp>

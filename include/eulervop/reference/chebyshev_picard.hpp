@@ -336,11 +336,11 @@ class chebyshev_picard {
     a_d_ = {-1.0, 1.0, -1.0};
     a_lo_ = {0.0, 0.0, 0.0};
     a_max_ = 1;
-    if (problem.direct) {
+    if (!problem.normalized()) {
       a_max_ = 0;
       for (int i = 0; i < 3; ++i) {
-        a_d_[i] = to_d((*problem.direct)[i]);
-        a_lo_[i] = to_d(T((*problem.direct)[i] - T(a_d_[i])));
+        a_d_[i] = to_d(problem.a[i]);
+        a_lo_[i] = to_d(T(problem.a[i] - T(a_d_[i])));
         a_max_ = std::max(a_max_, std::abs(a_d_[i]));
       }
     }
@@ -433,7 +433,7 @@ class chebyshev_picard {
     if (settings_.initial_step > 0) return settings_.initial_step;
     double rate = 0;
     for (int i = 0; i < 3; ++i)
-      rate = std::max({rate, a_max_ * std::abs(to_d(x0[i])), std::sqrt(a_max_ * std::abs(to_d(problem_.G[i])))});
+      rate = std::max({rate, a_max_ * std::abs(to_d(x0[i])), std::sqrt(a_max_ * std::abs(to_d(problem_.torque.G[i])))});
     return rate > 0 ? 0.5 / rate : 1.0;
   }
 
@@ -602,7 +602,7 @@ class chebyshev_picard {
           Xl_[i][j] = to_d(acc_);
         }
       }
-      problem_.rhs(x, dx);
+      problem_.rhs(problem_.tau0, x, dx);
       for (int i = 0; i < 3; ++i) F_[i][j] = dx[i];
     }
     return scale;
@@ -644,7 +644,7 @@ class chebyshev_picard {
   double double_residual(const vec3<T>& x0, const vec3<T>& c0, double hl_d) {
     vec3<double> x0d, dx;
     for (int i = 0; i < 3; ++i) x0d[i] = to_d(x0[i]) + to_d(c0[i]);
-    const vec3<double> Gd{to_d(problem_.G[0]), to_d(problem_.G[1]), to_d(problem_.G[2])};
+    const vec3<double> Gd{to_d(problem_.torque.G[0]), to_d(problem_.torque.G[1]), to_d(problem_.torque.G[2])};
     for (std::size_t j = 0; j < n1_; ++j) {
       vec3<double> x;
       for (int i = 0; i < 3; ++i) x[i] = Xd_[i][j] = x0d[i] + warm_[i][j];
@@ -674,7 +674,7 @@ class chebyshev_picard {
         x[i] = x0[i] + (c0[i] + Yc_[i][j]);
         Xd_[i][j] = to_d(x[i]);
       }
-      problem_.rhs(x, dx);
+      problem_.rhs(problem_.tau0, x, dx);
       for (int i = 0; i < 3; ++i) F_[i][j] = dx[i] * hl;  // scaled by hl here, once
     }
     double r_max = 0;

@@ -146,7 +146,7 @@ using V = vec3<double>;
 // drivers.
 struct euler_system {
   euler_problem<double> p;
-  void operator()(const V& Om, V& dOm, double) const { p.rhs(Om, dOm); }
+  void operator()(const V& Om, V& dOm, double t) const { p.rhs(t, Om, dOm); }
 };
 
 // The paper's VOP (Eqs. 12-16) is built on Eq. 5's elements: no direct form.
@@ -161,7 +161,7 @@ inline void require_normalized(formulation f, const euler_problem<double>& p) {
 // tau_end).
 inline double explosion_bound(const euler_problem<double>& p, double tau_end, bool phase) {
   double s = 1;
-  for (int i = 0; i < 3; ++i) s += std::abs(p.Omega0[i]) + std::abs(p.G[i]) * tau_end;
+  for (int i = 0; i < 3; ++i) s += std::abs(p.Omega0[i]) + std::abs(p.torque.G[i]) * tau_end;
   return 1e3 * s * (phase ? 1 + tau_end : 1.0);
 }
 
@@ -297,7 +297,7 @@ class vop_run_state {
 
   // Starts at Omega0 (p.tau0): `state` becomes its elements, or Omega0 inside a band.
   vop_run_state(run_result& out, const euler_problem<double>& p, const vop_band_thresholds& b, V& state)
-      : out_(out), b_(b), G_(p.G), sys_(zero_) {
+      : out_(out), b_(b), G_(p.torque.G), sys_(zero_) {
     torque_ = G_[0] != 0 || G_[1] != 0 || G_[2] != 0;
     gnorm_ = std::sqrt(G_[0] * G_[0] + G_[1] * G_[1] + G_[2] * G_[2]);
     if (const auto y = try_elements(p.Omega0, 1.0)) {

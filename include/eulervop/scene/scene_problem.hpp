@@ -10,6 +10,8 @@
 #include <eulervop/scene/scene.hpp>
 
 #include <eulervop/model/euler_problem.hpp>
+#include <eulervop/model/integrals.hpp>
+#include <eulervop/model/physical_scaling.hpp>
 #include <eulervop/core/scalar.hpp>
 
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
@@ -68,13 +70,13 @@ euler_problem<T> to_problem(const scene& s) {
   if (s.is_physical()) {
     euler_problem<T> p = scaling_of<T>(s).problem(s.torque ? to_vec3<T>(*s.torque) : zero,
                                                   to_vec3<T>(std::get<initial_rates>(s.initial).rates));
-    if (!s.torque) p.G = zero;  // +0 (an axis reversed by the relabelling would negate it)
+    if (!s.torque) p.torque.G = zero;  // +0 (an axis reversed by the relabelling would negate it)
     return p;
   }
   euler_problem<T> p;
   p.tau0 = T(0);
-  p.G = zero;
-  if (s.torque) p.G = to_vec3<T>(*s.torque);
+  p.torque.G = zero;
+  if (s.torque) p.torque.G = to_vec3<T>(*s.torque);
   if (const auto* rates = std::get_if<initial_rates>(&s.initial))
     p.Omega0 = to_vec3<T>(rates->rates);
   else

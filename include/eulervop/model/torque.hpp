@@ -1,0 +1,42 @@
+// The torque term of Euler's equations, g(t, y) in y_i' = a_i y_j y_k + g_i(t, y)
+// (euler_problem.hpp): G of Eq. 5, or M_i / I_i in the direct form of Eq. 1.
+//
+// A torque is a type. Its traits say what it depends on, and the integrators choose their fast
+// paths from them at compile time (docs/design.md, "The problem and its torque"):
+//   - a torque that does not depend on the state cancels from every difference
+//     f(t, y + d) - f(t, y), which is then the exact quadratic increment of Eq. 1 or 5: the
+//     reference integrator's double-precision correction and its residual updates rest on it;
+//   - a torque that depends on neither the time nor the state is one vector, read once per run.
+//
+// The interface of a torque type Torque over the number type T:
+//   static constexpr bool depends_on_time, depends_on_state;
+//   value(t, y) -> vec3<T> (or a reference to one): g at time t and state y.
+#pragma once
+
+#include <eulervop/core/vec3.hpp>
+
+namespace eulervop {
+
+template <class Torque>
+struct torque_traits {
+  static constexpr bool depends_on_time = Torque::depends_on_time;
+  static constexpr bool depends_on_state = Torque::depends_on_state;
+  static constexpr bool is_constant = !depends_on_time && !depends_on_state;
+};
+
+// True when the torque is one vector for the whole run.
+template <class Torque>
+inline constexpr bool is_constant_torque_v = torque_traits<Torque>::is_constant;
+
+// A constant torque: the paper's case (Eq. 5 with constant G).
+template <class T>
+struct constant_torque {
+  static constexpr bool depends_on_time = false;
+  static constexpr bool depends_on_state = false;
+
+  vec3<T> G{};
+
+  const vec3<T>& value(const T&, const vec3<T>&) const { return G; }
+};
+
+}  // namespace eulervop
