@@ -25,7 +25,7 @@
 //          1e-60: the rows the speed targets compare), --repeat N, --no-mpfr,
 //          --mpfr-cap SECONDS (default 600), --recompute-truth.
 // Progress goes to standard error; the table to standard output.
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/core/scalar.hpp>
 

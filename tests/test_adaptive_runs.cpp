@@ -13,7 +13,7 @@
 // VOP estimate is the same kind of estimate, on other variables).
 #include "slope_test_support.hpp"
 
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/runs/comparison_run.hpp>
 #include <eulervop/model/error_measure.hpp>
 #include <eulervop/core/outcome_text.hpp>

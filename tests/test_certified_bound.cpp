@@ -69,7 +69,7 @@ std::vector<certified_row> certified_rows(const eulervop::euler_problem<quad>& r
     r.radius = eulervop::detail::magnitude_up(cert->row_radius(tau, r.cells));
     rows.push_back(r);
   });
-  eulervop::chebyshev_picard<quad> integrator(eulervop::picard_settings{});
+  eulervop::chebyshev_picard<eulervop::euler_problem<quad>> integrator(eulervop::picard_settings{});
   std::size_t index = 0;
   integrator.run_segments(run, quad(tau_end), [&](const eulervop::chebyshev_segment<quad>& seg,
                                                   const std::vector<quad>& nodes) {

@@ -1,6 +1,6 @@
 // Chebyshev-Picard reference integrator: basis exactness, torque-free accuracy against the exact
 // solution (Eq. 12), dense output, compensated accumulation and failure reporting.
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 
 #include "type_test_names.hpp"
 

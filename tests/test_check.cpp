@@ -4,7 +4,7 @@
 // naming the line and column, exit 2.
 #include "cli_test_support.hpp"
 
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/model/error_measure.hpp>
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/model/integrals.hpp>

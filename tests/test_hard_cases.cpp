@@ -15,7 +15,7 @@
 //   reported with tau and cause, exit code 3 and no output file, by `reference` and `report`.
 #include "cli_test_support.hpp"
 
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/model/error_measure.hpp>
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/scene/scene.hpp>

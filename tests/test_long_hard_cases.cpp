@@ -2,7 +2,7 @@
 // Torque-free k = 0.5 (Omega0 = (0.5, 0, 1), ~1500 periods 4K) in quad against the exact
 // Eq. 12 solution by Boost.Math jacobi_elliptic in MPFR at 256 bits (dn stabilised as
 // sqrt(1 - k^2 sn^2), docs/design.md section 2).
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/core/scalar.hpp>
 
 #include <boost/math/special_functions/jacobi_elliptic.hpp>

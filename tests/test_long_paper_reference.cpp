@@ -1,7 +1,7 @@
 // Long accuracy run (CTest label "long"; opt in with EULERVOP_LONG_TESTS=1):
 // the paper's scene (Section 3) to tau = 136 in quad against mpfr:256, and the honesty of the
 // --verify estimate, whose stricter setting for quad is MPFR at 113 + 64 bits.
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // step h = K(0.5)/200. The paper's u carries the secular term E(u) - kc^2 u (docs/design.md
 // section 1.4), which grows with u ~ c2 tau; the secular-free theta form does not.
 // Measured (docs/vop-strategies.md): final errors euler 3.0e-7, vop 6.0e-7, vop-theta 5.7e-10.
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/runs/comparison_run.hpp>
 #include <eulervop/model/error_measure.hpp>
 #include <eulervop/core/outcome_text.hpp>

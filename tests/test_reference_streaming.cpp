@@ -11,7 +11,7 @@
 #include "compute/scene_overrides.hpp"
 #include "compute/with_scalar.hpp"
 
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/core/scalar.hpp>
 

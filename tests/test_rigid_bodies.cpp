@@ -3,7 +3,7 @@
 // Eq. 1 in MPFR at 256 bits (a Taylor series method written here, sharing no code with the
 // Chebyshev-Picard integrator or the scene's change of variables), and every relabelling of a
 // body's axes must give the same rates in the user's axes.
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/model/integrals.hpp>
 #include <eulervop/model/physical_scaling.hpp>

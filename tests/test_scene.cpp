@@ -3,7 +3,7 @@
 // "Scenes").
 #include "type_test_names.hpp"
 
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/model/integrals.hpp>
 #include <eulervop/model/physical_scaling.hpp>

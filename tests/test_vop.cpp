@@ -1,6 +1,6 @@
 // The paper's VOP formulation (Eqs. 12-16): element conversions, the right-hand side against
 // Euler's equations, torque-free exactness, the Omega3 < 0 symmetry, and the paper scene in quad.
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/runs/comparison_run.hpp>
 #include <eulervop/model/error_measure.hpp>
 #include <eulervop/vop/vop_system.hpp>

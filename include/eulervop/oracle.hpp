@@ -37,7 +37,7 @@
 #error "eulervop needs GNU extensions for quad (__float128): compile with -std=gnu++20 (CMake: CXX_EXTENSIONS ON, the default)"
 #endif
 
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/model/error_measure.hpp>
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/model/integrals.hpp>

@@ -15,7 +15,7 @@
 #include "compute/scene_library.hpp"
 #include "commands/sweep_command.hpp"
 
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>

@@ -9,7 +9,7 @@
 #include "compute/scene_library.hpp"
 #include "io/shell_word.hpp"
 
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>

@@ -10,7 +10,7 @@
 #include "compute/scene_overrides.hpp"
 #include "compute/with_scalar.hpp"
 
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/model/error_measure.hpp>
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/model/integrals.hpp>

@@ -10,7 +10,7 @@
 #include "io/shell_word.hpp"
 #include "compute/with_scalar.hpp"
 
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/model/integrals.hpp>
 #include <eulervop/model/physical_scaling.hpp>

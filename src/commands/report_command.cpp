@@ -14,7 +14,7 @@
 #include "compute/with_scalar.hpp"
 #include "compute/work_precision.hpp"
 
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/runs/comparison_run.hpp>
 #include <eulervop/special/elliptic.hpp>
 #include <eulervop/model/error_measure.hpp>

@@ -5,7 +5,7 @@
 #include "compute/scene_library.hpp"
 
 #include <eulervop/certify/certifier.hpp>
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/model/principal_axes.hpp>
 #include <eulervop/core/scalar.hpp>
 

@@ -9,7 +9,7 @@
 #include "compute/scene_library.hpp"
 #include "compute/with_scalar.hpp"
 
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/model/error_measure.hpp>
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/core/scalar.hpp>

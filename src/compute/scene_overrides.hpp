@@ -7,7 +7,7 @@
 
 #include "compute/scene_library.hpp"
 
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/core/scalar.hpp>
 
 #include <CLI/CLI.hpp>

@@ -6,7 +6,7 @@
 #include "compute/scene_library.hpp"
 #include "compute/step_rule.hpp"
 
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/runs/comparison_run.hpp>
 #include <eulervop/rk/explicit_rk.hpp>
 #include <eulervop/core/scalar.hpp>

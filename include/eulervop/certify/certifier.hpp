@@ -25,7 +25,7 @@
 // the distance from the printed decimals to P(tau), all as upper bounds.
 #pragma once
 
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/integrate.hpp>
 #include <eulervop/certify/detail/bounded_chebyshev.hpp>
 #include <eulervop/reference/detail/chebyshev_basis.hpp>
 #include <eulervop/certify/interval.hpp>

@@ -10,7 +10,10 @@
 //
 // The interface of a torque type Torque over the number type T:
 //   static constexpr bool depends_on_time, depends_on_state;
-//   value(t, y) -> vec3<T> (or a reference to one): g at time t and state y.
+//   value(t, y) -> vec3<T> (or a reference to one): g at time t and state y;
+//   add_jacobian(t, y, J): J[i][k] += d g_i / d y_k (only when it depends on the state);
+//   convert_torque<U>(torque), found by argument-dependent lookup: the same torque over U (the
+//   reference integrator evaluates its first residual in double).
 #pragma once
 
 #include <eulervop/core/vec3.hpp>
@@ -38,5 +41,10 @@ struct constant_torque {
 
   const vec3<T>& value(const T&, const vec3<T>&) const { return G; }
 };
+
+template <class U, class T>
+constant_torque<U> convert_torque(const constant_torque<T>& torque) {
+  return {{static_cast<U>(torque.G[0]), static_cast<U>(torque.G[1]), static_cast<U>(torque.G[2])}};
+}
 
 }  // namespace eulervop

@@ -1,0 +1,86 @@
+// Euler's equations (model/euler_problem.hpp) in the forms the reference integrator evaluates
+// them: in T at the nodes, in double for the first residual, and their increment
+// f(t, x + d) - f(t, x) in double and double-double for the corrections and residual updates.
+//
+// The equations are quadratic, so for a torque that does not depend on the state the increment
+// is exactly g_i = a_i (x_j d_k + x_k d_j + d_j d_k), (i, j, k) cyclic: the torque cancels,
+// whatever its time. A torque of the state adds its own linear term J_g(x) d, which makes the
+// correction a Newton-like step (the residual in T still decides convergence).
+#pragma once
+
+#include <eulervop/core/error_free.hpp>
+#include <eulervop/core/scalar.hpp>
+#include <eulervop/model/euler_problem.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <utility>
+
+namespace eulervop::detail {
+
+template <euler_form_problem P>
+class euler_field {
+ public:
+  using T = typename P::value_type;
+  using torque_traits_type = torque_traits<typename P::torque_type>;
+  using double_torque = decltype(convert_torque<double>(std::declval<const typename P::torque_type&>()));
+
+  euler_field() = default;
+  explicit euler_field(const P& problem)
+      : problem_(problem), torque_d_(convert_torque<double>(problem.torque)) {
+    if (problem.normalized()) return;  // a = (-1, 1, -1): exact in double
+    a_max_ = 0;
+    for (int i = 0; i < 3; ++i) {
+      a_d_[i] = static_cast<double>(problem.a[i]);
+      a_lo_[i] = static_cast<double>(T(problem.a[i] - T(a_d_[i])));
+      a_max_ = std::max(a_max_, std::abs(a_d_[i]));
+    }
+  }
+
+  const P& problem() const { return problem_; }
+  // The coefficients in double ((-1, 1, -1) for Eq. 5), the rest of them (a - a_d, for the
+  // double-double updates) and max |a_i|.
+  const std::array<double, 3>& a_d() const { return a_d_; }
+  double a_max() const { return a_max_; }
+
+  void rhs(const T& t, const vec3<T>& x, vec3<T>& dx) const { problem_.rhs(t, x, dx); }
+  void rhs_double(double t, const vec3<double>& x, vec3<double>& dx) const {
+    direct_rhs(a_d_, x, torque_d_.value(t, x), dx);
+  }
+  // The torque at (t, x) in double.
+  vec3<double> torque_double(double t, const vec3<double>& x) const { return torque_d_.value(t, x); }
+
+  // The quadratic part of the increment at one node, in double (products by a = +-1 are exact).
+  [[gnu::always_inline]] void increment(double x1, double x2, double x3, double d1, double d2, double d3,
+                                        double& g1, double& g2, double& g3) const {
+    g1 = a_d_[0] * (x2 * d3 + x3 * d2 + d2 * d3);
+    g2 = a_d_[1] * (x1 * d3 + x3 * d1 + d1 * d3);
+    g3 = a_d_[2] * (x1 * d2 + x2 * d1 + d1 * d2);
+  }
+
+  // The same in double-double from x in double-double, errs by about 2^-100 |d|.
+  std::array<double_double, 3> increment(const std::array<double_double, 3>& x, double d1, double d2,
+                                         double d3) const {
+    const double_double &x1 = x[0], &x2 = x[1], &x3 = x[2];
+    std::array<double_double, 3> g = {add(add(mul(x2, d3), mul(x3, d2)), two_product(d2, d3)),
+                                      add(add(mul(x1, d3), mul(x3, d1)), two_product(d1, d3)),
+                                      add(add(mul(x1, d2), mul(x2, d1)), two_product(d1, d2))};
+    for (int i = 0; i < 3; ++i) g[i] = mul(g[i], double_double{a_d_[i], a_lo_[i]});  // exact for a = +-1 (Eq. 5)
+    return g;
+  }
+
+  // d g / d x of a torque of the state, at (t, x), in double.
+  void torque_jacobian(double t, const vec3<double>& x, std::array<vec3<double>, 3>& J) const {
+    for (auto& row : J) row = {0.0, 0.0, 0.0};
+    torque_d_.add_jacobian(t, x, J);
+  }
+
+ private:
+  P problem_;
+  double_torque torque_d_;
+  std::array<double, 3> a_d_{-1.0, 1.0, -1.0}, a_lo_{};
+  double a_max_ = 1;
+};
+
+}  // namespace eulervop::detail

@@ -1,0 +1,81 @@
+// The reference integrator's state on one segment: the iterate and everything derived from it
+// at the nodes, per component i of the state and node j (arrays of one vector per component).
+#pragma once
+
+#include <eulervop/core/scalar.hpp>
+#include <eulervop/reference/detail/euler_field.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <type_traits>
+#include <vector>
+
+#include <mpfr.h>
+
+namespace eulervop::detail {
+
+template <class P>
+struct picard_workspace {
+  using T = typename P::value_type;
+  static constexpr std::size_t D = P::dimension;
+  using wide = std::array<std::vector<T>, D>;
+  using narrow = std::array<std::vector<double>, D>;
+
+  std::size_t n1;  // nodes per segment, N + 1
+  euler_field<P> field;  // the equations of the run
+  //   Yc     the iterate: increments X - x0 at the nodes, in T (X the state at the nodes)
+  //   Yn     the Picard map hl S f(X) of the iterate, in T: the segment's values once converged
+  //   F      f(X) in T (times hl in the double-double residual)
+  wide F, Yc, Yn;
+  //   Xd     X in double, where the correction linearizes f; Xl: X - Xd (wide T), so X in
+  //          double-double for the residual updates
+  //   warm   the warm start's increments
+  //   r      the residual hl S f(X) - Yc
+  //   delta, delta_new  the correction of Yc and its next sweep
+  //   g      f(X + delta) - f(X) in a sweep (f(X) in the double residual)
+  //   df_hi, df_lo  g in double-double, for the residual updates
+  narrow Xd, Xl, warm, r, delta, delta_new, g, df_hi, df_lo;
+  // One component at a time: F and S F split into double-double hi + lo.
+  std::vector<double> F_hi, F_lo, Y_hi, Y_lo;
+  // The node times, for a torque of time: in T and in double.
+  std::vector<T> t;
+  std::vector<double> t_d;
+  // The torque's Jacobian at the nodes, for a torque of the state (in double).
+  std::vector<std::array<vec3<double>, 3>> torque_J;
+  T acc;  // accumulator in T: in place, no temporary per operation for MPFR
+  std::array<T, D> node_x, node_f;  // the state and f at one node, reused (no allocation per node)
+
+  explicit picard_workspace(std::size_t nodes) : n1(nodes) {
+    for (auto* set : {&F, &Yc, &Yn})
+      for (auto& v : *set) v.resize(n1);
+    for (auto* set : {&Xd, &Xl, &warm, &r, &delta, &delta_new, &g, &df_hi, &df_lo})
+      for (auto& v : *set) v.resize(n1);
+    for (auto* v : {&F_hi, &F_lo, &Y_hi, &Y_lo}) v->resize(n1);
+    if constexpr (euler_field<P>::torque_traits_type::depends_on_time) {
+      t.resize(n1);
+      t_d.resize(n1);
+    }
+    if constexpr (euler_field<P>::torque_traits_type::depends_on_state) torque_J.resize(n1);
+    acc = T(0);
+  }
+
+  // x += d, in place (for MPFR without a temporary, which would allocate).
+  static void add_double(T& x, double d) {
+    if constexpr (std::is_same_v<T, mpfr_real>)
+      mpfr_add_d(x.backend().data(), x.backend().data(), d, MPFR_RNDN);
+    else
+      x += d;
+  }
+  // The time of node j (a torque of time), or the start for a torque without one.
+  const T& time_of(std::size_t j) const {
+    if constexpr (euler_field<P>::torque_traits_type::depends_on_time) return t[j];
+    else return field.problem().tau0;
+  }
+  double time_d_of(std::size_t j) const {
+    if constexpr (euler_field<P>::torque_traits_type::depends_on_time) return t_d[j];
+    else return 0.0;
+  }
+};
+
+}  // namespace eulervop::detail

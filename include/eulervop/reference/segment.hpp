@@ -1,0 +1,55 @@
+// One segment of the reference's dense output, and its evaluation anywhere inside it.
+#pragma once
+
+#include <eulervop/core/scalar.hpp>
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+namespace eulervop {
+
+// y(tau) = base + (base_lo + p(s)), where p is the polynomial through the increments `values` at
+// the Chebyshev-Lobatto nodes s_j = -cos(j pi/N) and s = (tau - tau_begin) / half_length - 1 in
+// [-1, 1]. base_lo is the TwoSum compensation. D is the dimension of the state.
+template <scalar T, std::size_t D = 3>
+struct chebyshev_segment {
+  using state = std::array<T, D>;
+  T tau_begin, tau_end, half_length;
+  state base, base_lo;
+  std::vector<state> values;  // y(tau_j) - y(tau_begin) at the N+1 nodes
+};
+
+// y(tau) on one segment (tau in [seg.tau_begin, seg.tau_end]), from its node values: by
+// barycentric Lagrange interpolation (second form) on the Lobatto nodes, with weights (-1)^j,
+// halved at the ends: backward stable for these nodes (Higham 2004, Berrut & Trefethen 2004) and
+// O(N) per call. At a node, and at the segment's start, the stored value is returned exactly.
+template <scalar T, std::size_t D>
+std::array<T, D> evaluate_segment(const chebyshev_segment<T, D>& seg, const std::vector<T>& nodes, const T& tau) {
+  std::array<T, D> out;
+  const std::size_t n1 = nodes.size();
+  T s = (tau - seg.tau_begin) / seg.half_length - 1;
+  if (s > 1) s = 1;
+  std::size_t hit = n1;
+  if (tau == seg.tau_begin) hit = 0;  // the segment's start is known exactly
+  for (std::size_t j = 0; j < n1 && hit == n1; ++j)
+    if (s == nodes[j]) hit = j;
+  if (hit < n1) {
+    for (std::size_t i = 0; i < D; ++i) out[i] = seg.base[i] + (seg.base_lo[i] + seg.values[hit][i]);
+    return out;
+  }
+  T den = 0;
+  std::array<T, D> num;
+  num.fill(T(0));
+  for (std::size_t j = 0; j < n1; ++j) {
+    T w = 1 / (s - nodes[j]);
+    if (j % 2) w = -w;
+    if (j == 0 || j + 1 == n1) w /= 2;
+    den += w;
+    for (std::size_t i = 0; i < D; ++i) num[i] += w * seg.values[j][i];
+  }
+  for (std::size_t i = 0; i < D; ++i) out[i] = seg.base[i] + (seg.base_lo[i] + num[i] / den);
+  return out;
+}
+
+}  // namespace eulervop
