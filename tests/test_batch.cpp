@@ -1,7 +1,7 @@
-// `eulervop batch` and the shipped reference datasets (README, "Reference datasets").
+// `eulervop batch` and the shipped reference datasets (docs/batch.md, docs/datasets.md).
 //
 // Small scenes with short spans are written into a temporary directory, so every test runs in
-// a few seconds; the full hard-case suite is checked the same way by hand (README).
+// a few seconds; the full hard-case suite is checked the same way by hand (docs/datasets.md).
 #include "cli_test_support.hpp"
 
 #include <gtest/gtest.h>

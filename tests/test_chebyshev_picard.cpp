@@ -88,7 +88,7 @@ TEST(TorqueFree, QuadMatchesExactSolutionOnLongSpan) {
     const double err = torque_free_max_error<quad>(k, 1000.0, 1000, 256, &st);
     RecordProperty(std::string("quad_max_error_k") + k, std::to_string(err));
     std::printf("quad k=%s: max error %.3e over tau in [0,1000], %zu segments\n", k, err, st.segments);
-    EXPECT_LE(err, 1e-28) << "k=" << k;  // measured: README, "How good is the reference"
+    EXPECT_LE(err, 1e-28) << "k=" << k;  // measured: docs/reference.md, "How good it is"
   }
 }
 
@@ -119,7 +119,7 @@ TEST(TorqueFree, Mpfr256MatchesExactSolutionOnLongSpan) {
       err = torque_free_max_error<mpfr_real>(k, 1000.0, 200, 400, &st);
     }
     std::printf("mpfr:256 k=%s: max error %.3e over tau in [0,1000], %zu segments\n", k, err, st.segments);
-    EXPECT_LE(err, 1e-65) << "k=" << k;  // measured: README, "How good is the reference"
+    EXPECT_LE(err, 1e-65) << "k=" << k;  // measured: docs/reference.md, "How good it is"
   }
 }
 

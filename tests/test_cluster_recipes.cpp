@@ -1,5 +1,5 @@
-// The README's GNU parallel recipes ("Batch runs"), run as written over the hard-case suite:
-// each line of the README's `parallel` block is executed by bash in a directory holding the
+// The GNU parallel recipes of docs/batch.md, run as written over the hard-case suite: each
+// line of that page's `parallel` block is executed by bash in a directory holding the
 // suite as scenes/*.toml, with the built program first on PATH. The union of the reference
 // files each recipe leaves must be byte for byte what `eulervop batch scenes/*.toml --jobs 1`
 // writes, every scene exactly once, and every manifest must list its scenes as ok.
@@ -20,9 +20,9 @@ namespace {
 namespace fs = std::filesystem;
 using namespace eulervop::cli_test;
 
-// The lines of the README's code block that follows "GNU parallel," and start with "parallel ".
-std::vector<std::string> readme_parallel_lines() {
-  const std::vector<std::string> lines = lines_of(read_file(fs::path(source_dir) / "README.md"));
+// The lines of docs/batch.md's code block that follows "GNU parallel," and start with "parallel ".
+std::vector<std::string> documented_parallel_lines() {
+  const std::vector<std::string> lines = lines_of(read_file(fs::path(source_dir) / "docs/batch.md"));
   std::vector<std::string> out;
   bool after_title = false, in_block = false;
   for (const std::string& l : lines) {
@@ -74,11 +74,11 @@ std::size_t scenes_in_manifests(const fs::path& root) {
   return n;
 }
 
-TEST(ClusterRecipes, GnuParallelLinesOfTheReadmeMatchASequentialBatch) {
+TEST(ClusterRecipes, GnuParallelLinesOfTheBatchDocsMatchASequentialBatch) {
   ASSERT_EQ(std::system("command -v parallel > /dev/null"), 0)
       << "GNU parallel is not installed (tools/setup.sh installs the Debian package `parallel`)";
-  const std::vector<std::string> recipes = readme_parallel_lines();
-  ASSERT_EQ(recipes.size(), 2u) << "the README's GNU parallel block changed";
+  const std::vector<std::string> recipes = documented_parallel_lines();
+  ASSERT_EQ(recipes.size(), 2u) << "the GNU parallel block of docs/batch.md changed";
 
   temp_dir root;
   const fs::path base = root.path() / "sequential";

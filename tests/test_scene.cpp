@@ -1,6 +1,6 @@
 // Scenes: the shipped and embedded paper scene, exact decimals in quad and MPFR, the physical
-// conversion (Eqs. 2-4, 8-9 against Eq. 7), sample times, and bad scenes (format: README,
-// "Scenes").
+// conversion (Eqs. 2-4, 8-9 against Eq. 7), sample times, and bad scenes (format:
+// docs/scenes.md).
 #include "type_test_names.hpp"
 
 #include <eulervop/reference/integrate.hpp>

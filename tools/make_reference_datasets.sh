@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the shipped reference datasets in data/reference/ (README, "Reference datasets").
+# Regenerates the shipped reference datasets in data/reference/ (docs/datasets.md).
 #
 #   tools/make_reference_datasets.sh [path/to/eulervop]     (default: build/eulervop)
 #

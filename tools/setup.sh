@@ -6,7 +6,7 @@ packages=(
   libboost1.81-dev libmpfr-dev libgmp-dev libmpfi-dev
   libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   googletest libgtest-dev libbenchmark-dev
-  parallel  # the tests run the README's GNU parallel recipes
+  parallel  # the tests run the GNU parallel recipes of docs/batch.md
 )
 [[ "${EULERVOP_WITH_PLOTS:-0}" == 1 ]] && packages+=(python3-matplotlib)
 missing=()

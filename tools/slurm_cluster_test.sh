@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs the README's Slurm job array recipe ("Batch runs") for real, on a one-node Slurm started on
+# Runs the Slurm job array recipe of docs/batch.md for real, on a one-node Slurm started on
 # this machine, and checks what it leaves against a sequential `eulervop batch --jobs 1`.
 #
 #   tools/slurm_cluster_test.sh [path/to/eulervop]      (as root; opt-in: `ctest -L cluster`)
@@ -9,7 +9,7 @@
 # private temp directory: munged runs with its own key and socket, slurmctld and slurmd with a
 # slurm.conf given by -f and SLURM_CONF, so nothing in /etc is written and no systemd is needed.
 # The daemons talk over the loopback only and are stopped on exit, failure included. The job
-# script is the README's ```bash block as written, so a change to the README is what gets tested.
+# script is docs/batch.md's ```bash block as written, so a change to that page is what gets tested.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 prog=${1:-${EULERVOP_BUILD_DIR:-$root/build}/eulervop}
@@ -92,16 +92,16 @@ slurmd -f "$SLURM_CONF" || fail "slurmd did not start"
 for _ in $(seq 60); do sinfo -h -N -o %t 2> /dev/null | grep -qx idle && break; sleep 1; done
 sinfo -h -N -o %t | grep -qx idle || fail "the node is not idle after 60 s: $(sinfo -h -N -o '%t %E' 2>&1)"
 
-# The README's job script, the ```bash block after the line "A Slurm job array...".
-job=$(awk '/^A Slurm job array/ { t = 1; next } t && /^```/ { if (b) exit; b = 1; next } b' "$root"/README.md)
+# The job script of docs/batch.md, the ```bash block after the line "A Slurm job array...".
+job=$(awk '/^A Slurm job array/ { t = 1; next } t && /^```/ { if (b) exit; b = 1; next } b' "$root"/docs/batch.md)
 shards=$(sed -n 's/^#SBATCH --array=1-\([0-9]*\)$/\1/p' <<< "$job")
-[[ -n $shards ]] || fail "README.md: no job script with '#SBATCH --array=1-N' after 'A Slurm job array'"
+[[ -n $shards ]] || fail "docs/batch.md: no job script with '#SBATCH --array=1-N' after 'A Slurm job array'"
 work=$tmp/work
 mkdir -p "$work"/data/scenes/hard
 cp "$root"/data/scenes/hard/*.toml "$work"/data/scenes/hard/
 printf '%s\n' "$job" > "$work"/job.sh
 cd "$work"
-echo "job script (from README.md):"; sed 's/^/  /' job.sh
+echo "job script (from docs/batch.md):"; sed 's/^/  /' job.sh
 
 "$prog" batch data/scenes/hard/*.toml --out-dir seq --jobs 1 2> seq.log || fail "sequential batch failed"
 
@@ -149,7 +149,7 @@ check "each manifest lists its own shard's scenes (none overwritten)" \
    done'
 if [[ $bad != 0 ]]; then
   echo "task states:"; sed 's/^/  /' <<< "$states"
-  echo "FAIL: the Slurm recipe of README.md did not do what it says"
+  echo "FAIL: the Slurm recipe of docs/batch.md did not do what it says"
   exit 1
 fi
-echo "PASS: the README's Slurm job array ($shards tasks, $n scenes) matches batch --jobs 1"
+echo "PASS: the Slurm job array of docs/batch.md ($shards tasks, $n scenes) matches batch --jobs 1"

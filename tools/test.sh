@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs, builds and runs the full default test suite. Long accuracy runs carry the CTest label
-# "long" and run only with EULERVOP_LONG_TESTS=1. The one-node Slurm run of the README's job array
-# (label "cluster") installs packages and starts daemons, so it runs only with
+# "long" and run only with EULERVOP_LONG_TESTS=1. The one-node Slurm run of the job array in
+# docs/batch.md (label "cluster") installs packages and starts daemons, so it runs only with
 # EULERVOP_CLUSTER_TESTS=1; the two switches are independent.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
