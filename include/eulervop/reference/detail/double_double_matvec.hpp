@@ -11,6 +11,7 @@
 // Oishi 2005, "Dot2"): error ~ n u^2 sum |a_k x_k| + u^2 |y|.
 #pragma once
 
+#include <eulervop/core/error_free.hpp>
 #include <eulervop/core/scalar.hpp>
 
 #include <cstddef>
@@ -65,13 +66,6 @@ class double_double_matrix {
   }
 
  private:
-  // Dekker's split: x = x1 + x2 with both halves of 26 bits, so products of halves are exact.
-  static void split(double x, double& x1, double& x2) {
-    const double t = 134217729.0 * x;  // 2^27 + 1
-    x1 = t - (t - x);
-    x2 = x - x1;
-  }
-
   std::size_t rows_ = 0, cols_ = 0;
   std::vector<double> hi_, lo_, h1_, h2_;
   std::vector<double> x1_, x2_;

@@ -17,26 +17,32 @@
 
 namespace eulervop::detail {
 
-// X = x0 + (c0 + Yc) and F = f(t, X) at the nodes, X also in double (Xd) and, for wide T, its
-// remainder (Xl). Returns the state scale max |X|.
+// X = x0 + (c0 + Yc) at node j, in node_x and in double in Xd.
+template <class P, class T = typename P::value_type>
+void node_state(picard_workspace<P>& w, const vec3<T>& x0, const vec3<T>& c0, std::size_t j) {
+  for (int i = 0; i < 3; ++i) {
+    w.node_x[i] = x0[i] + (c0[i] + w.Yc[i][j]);
+    w.Xd[i][j] = static_cast<double>(w.node_x[i]);
+  }
+}
+
+// X and F = f(t, X) at the nodes, X also in double (Xd) and, for wide T, its remainder (Xl).
+// Returns the state scale max |X|.
 template <class P, class T = typename P::value_type>
 double evaluate_nodes(picard_workspace<P>& w, const vec3<T>& x0, const vec3<T>& c0) {
   double scale = 0;
-  auto& x = w.node_x;
-  auto& dx = w.node_f;
   for (std::size_t j = 0; j < w.n1; ++j) {
+    node_state(w, x0, c0, j);
     for (int i = 0; i < 3; ++i) {
-      x[i] = x0[i] + (c0[i] + w.Yc[i][j]);
-      w.Xd[i][j] = static_cast<double>(x[i]);
       scale = std::max(scale, std::abs(w.Xd[i][j]));
       if constexpr (!std::is_same_v<T, double>) {
-        w.acc = x[i];
+        w.acc = w.node_x[i];
         w.acc -= w.Xd[i][j];
         w.Xl[i][j] = static_cast<double>(w.acc);
       }
     }
-    w.field.rhs(w.time_of(j), x, dx);
-    for (int i = 0; i < 3; ++i) w.F[i][j] = dx[i];
+    w.field.rhs(w.time_of(j), w.node_x, w.node_f);
+    for (int i = 0; i < 3; ++i) w.F[i][j] = w.node_f[i];
   }
   return scale;
 }
@@ -120,15 +126,10 @@ double difference_to_iterate(picard_workspace<P>& w, int i) {
 template <class P, class T = typename P::value_type>
 double double_double_residual(picard_matrices<T>& m, picard_workspace<P>& w, const vec3<T>& x0, const vec3<T>& c0,
                               const T& hl) {
-  auto& x = w.node_x;
-  auto& dx = w.node_f;
   for (std::size_t j = 0; j < w.n1; ++j) {
-    for (int i = 0; i < 3; ++i) {
-      x[i] = x0[i] + (c0[i] + w.Yc[i][j]);
-      w.Xd[i][j] = static_cast<double>(x[i]);
-    }
-    w.field.rhs(w.time_of(j), x, dx);
-    for (int i = 0; i < 3; ++i) w.F[i][j] = dx[i] * hl;  // scaled by hl here, once
+    node_state(w, x0, c0, j);
+    w.field.rhs(w.time_of(j), w.node_x, w.node_f);
+    for (int i = 0; i < 3; ++i) w.F[i][j] = w.node_f[i] * hl;  // scaled by hl here, once
   }
   double r_max = 0;
   for (int i = 0; i < 3; ++i) {
@@ -138,6 +139,22 @@ double double_double_residual(picard_matrices<T>& m, picard_workspace<P>& w, con
     }
     m.S_dd.multiply(w.F_hi.data(), w.F_lo.data(), w.Y_hi.data(), w.Y_lo.data(), 1);
     r_max = std::max(r_max, difference_to_iterate(w, i));
+  }
+  return r_max;
+}
+
+// Yn += Y_hi + Y_lo and r = Yn - Yc, rows 1..N of component i.
+template <class P>
+double updated_difference(picard_workspace<P>& w, int i) {
+  double r_max = 0;
+  w.r[i][0] = 0;
+  for (std::size_t j = 1; j < w.n1; ++j) {
+    w.add_double(w.Yn[i][j], w.Y_hi[j]);
+    w.add_double(w.Yn[i][j], w.Y_lo[j]);
+    w.acc = w.Yn[i][j];
+    w.acc -= w.Yc[i][j];
+    w.r[i][j] = static_cast<double>(w.acc);
+    r_max = std::max(r_max, std::abs(w.r[i][j]));
   }
   return r_max;
 }
@@ -180,22 +197,6 @@ double update_residual(picard_matrices<T>& m, picard_workspace<P>& w, const T& h
     }
     m.S_dd.multiply(w.F_hi.data(), w.F_lo.data(), w.Y_hi.data(), w.Y_lo.data(), 1);
     r_max = std::max(r_max, updated_difference(w, i));
-  }
-  return r_max;
-}
-
-// Yn += Y_hi + Y_lo and r = Yn - Yc, rows 1..N of component i.
-template <class P>
-double updated_difference(picard_workspace<P>& w, int i) {
-  double r_max = 0;
-  w.r[i][0] = 0;
-  for (std::size_t j = 1; j < w.n1; ++j) {
-    w.add_double(w.Yn[i][j], w.Y_hi[j]);
-    w.add_double(w.Yn[i][j], w.Y_lo[j]);
-    w.acc = w.Yn[i][j];
-    w.acc -= w.Yc[i][j];
-    w.r[i][j] = static_cast<double>(w.acc);
-    r_max = std::max(r_max, std::abs(w.r[i][j]));
   }
   return r_max;
 }
