@@ -35,17 +35,20 @@ double correction_sweep(const picard_matrices<T>& m, picard_workspace<P>& w, dou
     if constexpr (euler_field<P>::torque_traits_type::depends_on_state)
       for (int i = 0; i < 3; ++i) w.g[i][k] += w.torque_J[k][i][0] * d1 + w.torque_J[k][i][1] * d2 + w.torque_J[k][i][2] * d3;
   }
-  double diff = 0;
+  // The maxima in locals: through the reference, each would make a store and its reload on
+  // the loop's critical path.
+  double diff = 0, big = dmax;
   m.double_integral(w.g, w.delta_new);
   for (int i = 0; i < 3; ++i) {
     w.delta_new[i][0] = 0;
     for (std::size_t j = 1; j < w.n1; ++j) {
       const double v = w.r[i][j] + hl_d * w.delta_new[i][j];
       diff = std::max(diff, std::abs(v - w.delta[i][j]));
-      dmax = std::max(dmax, std::abs(v));
+      big = std::max(big, std::abs(v));
       w.delta_new[i][j] = v;
     }
   }
+  dmax = big;
   std::swap(w.delta, w.delta_new);
   return diff;
 }
