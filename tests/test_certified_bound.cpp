@@ -1,4 +1,4 @@
-// The certificate of certified_bound.hpp: every row's radius must hold the exact solution.
+// The certificate of certify/certifier.hpp: every row's radius must hold the exact solution.
 //
 // Provenance of the exact values:
 //   - torque-free motion from Omega(0) = (c1, 0, c2): Eq. 12 in closed form by Boost.Math's
@@ -23,28 +23,17 @@
 
 namespace {
 
-using eulervop::certified_problem;
 using eulervop::certifier;
+using eulervop::exact_problem;
+using eulervop::interval;
 using eulervop::mpfr_real;
 using eulervop::quad;
 using eulervop::vec3;
-using eulervop::detail::interval;
 
 constexpr mpfr_prec_t working_bits = 113 + 64;
 
-certified_problem problem_of(const std::array<std::string, 3>& G, const std::array<std::string, 3>& Omega0) {
-  certified_problem p;
-  for (const auto& g : G) {
-    interval x(working_bits);
-    eulervop::detail::set_decimal(x, g);
-    p.G.push_back(x);
-  }
-  for (const auto& o : Omega0) {
-    interval x(working_bits);
-    eulervop::detail::set_decimal(x, o);
-    p.Omega0.push_back(x);
-  }
-  return p;
+exact_problem problem_of(const std::array<std::string, 3>& G, const std::array<std::string, 3>& Omega0) {
+  return eulervop::exact_problem_of(G, Omega0, working_bits);
 }
 
 struct certified_row {
@@ -56,7 +45,7 @@ struct certified_row {
 // Integrates in quad (problem `run`), certifies against `exact` (the scene's decimals), and
 // returns the rows at `samples` + 1 equally spaced times. `tamper` may alter a segment before the
 // sampler and the certificate see it (the test hook for a corrupted reference).
-std::vector<certified_row> certified_rows(const eulervop::euler_problem<quad>& run, const certified_problem& exact,
+std::vector<certified_row> certified_rows(const eulervop::euler_problem<quad>& run, const exact_problem& exact,
                                           double tau_end, int samples,
                                           const std::function<void(eulervop::chebyshev_segment<quad>&, std::size_t)>&
                                               tamper = {}) {
@@ -154,7 +143,7 @@ INSTANTIATE_TEST_SUITE_P(Moduli, TorqueFreeCertificate,
 // MPFR 256-bit reference at the same times.
 struct torqued_case {
   eulervop::euler_problem<quad> run;
-  certified_problem exact = problem_of({"1.0", "1.0", "1.0"}, {"0.5", "0", "1.0"});
+  exact_problem exact = problem_of({"1.0", "1.0", "1.0"}, {"0.5", "0", "1.0"});
   double tau_end = 30;
   int samples = 300;
 };
@@ -237,14 +226,14 @@ TEST(TorquedCertificate, PerturbedTorqueIsCoveredOrRefused) {
 TEST(Intervals, QuadIsExactAndDecimalsAreEnclosed) {
   eulervop::mpfr_precision_scope scope(working_bits);
   const quad q = quad(1) / 3;
-  interval x(working_bits);
+  interval x = interval::zero(working_bits);
   eulervop::detail::set_exact(x, q);
   mpfr_real left, right;
   mpfi_get_left(left.backend().data(), x.get());
   mpfi_get_right(right.backend().data(), x.get());
   EXPECT_EQ(left, mpfr_real(q));
   EXPECT_EQ(right, mpfr_real(q));
-  interval d(working_bits);
+  interval d = interval::zero(working_bits);
   eulervop::detail::set_decimal(d, "0.1");
   mpfi_get_left(left.backend().data(), d.get());
   mpfi_get_right(right.backend().data(), d.get());
@@ -263,7 +252,7 @@ namespace {
 TEST(TorquedCertificate, RandomPointsOfAnInitialBoxStayInside) {
   const std::array<double, 3> center = {0.5, 0.0, 1.0};
   const double half_width = 1e-12;
-  certified_problem box = problem_of({"1.0", "1.0", "1.0"}, {"0.5", "0", "1.0"});
+  exact_problem box = problem_of({"1.0", "1.0", "1.0"}, {"0.5", "0", "1.0"});
   for (int i = 0; i < 3; ++i)
     mpfi_interv_d(box.Omega0[i].get(), center[i] - half_width, center[i] + half_width);
   eulervop::euler_problem<quad> run;
