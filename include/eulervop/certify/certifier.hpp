@@ -53,9 +53,11 @@ namespace eulervop {
 class certifier {
  public:
   // `bits`: the working precision (the reference's bits + 64 or more); `degree`: the reference's
-  // N; `problem`: the exact data (exact_problem.hpp), with a constant torque and coefficients a
-  // of -1, 0 or 1 (std::invalid_argument otherwise), as Eq. 5.
+  // N; `problem`: the exact data (exact_problem.hpp), with coefficients a of -1, 0 or 1
+  // (std::invalid_argument otherwise), as Eq. 5. Only a constant torque is certified: the
+  // residual's f is then quadratic, and the bounds of J hold.
   template <class Torque>
+    requires is_constant_torque_v<Torque>
   certifier(mpfr_prec_t bits, std::size_t degree, const euler_problem<interval, Torque>& problem);
 
   // Checks the next accepted segment of the reference (in order) and moves the error bound to
@@ -108,6 +110,7 @@ class certifier {
 };
 
 template <class Torque>
+  requires is_constant_torque_v<Torque>
 certifier::certifier(mpfr_prec_t bits, std::size_t degree, const euler_problem<interval, Torque>& problem)
     : problem_(with_constant_torque(problem)), jacobian_(detail::jacobian_pattern(unit_coefficients(problem_))),
       transform_(bits, degree), P_(bits, degree),
@@ -115,10 +118,9 @@ certifier::certifier(mpfr_prec_t bits, std::size_t degree, const euler_problem<i
       u_(bits, degree), box_(bits), prev_end_(3, interval::zero(bits)), prev_b_(interval::zero(bits)),
       ball_(interval::zero(bits)), scratch_(interval::zero(bits)), max_radius_(interval::zero(bits)) {}
 
+// The problem with its torque as the one vector it is.
 template <class Torque>
 exact_problem certifier::with_constant_torque(const euler_problem<interval, Torque>& problem) {
-  static_assert(is_constant_torque_v<Torque>,
-                "certifier: only a constant torque is certified (the residual's f is then quadratic, Eq. 5)");
   const interval_precision_scope scope(problem.Omega0[0].bits());
   exact_problem p;
   p.torque.G = problem.torque.value(problem.tau0, problem.Omega0);
