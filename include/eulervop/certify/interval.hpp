@@ -33,7 +33,7 @@ inline mpfr_prec_t& interval_thread_bits() {
 }  // namespace detail
 
 // The precision of the intervals that generic code creates (constants, default values) on this
-// thread while the scope lives.
+// thread while the scope lives; 64 bits outside any scope (exact for every int).
 class interval_precision_scope {
  public:
   explicit interval_precision_scope(mpfr_prec_t bits) : saved_(detail::interval_thread_bits()) {
@@ -51,8 +51,9 @@ class interval {
  public:
   // [0, 0] at the given precision.
   static interval zero(mpfr_prec_t bits) { return interval(bits, 0); }
-  // The exact integer at the thread's interval precision: generic code's T(0), T(1), T(3).
-  interval(int value) : interval(detail::interval_thread_bits(), value) {}  // NOLINT: implicit, as for scalars
+  // The exact integer at the thread's interval precision: generic code's T(0), T(1), T(3), and
+  // implicit as for the scalars (`T tau0 = 0`).
+  interval(int value) : interval(detail::interval_thread_bits(), value) {}
   interval() : interval(0) {}
   // Not a precision: interval::zero(bits) is.
   interval(long) = delete;
