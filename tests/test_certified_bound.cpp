@@ -1,4 +1,4 @@
-// The certificate of certified_bound.hpp: every row's radius must hold the exact solution.
+// The certificate of certify/certifier.hpp: every row's radius must hold the exact solution.
 //
 // Provenance of the exact values:
 //   - torque-free motion from Omega(0) = (c1, 0, c2): Eq. 12 in closed form by Boost.Math's
@@ -19,32 +19,22 @@
 #include <functional>
 #include <random>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace {
 
-using eulervop::certified_problem;
 using eulervop::certifier;
+using eulervop::exact_problem;
+using eulervop::interval;
 using eulervop::mpfr_real;
 using eulervop::quad;
 using eulervop::vec3;
-using eulervop::detail::interval;
 
 constexpr mpfr_prec_t working_bits = 113 + 64;
 
-certified_problem problem_of(const std::array<std::string, 3>& G, const std::array<std::string, 3>& Omega0) {
-  certified_problem p;
-  for (const auto& g : G) {
-    interval x(working_bits);
-    eulervop::detail::set_decimal(x, g);
-    p.G.push_back(x);
-  }
-  for (const auto& o : Omega0) {
-    interval x(working_bits);
-    eulervop::detail::set_decimal(x, o);
-    p.Omega0.push_back(x);
-  }
-  return p;
+exact_problem problem_of(const std::array<std::string, 3>& G, const std::array<std::string, 3>& Omega0) {
+  return eulervop::exact_problem_of(G, Omega0, working_bits);
 }
 
 struct certified_row {
@@ -56,7 +46,7 @@ struct certified_row {
 // Integrates in quad (problem `run`), certifies against `exact` (the scene's decimals), and
 // returns the rows at `samples` + 1 equally spaced times. `tamper` may alter a segment before the
 // sampler and the certificate see it (the test hook for a corrupted reference).
-std::vector<certified_row> certified_rows(const eulervop::euler_problem<quad>& run, const certified_problem& exact,
+std::vector<certified_row> certified_rows(const eulervop::euler_problem<quad>& run, const exact_problem& exact,
                                           double tau_end, int samples,
                                           const std::function<void(eulervop::chebyshev_segment<quad>&, std::size_t)>&
                                               tamper = {}) {
@@ -154,7 +144,7 @@ INSTANTIATE_TEST_SUITE_P(Moduli, TorqueFreeCertificate,
 // MPFR 256-bit reference at the same times.
 struct torqued_case {
   eulervop::euler_problem<quad> run;
-  certified_problem exact = problem_of({"1.0", "1.0", "1.0"}, {"0.5", "0", "1.0"});
+  exact_problem exact = problem_of({"1.0", "1.0", "1.0"}, {"0.5", "0", "1.0"});
   double tau_end = 30;
   int samples = 300;
 };
@@ -233,18 +223,85 @@ TEST(TorquedCertificate, PerturbedTorqueIsCoveredOrRefused) {
   }
 }
 
+// The certifier takes only a constant torque (a compile-time constraint) and coefficients a of
+// -1, 0 or 1 (std::invalid_argument).
+struct time_dependent_torque {
+  static constexpr bool depends_on_time = true;
+  static constexpr bool depends_on_state = false;
+  vec3<interval> G;
+  const vec3<interval>& value(const interval&, const vec3<interval>&) const { return G; }
+};
+static_assert(std::is_constructible_v<certifier, mpfr_prec_t, std::size_t, const exact_problem&>);
+static_assert(!std::is_constructible_v<certifier, mpfr_prec_t, std::size_t,
+                                       const eulervop::euler_problem<interval, time_dependent_torque>&>);
+
+TEST(CertifierProblem, CoefficientsOtherThanUnitsAreRefused) {
+  exact_problem p = problem_of({"1.0", "1.0", "1.0"}, {"0.5", "0", "1.0"});
+  EXPECT_NO_THROW(certifier(working_bits, 20, p));
+  mpfi_set_d(p.a[1].get(), 0.5);
+  EXPECT_THROW(certifier(working_bits, 20, p), std::invalid_argument);
+  mpfi_interv_si(p.a[1].get(), 0, 1);
+  EXPECT_THROW(certifier(working_bits, 20, p), std::invalid_argument);
+}
+
+// The bounds of model/euler_problem.hpp hold at random states and directions, for Eq. 5 and for
+// other coefficients; for Eq. 5 the log-norm bound is exactly sup |y_2| (the eigenvalues of the
+// symmetric part of J are +-y_2 and 0), in intervals too.
+TEST(ProblemBounds, HoldAtRandomStates) {
+  std::mt19937_64 rng(20261125);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const std::array<vec3<double>, 4> coefficients = {
+      vec3<double>{-1, 1, -1}, vec3<double>{0.3, -1.7, 0.9}, vec3<double>{1, 1, 1}, vec3<double>{0, -2, 0.5}};
+  for (const vec3<double>& a : coefficients) {
+    eulervop::euler_problem<double> p;
+    p.form = eulervop::equation_form::direct;
+    p.a = a;
+    for (int sample = 0; sample < 2000; ++sample) {
+      const vec3<double> ysup = {2 * std::abs(unit(rng)), 2 * std::abs(unit(rng)), 2 * std::abs(unit(rng))};
+      const vec3<double> y = {ysup[0] * unit(rng), ysup[1] * unit(rng), ysup[2] * unit(rng)};
+      vec3<double> x = {unit(rng), unit(rng), unit(rng)};
+      const double xn = std::hypot(x[0], x[1], x[2]);
+      for (double& c : x) c /= xn;
+      std::array<vec3<double>, 3> J;
+      p.jacobian(0.0, y, J);
+      double xJx = 0, Jx2 = 0;
+      for (int i = 0; i < 3; ++i) {
+        const double Jxi = J[i][0] * x[0] + J[i][1] * x[1] + J[i][2] * x[2];
+        xJx += x[i] * Jxi;
+        Jx2 += Jxi * Jxi;
+      }
+      const double slack = 1 + 1e-12;
+      EXPECT_LE(xJx, eulervop::log_norm_bound(p, ysup) * slack + 1e-300);
+      EXPECT_LE(std::sqrt(Jx2), eulervop::jacobian_norm_bound(p, ysup) * slack + 1e-300);
+      const vec3<double> N = {a[0] * y[1] * y[2], a[1] * y[2] * y[0], a[2] * y[0] * y[1]};
+      const double y2 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+      EXPECT_LE(std::hypot(N[0], N[1], N[2]), eulervop::remainder_bound(p, y2) * slack + 1e-300);
+      if (a == vec3<double>{-1, 1, -1}) EXPECT_EQ(eulervop::log_norm_bound(p, ysup), ysup[1]);
+    }
+  }
+  const exact_problem p = problem_of({"0", "0", "0"}, {"0.5", "0.3", "1.0"});
+  const vec3<interval> ysup = p.Omega0;  // any nonnegative intervals
+  const interval mu = [&] {
+    eulervop::interval_precision_scope scope(working_bits);
+    return eulervop::log_norm_bound(p, ysup);
+  }();
+  EXPECT_TRUE(mpfr_equal_p(&mu.get()->left, &ysup[1].get()->left));
+  EXPECT_TRUE(mpfr_equal_p(&mu.get()->right, &ysup[1].get()->right));
+  EXPECT_EQ(mu.bits(), working_bits);
+}
+
 // MPFI holds a binary128 value exactly (three doubles), and a decimal outward (0.1 has width).
 TEST(Intervals, QuadIsExactAndDecimalsAreEnclosed) {
   eulervop::mpfr_precision_scope scope(working_bits);
   const quad q = quad(1) / 3;
-  interval x(working_bits);
+  interval x = interval::zero(working_bits);
   eulervop::detail::set_exact(x, q);
   mpfr_real left, right;
   mpfi_get_left(left.backend().data(), x.get());
   mpfi_get_right(right.backend().data(), x.get());
   EXPECT_EQ(left, mpfr_real(q));
   EXPECT_EQ(right, mpfr_real(q));
-  interval d(working_bits);
+  interval d = interval::zero(working_bits);
   eulervop::detail::set_decimal(d, "0.1");
   mpfi_get_left(left.backend().data(), d.get());
   mpfi_get_right(right.backend().data(), d.get());
@@ -263,7 +320,7 @@ namespace {
 TEST(TorquedCertificate, RandomPointsOfAnInitialBoxStayInside) {
   const std::array<double, 3> center = {0.5, 0.0, 1.0};
   const double half_width = 1e-12;
-  certified_problem box = problem_of({"1.0", "1.0", "1.0"}, {"0.5", "0", "1.0"});
+  exact_problem box = problem_of({"1.0", "1.0", "1.0"}, {"0.5", "0", "1.0"});
   for (int i = 0; i < 3; ++i)
     mpfi_interv_d(box.Omega0[i].get(), center[i] - half_width, center[i] + half_width);
   eulervop::euler_problem<quad> run;

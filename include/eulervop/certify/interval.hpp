@@ -2,9 +2,14 @@
 // arithmetic and the MPFI library", 2005): every operation rounds its end points outward, so the
 // exact result of the real operation on any points of the operands lies inside the result.
 //
-// The certificate of certified_bound.hpp does thousands of operations per segment; the C calls
-// on preallocated intervals avoid the temporaries (and their allocations) of Boost's
-// mpfi_float expression templates, which cost about twice as much per multiply-add here.
+// Two ways to compute with it:
+//   - value semantics (+, -, *, /, sqrt, abs, max), for the setup code and the bounds of the
+//     model (model/physical_scaling.hpp, model/euler_problem.hpp instantiated with this type):
+//     each operation allocates its result, at the larger precision of its operands;
+//   - the MPFI C calls on preallocated intervals (get()), in the certifier's loops (thousands of
+//     operations per segment), where the temporaries would cost about twice as much.
+// Constants of generic code (T(0), T(1), T(3)) take the thread's interval precision, set by an
+// interval_precision_scope (like MPFR values and mpfr_precision_scope, core/scalar.hpp).
 #pragma once
 
 #include <eulervop/core/scalar.hpp>
@@ -18,14 +23,41 @@
 #include <type_traits>
 #include <utility>
 
-namespace eulervop::detail {
+namespace eulervop {
+
+namespace detail {
+inline mpfr_prec_t& interval_thread_bits() {
+  thread_local mpfr_prec_t bits = 64;
+  return bits;
+}
+}  // namespace detail
+
+// The precision of the intervals that generic code creates (constants, default values) on this
+// thread while the scope lives; 64 bits outside any scope (exact for every int).
+class interval_precision_scope {
+ public:
+  explicit interval_precision_scope(mpfr_prec_t bits) : saved_(detail::interval_thread_bits()) {
+    detail::interval_thread_bits() = bits;
+  }
+  ~interval_precision_scope() { detail::interval_thread_bits() = saved_; }
+  interval_precision_scope(const interval_precision_scope&) = delete;
+  interval_precision_scope& operator=(const interval_precision_scope&) = delete;
+
+ private:
+  mpfr_prec_t saved_;
+};
 
 class interval {
  public:
-  explicit interval(mpfr_prec_t bits) {
-    mpfi_init2(v_, bits);
-    mpfi_set_ui(v_, 0);
-  }
+  // [0, 0] at the given precision.
+  static interval zero(mpfr_prec_t bits) { return interval(bits, 0); }
+  // The exact integer at the thread's interval precision: generic code's T(0), T(1), T(3), and
+  // implicit as for the scalars (`T tau0 = 0`).
+  interval(int value) : interval(detail::interval_thread_bits(), value) {}
+  interval() : interval(0) {}
+  // Not a precision: interval::zero(bits) is.
+  interval(long) = delete;
+
   interval(const interval& o) {
     mpfi_init2(v_, mpfi_get_prec(o.v_));
     mpfi_set(v_, o.v_);
@@ -51,51 +83,52 @@ class interval {
   mpfi_srcptr get() const { return v_; }
   mpfr_prec_t bits() const { return mpfi_get_prec(v_); }
 
+  friend interval operator+(const interval& x, const interval& y) { return binary(mpfi_add, x, y); }
+  friend interval operator-(const interval& x, const interval& y) { return binary(mpfi_sub, x, y); }
+  friend interval operator*(const interval& x, const interval& y) { return binary(mpfi_mul, x, y); }
+  friend interval operator/(const interval& x, const interval& y) { return binary(mpfi_div, x, y); }
+  friend interval operator-(const interval& x) { return unary(mpfi_neg, x); }
+  friend interval sqrt(const interval& x) { return unary(mpfi_sqrt, x); }
+  friend interval abs(const interval& x) { return unary(mpfi_abs, x); }
+  // The interval extension of max: [max of the left ends, max of the right ends].
+  friend interval max(const interval& x, const interval& y) {
+    interval out = zero(std::max(x.bits(), y.bits()));
+    mpfr_t l, r, t;  // at out's bits: the end points are copied exactly
+    mpfr_inits2(out.bits(), l, r, t, static_cast<mpfr_ptr>(nullptr));
+    mpfi_get_left(l, x.get());
+    mpfi_get_left(t, y.get());
+    mpfr_max(l, l, t, MPFR_RNDD);
+    mpfi_get_right(r, x.get());
+    mpfi_get_right(t, y.get());
+    mpfr_max(r, r, t, MPFR_RNDU);
+    mpfi_interv_fr(out.get(), l, r);
+    mpfr_clears(l, r, t, static_cast<mpfr_ptr>(nullptr));
+    return out;
+  }
+
  private:
+  interval(mpfr_prec_t bits, int value) {
+    mpfi_init2(v_, bits);
+    mpfi_set_si(v_, value);
+  }
+
+  template <class Op>
+  static interval binary(Op op, const interval& x, const interval& y) {
+    interval out = zero(std::max(x.bits(), y.bits()));
+    op(out.get(), x.get(), y.get());
+    return out;
+  }
+  template <class Op>
+  static interval unary(Op op, const interval& x) {
+    interval out = zero(x.bits());
+    op(out.get(), x.get());
+    return out;
+  }
+
   mpfi_t v_;
 };
 
-// An owning MPFR number (midpoints at the working precision; bounds at 64 bits, rounded up).
-class real {
- public:
-  explicit real(mpfr_prec_t bits) {
-    mpfr_init2(v_, bits);
-    mpfr_set_ui(v_, 0, MPFR_RNDN);
-  }
-  real(const real& o) {
-    mpfr_init2(v_, mpfr_get_prec(o.v_));
-    mpfr_set(v_, o.v_, MPFR_RNDN);
-  }
-  real(real&& o) noexcept {
-    mpfr_init2(v_, MPFR_PREC_MIN);
-    mpfr_swap(v_, o.v_);
-  }
-  real& operator=(const real& o) {
-    if (this != &o) {
-      mpfr_set_prec(v_, mpfr_get_prec(o.v_));
-      mpfr_set(v_, o.v_, MPFR_RNDN);
-    }
-    return *this;
-  }
-  real& operator=(real&& o) noexcept {
-    mpfr_swap(v_, o.v_);
-    return *this;
-  }
-  ~real() { mpfr_clear(v_); }
-  mpfr_ptr get() { return v_; }
-  mpfr_srcptr get() const { return v_; }
-
- private:
-  mpfr_t v_;
-};
-
-// bound += |x|, rounded up.
-inline void add_abs_up(real& bound, mpfr_srcptr x) {
-  if (mpfr_sgn(x) < 0)
-    mpfr_sub(bound.get(), bound.get(), x, MPFR_RNDU);
-  else
-    mpfr_add(bound.get(), bound.get(), x, MPFR_RNDU);
-}
+namespace detail {
 
 // The exact value of x (quad or MPFR) as a point interval. Exact when `out` has at least the
 // bits of x (quad: 113); otherwise rounded outward.
@@ -139,6 +172,12 @@ inline void to_zero_hull(interval& x) {
   to_upper_point(x);
   mpfi_put_si(x.get(), 0);
 }
+// x = [-b, b] for b its right end (a ball of that radius).
+inline void to_symmetric_hull(interval& x, interval& scratch) {
+  to_upper_point(x);
+  mpfi_neg(scratch.get(), x.get());
+  mpfi_put(x.get(), scratch.get());
+}
 
 // Whether x and y are the same single point.
 inline bool same_point(const interval& x, const interval& y) {
@@ -163,4 +202,5 @@ inline double magnitude_up(const interval& x) {
   return d;
 }
 
-}  // namespace eulervop::detail
+}  // namespace detail
+}  // namespace eulervop

@@ -1,5 +1,5 @@
 // Chebyshev series in double with a bound of every rounding, for the parts of the certificate
-// (certified_bound.hpp) whose accuracy only needs to be modest: the variational matrix and the
+// (certify/certifier.hpp) whose accuracy only needs to be modest: the variational matrix and the
 // signed integral term. A polynomial is its double coefficients (exact by definition) or, where
 // it stands for an exactly known one, those coefficients plus `radius` >= sum |exact_k - c_k|.
 //
@@ -42,7 +42,8 @@ struct series_view {
   double radius = 0;
 };
 
-// One term sign * a * b of a sum of products.
+// One term sign * a * b of a sum of products; sign is -1, 0 or 1, so that a product by it is
+// exact (the certificate's coefficients a_i, exact_problem.hpp: unit_coefficients).
 struct product_term {
   double sign = 1;
   series_view a, b;

@@ -1,0 +1,79 @@
+// Plain MPFR numbers beside the intervals (interval.hpp): the midpoints that the certificate's
+// large sums run on (rounded to nearest, then widened by a bound of their roundings), the bounds
+// of those roundings (at 64 bits, rounded up), and an interval's double with a bound of its
+// distance (for the parts computed in double, bounded_chebyshev.hpp).
+#pragma once
+
+#include <eulervop/certify/interval.hpp>
+
+#include <mpfi.h>
+#include <mpfr.h>
+
+#include <cmath>
+#include <limits>
+
+namespace eulervop::detail {
+
+// An owning MPFR number.
+class real {
+ public:
+  explicit real(mpfr_prec_t bits) {
+    mpfr_init2(v_, bits);
+    mpfr_set_ui(v_, 0, MPFR_RNDN);
+  }
+  real(const real& o) {
+    mpfr_init2(v_, mpfr_get_prec(o.v_));
+    mpfr_set(v_, o.v_, MPFR_RNDN);
+  }
+  real(real&& o) noexcept {
+    mpfr_init2(v_, MPFR_PREC_MIN);
+    mpfr_swap(v_, o.v_);
+  }
+  real& operator=(const real& o) {
+    if (this != &o) {
+      mpfr_set_prec(v_, mpfr_get_prec(o.v_));
+      mpfr_set(v_, o.v_, MPFR_RNDN);
+    }
+    return *this;
+  }
+  real& operator=(real&& o) noexcept {
+    mpfr_swap(v_, o.v_);
+    return *this;
+  }
+  ~real() { mpfr_clear(v_); }
+  mpfr_ptr get() { return v_; }
+  mpfr_srcptr get() const { return v_; }
+
+ private:
+  mpfr_t v_;
+};
+
+// bound += |x|, rounded up.
+inline void add_abs_up(real& bound, mpfr_srcptr x) {
+  if (mpfr_sgn(x) < 0)
+    mpfr_sub(bound.get(), bound.get(), x, MPFR_RNDU);
+  else
+    mpfr_add(bound.get(), bound.get(), x, MPFR_RNDU);
+}
+
+// out = the width of x, rounded up; `lo` a scratch number. Both at x's bits or more, so that
+// the end points are read exactly (MPFI rounds them outward: left down, right up).
+inline void width_up(real& out, const interval& x, real& lo) {
+  mpfi_get_left(lo.get(), x.get());
+  mpfi_get_right(out.get(), x.get());
+  mpfr_sub(out.get(), out.get(), lo.get(), MPFR_RNDU);
+}
+
+// x's midpoint rounded to double, and an upper bound of max |x - d| over the interval: its
+// width plus an ulp of d (the midpoint's own roundings are below half an ulp each), plus
+// denorm_min for a d that underflows. `lo`, `hi`: scratch numbers at x's bits or more.
+inline double to_double(const interval& x, double& radius, real& lo, real& hi) {
+  const double d = mpfi_get_d(x.get());
+  width_up(hi, x, lo);
+  radius = (mpfr_get_d(hi.get(), MPFR_RNDU) + std::abs(d) * std::numeric_limits<double>::epsilon() +
+            std::numeric_limits<double>::denorm_min()) *
+           (1 + 1e-15);
+  return d;
+}
+
+}  // namespace eulervop::detail

@@ -1,0 +1,125 @@
+// The variational matrix of a segment, Phi' = hl J(P(s)) Phi on s in [-1, 1], Phi(-1) = I
+// (docs/certified.md, "How", step 4): Picard iteration in double on 17 Lobatto nodes; Phi_num is
+// the polynomial of its Chebyshev coefficients (exact doubles by definition). Its residual
+// R(s) = I + hl int J Phi_num - Phi_num is bounded with every rounding (bounded_chebyshev.hpp);
+// E = Phi - Phi_num solves E = R + hl int J E, so |E(1)| <= sup|R| (1 + h exp(mu h) |J|). That
+// error only multiplies e(a), which is far below double's precision, so double is enough.
+#pragma once
+
+#include <eulervop/certify/detail/bounded_chebyshev.hpp>
+#include <eulervop/certify/detail/linearized_flow.hpp>
+#include <eulervop/certify/detail/segment_polynomial.hpp>
+#include <eulervop/certify/interval.hpp>
+#include <eulervop/reference/detail/chebyshev_basis.hpp>
+
+#include <mpfi.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <vector>
+
+namespace eulervop::detail {
+
+class variational_matrix {
+ public:
+  explicit variational_matrix(mpfr_prec_t bits) : Phi1(9, interval::zero(bits)), eps(interval::zero(bits)) {}
+
+  void compute(const segment_polynomial& P, const jacobian_rows& rows, const linear_growth& g,
+               integrated_products& sums);
+
+  std::vector<interval> Phi1;  // 3x3: Phi_num(1), enclosed
+  interval eps;                // |Phi(b, a) - Phi_num(1)|_2 <= eps
+
+ private:
+  static constexpr std::size_t m1_ = 17;
+  void jacobian_at_nodes(const segment_polynomial& P, const jacobian_rows& rows);
+  void iterate(const segment_polynomial& P, double hl);
+  void coefficients();
+  double residual_sup(const segment_polynomial& P, const jacobian_rows& rows, double hl, integrated_products& sums);
+
+  chebyshev_basis<double> basis_{m1_ - 1};
+  // At node l, entry q = 3 i + j: J, Phi and J Phi; phi_: entry q's coefficients k at q m1 + k.
+  std::vector<double> J_ = std::vector<double>(m1_ * 9), Phi_ = J_, F_ = J_, phi_ = J_;
+};
+
+inline void variational_matrix::compute(const segment_polynomial& P, const jacobian_rows& rows,
+                                        const linear_growth& g, integrated_products& sums) {
+  jacobian_at_nodes(P, rows);
+  iterate(P, g.hl);
+  coefficients();
+  g.error_at_end(eps, residual_sup(P, rows, g.hl, sums), P);
+  for (int q = 0; q < 9; ++q) {
+    mpfi_set_ui(Phi1[q].get(), 0);
+    for (std::size_t k = 0; k < m1_; ++k) mpfi_add_d(Phi1[q].get(), Phi1[q].get(), phi_[q * m1_ + k]);
+  }
+}
+
+inline void variational_matrix::jacobian_at_nodes(const segment_polynomial& P, const jacobian_rows& rows) {
+  for (std::size_t l = 0; l < m1_; ++l) {
+    double y[3];
+    for (int i = 0; i < 3; ++i) y[i] = clenshaw(&P.cd[i * P.n1], P.n1, 1, basis_.nodes[l]);
+    double* Jl = &J_[l * 9];
+    std::fill(Jl, Jl + 9, 0.0);
+    for (int i = 0; i < 3; ++i)
+      for (const jacobian_entry& e : rows[i]) Jl[i * 3 + e.k] = e.coefficient * y[e.c];
+  }
+}
+
+inline void variational_matrix::iterate(const segment_polynomial& P, double hl) {
+  const double u = std::numeric_limits<double>::epsilon() / 2;
+  for (std::size_t l = 0; l < m1_; ++l)
+    for (int q = 0; q < 9; ++q) Phi_[l * 9 + q] = (q % 4 == 0) ? 1.0 : 0.0;
+  for (int it = 0; it < 200; ++it) {
+    for (std::size_t l = 0; l < m1_; ++l)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          double acc = 0;
+          for (int k = 0; k < 3; ++k) acc += J_[l * 9 + i * 3 + k] * Phi_[l * 9 + k * 3 + j];
+          F_[l * 9 + i * 3 + j] = acc;
+        }
+    double change = 0, size = 0;
+    for (std::size_t l = 0; l < m1_; ++l)
+      for (int q = 0; q < 9; ++q) {
+        double acc = 0;
+        for (std::size_t k = 0; k < m1_; ++k) acc += basis_.integral[l * m1_ + k] * F_[k * 9 + q];
+        const double next = ((q % 4 == 0) ? 1.0 : 0.0) + hl * acc;
+        change = std::max(change, std::abs(next - Phi_[l * 9 + q]));
+        size = std::max(size, std::abs(next));
+        Phi_[l * 9 + q] = next;
+      }
+    if (!std::isfinite(change)) P.fail(outcome_kind::certify_non_finite);
+    if (change <= 4 * u * size) break;
+  }
+}
+
+inline void variational_matrix::coefficients() {
+  for (int q = 0; q < 9; ++q)
+    for (std::size_t k = 0; k < m1_; ++k) {
+      double acc = 0;
+      for (std::size_t l = 0; l < m1_; ++l) acc += basis_.coeffs[k * m1_ + l] * Phi_[l * 9 + q];
+      phi_[q * m1_ + k] = acc;
+    }
+}
+
+// sup |R|_2 <= the root of the sum over the entries of sup |R_ij|^2.
+inline double variational_matrix::residual_sup(const segment_polynomial& P, const jacobian_rows& rows, double hl,
+                                               integrated_products& sums) {
+  double sup2 = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      std::array<product_term, 2> terms;
+      for (int t = 0; t < 2; ++t) {
+        const jacobian_entry& e = rows[i][t];
+        terms[t] = {e.coefficient, {&P.cd[e.c * P.n1], P.n1, P.prad[e.c]}, {&phi_[(e.k * 3 + j) * m1_], m1_, 0.0}};
+      }
+      sums.compute(hl, terms);
+      const double b = residual_bound(i == j ? 1.0 : 0.0, sums, {&phi_[(i * 3 + j) * m1_], m1_, 0.0});
+      sup2 += b * b;
+    }
+  return std::sqrt(sup2) * (1 + 1e-12);
+}
+
+}  // namespace eulervop::detail

@@ -1,0 +1,121 @@
+// What the certificate proves at a row's tau inside a segment (docs/certified.md, "How", step 6):
+//   |y(tau) - P(tau)|_2 <= exp(mu dt) |e(a)| + sup|r| + dt exp(mu dt) (|J| sup|r| + c R^2),
+// dt = tau - a, and the row's radius adds |printed - P(tau)|_2, evaluated in intervals from the
+// printed decimals, so the rounding of the printed digits is included.
+#pragma once
+
+#include <eulervop/certify/detail/a_priori_bound.hpp>
+#include <eulervop/certify/detail/segment_polynomial.hpp>
+#include <eulervop/certify/exact_problem.hpp>
+#include <eulervop/certify/interval.hpp>
+#include <eulervop/core/scalar.hpp>
+
+#include <mpfi.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace eulervop {
+
+// At tau: `error` = [0, e] with |y(tau) - P(tau)|_2 <= e, and P(tau) enclosed; `state` = [0, Y]
+// with |y| <= Y on the whole segment, and `rate` = [0, F] with |y'| <= F wherever |y| <= 2 Y (for
+// moving a bound along tau by a rounding's worth).
+struct row_enclosure {
+  interval error;
+  std::vector<interval> P;
+  interval state, rate;
+};
+
+// An upper bound of |y(tau) - printed|_2 (Eq. 20's norm) from the enclosure at tau, the row
+// printed as the decimals `printed`: [0, the bound].
+inline interval row_radius(const row_enclosure& at, const std::array<std::string, 3>& printed) {
+  const mpfr_prec_t bits = at.error.bits();
+  interval out = interval::zero(bits), t = interval::zero(bits), sq = interval::zero(bits);
+  for (int i = 0; i < 3; ++i) {
+    detail::set_decimal(t, printed[i]);
+    mpfi_sub(t.get(), t.get(), at.P[i].get());
+    mpfi_abs(t.get(), t.get());
+    mpfi_sqr(t.get(), t.get());
+    mpfi_add(sq.get(), sq.get(), t.get());
+  }
+  mpfi_sqrt(sq.get(), sq.get());
+  mpfi_add(out.get(), at.error.get(), sq.get());
+  detail::to_zero_hull(out);  // the upper end only: [0, sup]
+  return out;
+}
+
+namespace detail {
+
+// P = sum p_k T_k(s) at s = dt / hl - 1, summed directly: T_k from the three-term recurrence,
+// each clipped to [-1, 1] (where the exact T_k(s) lies). The recurrence's widths grow like
+// 2.4^k, but they multiply p_k, which decay faster; Clenshaw's algorithm instead multiplies the
+// coefficients' own widths by 2.4^k (2^118 at mpfr:256's degree), which would swamp the bound.
+inline void polynomial_at(const segment_polynomial& S, const interval& dt, std::vector<interval>& P) {
+  interval s = interval::zero(S.bits), t = interval::zero(S.bits), unit = interval::zero(S.bits);
+  mpfi_div(s.get(), dt.get(), S.hl.get());
+  mpfi_sub_ui(s.get(), s.get(), 1);
+  mpfi_interv_si(unit.get(), -1, 1);
+  mpfi_intersect(s.get(), s.get(), unit.get());  // the exact s lies in [-1, 1]
+  std::vector<interval> Tk(S.n1, interval::zero(S.bits));
+  mpfi_set_ui(Tk[0].get(), 1);
+  if (S.n1 > 1) mpfi_set(Tk[1].get(), s.get());
+  for (std::size_t k = 2; k < S.n1; ++k) {
+    mpfi_mul(Tk[k].get(), Tk[k - 1].get(), s.get());
+    mpfi_mul_2si(Tk[k].get(), Tk[k].get(), 1);
+    mpfi_sub(Tk[k].get(), Tk[k].get(), Tk[k - 2].get());
+    mpfi_intersect(Tk[k].get(), Tk[k].get(), unit.get());
+  }
+  for (int i = 0; i < 3; ++i) {
+    mpfi_set_ui(P[i].get(), 0);
+    for (std::size_t k = 0; k < S.n1; ++k) {
+      mpfi_mul(t.get(), S.p[i * S.n1 + k].get(), Tk[k].get());
+      mpfi_add(P[i].get(), P[i].get(), t.get());
+    }
+  }
+}
+
+// The enclosure at tau in the segment of S with the bounds B.
+template <scalar T>
+row_enclosure enclose_row(const T& tau, const exact_problem& problem, const segment_polynomial& S,
+                          const segment_bounds& B) {
+  const interval_precision_scope scope(S.bits);
+  const interval zero = interval::zero(S.bits);
+  row_enclosure out{zero, std::vector<interval>(3, zero), zero, zero};
+  interval dt = zero, s = zero, e = zero, t = zero;
+  set_exact(dt, tau);
+  mpfi_sub(dt.get(), dt.get(), S.a.get());
+  mpfi_mul(e.get(), B.mu.get(), dt.get());
+  mpfi_exp(e.get(), e.get());
+  mpfi_mul(out.error.get(), e.get(), B.rho_a.get());
+  mpfi_add(out.error.get(), out.error.get(), B.rsup2.get());
+  mpfi_sqr(t.get(), B.R.get());
+  t = remainder_bound(problem, t);
+  mpfi_mul(s.get(), B.jmax.get(), B.rsup2.get());
+  mpfi_add(t.get(), t.get(), s.get());
+  mpfi_mul(t.get(), t.get(), e.get());
+  mpfi_mul(t.get(), t.get(), dt.get());
+  mpfi_add(out.error.get(), out.error.get(), t.get());
+  to_zero_hull(out.error);
+  polynomial_at(S, dt, out.P);
+  // Y = |sup P|_2 + R; F = |G|_2 + c (2 Y)^2.
+  for (int i = 0; i < 3; ++i) {
+    mpfi_sqr(t.get(), S.psup[i].get());
+    mpfi_add(out.state.get(), out.state.get(), t.get());
+    mpfi_sqr(t.get(), problem.torque.G[i].get());
+    mpfi_add(out.rate.get(), out.rate.get(), t.get());
+  }
+  mpfi_sqrt(out.state.get(), out.state.get());
+  mpfi_add(out.state.get(), out.state.get(), B.R.get());
+  to_zero_hull(out.state);
+  mpfi_sqrt(out.rate.get(), out.rate.get());
+  mpfi_mul_ui(t.get(), out.state.get(), 2);
+  mpfi_sqr(t.get(), t.get());
+  t = remainder_bound(problem, t);
+  mpfi_add(out.rate.get(), out.rate.get(), t.get());
+  to_zero_hull(out.rate);
+  return out;
+}
+
+}  // namespace detail
+}  // namespace eulervop
