@@ -10,6 +10,7 @@
 // Each perturbation test also checks that the perturbation is visible in the rows (beyond the
 // unperturbed radius), so a certificate that ignored it would fail the test.
 #include <eulervop/certify/certifier.hpp>
+#include <eulervop/reference/integrate.hpp>
 
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
 #include <gtest/gtest.h>
