@@ -24,7 +24,7 @@
 // crossed k = 1 or c1 = 0 within the step) is redone as a direct step from the step's start,
 // opening a band there. Each stretch of direct steps is recorded as (tau entered, tau left).
 //
-// Adaptive runs (run_adaptive) use the embedded pairs of adaptive_runge_kutta.hpp (rkf45, dp45,
+// Adaptive runs (run_adaptive) use the embedded pairs of rk/embedded_pairs.hpp (rkf45, dp45,
 // dop853) with atol/rtol and a maximum step. Error measure:
 //   euler      Hairer's norm of the Omega estimate, sc_i = atol + rtol max(|Omega_i|) (before
 //              and after the step);
@@ -40,10 +40,12 @@
 // maximum step everywhere, exactly as the fixed-step runs stay exact to rounding.
 #pragma once
 
-#include <eulervop/rk/adaptive.hpp>
+#include <eulervop/rk/adaptive_driver.hpp>
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/core/outcome.hpp>
+#include <eulervop/rk/embedded_pairs.hpp>
 #include <eulervop/rk/explicit_rk.hpp>
+#include <eulervop/rk/fixed_step.hpp>
 #include <eulervop/vop/vop_system.hpp>
 
 #include <algorithm>
@@ -97,7 +99,7 @@ struct fixed_run_settings {
   vop_band_thresholds bands{};
 };
 
-// Error control to tau_end: atol, rtol (adaptive_runge_kutta.hpp), steps no longer than h_max.
+// Error control to tau_end: atol, rtol (rk/error_norm.hpp), steps no longer than h_max.
 // About `samples` states are kept (every m-th accepted step, m doubling as the run grows), and
 // the last one.
 struct adaptive_run_settings {
