@@ -17,7 +17,8 @@
 #include <eulervop/runs/comparison_run.hpp>
 #include <eulervop/model/error_measure.hpp>
 #include <eulervop/core/outcome_text.hpp>
-#include <eulervop/vop/vop_system.hpp>
+#include <eulervop/vop/frame.hpp>
+#include <eulervop/vop/vop_theta_system.hpp>
 
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
 #include <gtest/gtest.h>

@@ -4,9 +4,9 @@
 //
 // Formulations:
 //   euler      the normalized Euler equations, Eq. 5, integrated directly;
-//   vop        the paper's variation of parameters, elements (c1, c2, u), Eqs. 12-16 (vop.hpp);
+//   vop        the paper's variation of parameters, elements (c1, c2, u), Eqs. 12-16 (vop/);
 //   vop-theta  the secular-free variant, elements (c1, c2, theta), theta = pi u / (2K) kept in
-//              [-pi, pi) with whole turns counted apart (vop.hpp, docs/vop-strategies.md).
+//              [-pi, pi) with whole turns counted apart (vop/, docs/vop-strategies.md).
 //
 // Both VOP formulations run in whichever regime the state is in (k < 1 or k > 1, either sign:
 // vop_frame::for_state). Near their singularities, and only when a torque acts (without torque
@@ -46,7 +46,10 @@
 #include <eulervop/rk/embedded_pairs.hpp>
 #include <eulervop/rk/explicit_rk.hpp>
 #include <eulervop/rk/fixed_step.hpp>
+#include <eulervop/vop/frame.hpp>
+#include <eulervop/vop/phase.hpp>
 #include <eulervop/vop/vop_system.hpp>
+#include <eulervop/vop/vop_theta_system.hpp>
 
 #include <algorithm>
 #include <array>
