@@ -1,6 +1,6 @@
 // Beyond the paper's VOP (docs/vop-strategies.md): the secular-free elements (c1, c2, theta), the
 // minor-axis regime (k > 1, reciprocal modulus), the Omega3 < 0 and Omega1 < 0 symmetries, and
-// the direct-Euler fallback across the separatrix and near c1 = 0 (comparison_run.hpp).
+// the direct-Euler fallback across the separatrix and near c1 = 0 (runs/detail/vop_run_state.hpp).
 #include <eulervop/reference/chebyshev_picard.hpp>
 #include <eulervop/runs/comparison_run.hpp>
 #include <eulervop/model/error_measure.hpp>
