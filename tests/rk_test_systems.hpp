@@ -1,5 +1,9 @@
-// Small test systems of the Runge-Kutta tests with exact solutions.
+// Small test systems of the Runge-Kutta tests with exact solutions, and Eq. 5 as the runs see it.
 #pragma once
+
+#include <eulervop/core/vec3.hpp>
+#include <eulervop/model/euler_problem.hpp>
+#include <eulervop/rk/problem_system.hpp>
 
 #include <array>
 
@@ -24,5 +28,13 @@ struct rotation {
     dx.y = x.x;
   }
 };
+
+// Eq. 5 with the constant torque G, through the adaptor of the runs (rk/problem_system.hpp).
+template <class T>
+rk::problem_system<euler_problem<T>> euler_system(const vec3<T>& G) {
+  euler_problem<T> p;
+  p.torque.G = G;
+  return {p};
+}
 
 }  // namespace eulervop::rk_test

@@ -1,5 +1,5 @@
-// Tests of include/eulervop/rk/adaptive.hpp: the embedded pairs, the PI controller and
-// the adaptive driver.
+// Tests of the adaptive Runge-Kutta methods: include/eulervop/rk/ embedded_pairs.hpp,
+// embedded_rk.hpp, error_norm.hpp, pi_controller.hpp and adaptive_driver.hpp.
 //
 // Reference values and their provenance:
 //   - rotation x1' = -x2, x2' = x1: exact solution (cos t, sin t).
@@ -17,10 +17,15 @@
 #include "slope_test_support.hpp"
 #include "type_test_names.hpp"
 
-#include <eulervop/rk/adaptive.hpp>
+#include <eulervop/core/scalar.hpp>
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/oracle.hpp>
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/rk/adaptive_driver.hpp>
+#include <eulervop/rk/embedded_pairs.hpp>
+#include <eulervop/rk/embedded_rk.hpp>
+#include <eulervop/rk/error_norm.hpp>
+#include <eulervop/rk/method.hpp>
+#include <eulervop/rk/pi_controller.hpp>
 
 #include <gtest/gtest.h>
 
@@ -39,15 +44,10 @@ using eulervop::mpfr_real;
 using eulervop::quad;
 using eulervop::vec3;
 namespace rk = eulervop::rk;
+using eulervop::rk_test::euler_system;
 using eulervop::rk_test::rotation;
 
 using all_pairs = ::testing::Types<rk::rkf45_pair, rk::dp45_pair, rk::dop853_pair>;
-
-template <class T>
-struct euler_system {
-  vec3<T> G;
-  void operator()(const vec3<T>& x, vec3<T>& dx, const T&) const { eulervop::euler_rhs(x, G, dx); }
-};
 
 // ---- coefficients ---------------------------------------------------------------------------------
 
@@ -203,7 +203,7 @@ TYPED_TEST(AdaptiveDriver, ConstantDerivativeTakesTheMaximumStepEverywhere) {
 TYPED_TEST(AdaptiveDriver, RhsEvaluationsAreCountedExactly) {
   using Pair = TypeParam;
   std::size_t calls = 0;
-  const euler_system<double> euler{{1, 1, 1}};
+  const auto euler = euler_system<double>({1, 1, 1});
   auto counting = [&](const vec3<double>& x, vec3<double>& dx, double t) {
     ++calls;
     euler(x, dx, t);
@@ -224,7 +224,7 @@ TYPED_TEST(AdaptiveDriver, RhsEvaluationsAreCountedExactly) {
 TYPED_TEST(AdaptiveDriver, GlobalErrorIsProportionalToTheTolerance) {
   using Pair = TypeParam;
   const eulervop::oracle::reference<quad> ref(eulervop::oracle::problem<quad>({1, 1, 1}, {quad("0.5"), 0, 1}), quad(20));
-  const euler_system<double> sys{{1, 1, 1}};
+  const auto sys = euler_system<double>({1, 1, 1});
   std::vector<double> log_tol, log_err;
   for (double tol : {1e-5, 1e-7, 1e-9, 1e-11}) {
     vec3<double> x{0.5, 0, 1};

@@ -1,4 +1,4 @@
-// Adaptive comparison runs (comparison_run.hpp, run_adaptive): the VOP error measure in scaled
+// Adaptive comparison runs (runs/comparison_run.hpp, run_adaptive): the VOP error measure in scaled
 // elements, torque-free runs, tolerance proportionality, the paper scene, the fallback bands.
 //
 // Reference values and their provenance:
@@ -6,8 +6,8 @@
 //     200 bits, dn as sqrt(1 - k^2 sn^2);
 //   - with torque: the quad Chebyshev-Picard reference (eulervop::integrate_reference, about
 //     1e-30 on these spans; tested in test_chebyshev_picard.cpp);
-//   - the bounds of |dOmega/du| follow from Eq. 12 (derived in comparison_run.hpp) and are
-//     checked by a central difference in quad.
+//   - the bounds of |dOmega/du| follow from Eq. 12 (derived in runs/detail/vop_adaptive_run.hpp)
+//     and are checked by a central difference in quad.
 // Bounds: rounding-level results in multiples of eps times the size of the numbers involved;
 // tolerance proportionality: slope in [0.75, 1.25] (see test_adaptive_runge_kutta.cpp; the
 // VOP estimate is the same kind of estimate, on other variables).
@@ -17,7 +17,8 @@
 #include <eulervop/runs/comparison_run.hpp>
 #include <eulervop/model/error_measure.hpp>
 #include <eulervop/core/outcome_text.hpp>
-#include <eulervop/vop/vop_system.hpp>
+#include <eulervop/vop/frame.hpp>
+#include <eulervop/vop/vop_theta_system.hpp>
 
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
 #include <gtest/gtest.h>

@@ -1,4 +1,5 @@
-// Tests of include/eulervop/rk/explicit_rk.hpp.
+// Tests of the fixed-step Runge-Kutta methods: include/eulervop/rk/ method.hpp, tableaux.hpp,
+// state_traits.hpp, explicit_rk.hpp and fixed_step.hpp.
 //
 // Reference values and their provenance:
 //   - rotation x1' = -x2, x2' = x1: exact solution (cos t, sin t), evaluated in quad.
@@ -13,9 +14,13 @@
 #include "rk_test_systems.hpp"
 #include "type_test_names.hpp"
 
+#include <eulervop/core/scalar.hpp>
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/rk/explicit_rk.hpp>
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/rk/fixed_step.hpp>
+#include <eulervop/rk/method.hpp>
+#include <eulervop/rk/state_traits.hpp>
+#include <eulervop/rk/tableaux.hpp>
 
 #include <gmp.h>
 #include <gtest/gtest.h>
@@ -35,6 +40,7 @@ using eulervop::quad;
 using eulervop::vec3;
 namespace rk = eulervop::rk;
 using eulervop::rk_test::planar;
+using eulervop::rk_test::euler_system;
 using eulervop::rk_test::rotation;
 
 using all_tableaux =
@@ -48,12 +54,6 @@ struct exp_sin {  // y' = y cos t
     using std::cos;
     dy[0] = y[0] * cos(t);
   }
-};
-
-template <class T>
-struct euler_system {
-  vec3<T> G;
-  void operator()(const vec3<T>& x, vec3<T>& dx, const T&) const { eulervop::euler_rhs(x, G, dx); }
 };
 
 struct square {  // x' = x^2
@@ -148,7 +148,7 @@ double exp_sin_error(std::size_t n) {
 
 template <class Tab>
 double euler_error(std::size_t n) {
-  const euler_system<quad> sys{{1, 1, 1}};
+  const auto sys = euler_system<quad>({1, 1, 1});
   const auto x = run<Tab>(sys, vec3<quad>{quad(1) / 2, 0, 1}, quad(euler_span), n);
   return static_cast<double>(max_abs_diff<quad>(x, euler_reference_quad()));
 }
@@ -358,7 +358,7 @@ TEST(RungeKuttaReference, Rk8InMpfrReachesTheDop853CoefficientFloor) {
   using T = mpfr_real;
   const vec3<T> x0{T(1) / 2, 0, 1}, G{1, 1, 1};
   const auto ref = euler_taylor(x0, G, T(euler_span), 64, 60);
-  const euler_system<T> sys{G};
+  const auto sys = euler_system<T>(G);
   std::vector<double> errors;
   for (std::size_t n : {256u, 1024u, 4096u, 16384u}) {
     vec3<T> x = x0;
@@ -389,7 +389,7 @@ TEST(RungeKuttaStepper, AggregateStateGivesTheSameBitsAsArrayState) {
 }
 
 TEST(RungeKuttaStepper, RuntimeDispatchEqualsTheStaticLoop) {
-  const euler_system<double> sys{{1, 1, 1}};
+  const auto sys = euler_system<double>({1, 1, 1});
   for (rk::method m : rk::fixed_step_methods) {
     vec3<double> xs{0.5, 0, 1}, xd{0.5, 0, 1};
     const double h = 1.0 / 64;
@@ -427,7 +427,7 @@ TEST(RungeKuttaStepper, RhsEvaluationCountIsStagesTimesSteps) {
 
 TEST(RungeKuttaStepper, ObserverReturningFalseStops) {
   vec3<double> x{0.5, 0, 1};
-  const auto r = rk::integrate_fixed(rk::method::rk4, euler_system<double>{{1, 1, 1}}, x, 0.0, 0.1,
+  const auto r = rk::integrate_fixed(rk::method::rk4, euler_system<double>({1, 1, 1}), x, 0.0, 0.1,
                                      100, [](std::size_t step, const double&, const vec3<double>&) {
                                        return step < 3;
                                      });
@@ -448,7 +448,7 @@ void* counting_realloc(void* p, size_t o, size_t n) { ++gmp_allocations; return 
 TEST(RungeKuttaStepper, MpfrSteppingLoopDoesNotAllocate) {
   mpfr_precision_scope scope(200);
   using T = mpfr_real;
-  const euler_system<T> sys{{1, 1, 1}};
+  const auto sys = euler_system<T>({1, 1, 1});
   vec3<T> x{T(1) / 2, 0, 1};
   const T h = T(1) / 64;
   T t = 0;

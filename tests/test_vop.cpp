@@ -3,6 +3,8 @@
 #include <eulervop/reference/integrate.hpp>
 #include <eulervop/runs/comparison_run.hpp>
 #include <eulervop/model/error_measure.hpp>
+#include <eulervop/rk/fixed_step.hpp>
+#include <eulervop/vop/frame.hpp>
 #include <eulervop/vop/vop_system.hpp>
 
 #include "type_test_names.hpp"

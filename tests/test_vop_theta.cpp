@@ -1,11 +1,13 @@
 // Beyond the paper's VOP (docs/vop-strategies.md): the secular-free elements (c1, c2, theta), the
 // minor-axis regime (k > 1, reciprocal modulus), the Omega3 < 0 and Omega1 < 0 symmetries, and
-// the direct-Euler fallback across the separatrix and near c1 = 0 (comparison_run.hpp).
+// the direct-Euler fallback across the separatrix and near c1 = 0 (runs/detail/vop_run_state.hpp).
 #include <eulervop/reference/integrate.hpp>
 #include <eulervop/runs/comparison_run.hpp>
 #include <eulervop/model/error_measure.hpp>
 #include <eulervop/core/outcome_text.hpp>
+#include <eulervop/vop/frame.hpp>
 #include <eulervop/vop/vop_system.hpp>
+#include <eulervop/vop/vop_theta_system.hpp>
 
 #include "vop_test_support.hpp"
 
@@ -40,9 +42,9 @@ std::vector<vec3<quad>> random_states(int n, bool minor) {
   return out;
 }
 
-// The theta equation (docs/vop-strategies.md section 1, derived in vop.hpp: Eq. 16 with
-// E(u) - kc^2 u -> Z(u), times pi/(2K)) is the exact image of Eq. 5, in both regimes and all
-// four frames.
+// The theta equation (docs/vop-strategies.md section 1, derived in vop/vop_theta_system.hpp:
+// Eq. 16 with E(u) - kc^2 u -> Z(u), times pi/(2K)) is the exact image of Eq. 5, in both regimes
+// and all four frames.
 TEST(VopThetaRhs, IsEulersEquationsInElements) {
   const vec3<quad> G = {quad(1), quad("-0.7"), quad("0.3")};
   for (bool minor : {false, true}) {

@@ -1,5 +1,5 @@
-// How an integration ended: one type for the double-precision runs (runge_kutta.hpp,
-// adaptive_runge_kutta.hpp, comparison_run.hpp) and for the reference (chebyshev_picard.hpp),
+// How an integration ended: one type for the double-precision runs (rk/fixed_step.hpp,
+// rk/adaptive_driver.hpp, runs/comparison_run.hpp) and for the reference (chebyshev_picard.hpp),
 // after heyoka's taylor_outcome. The core records what happened and where, with the numbers a
 // message needs; the text for people is made at the edge, by describe() (outcome_text.hpp).
 #pragma once

@@ -14,7 +14,7 @@
 #include <eulervop/core/numerical_failure.hpp>
 #include <eulervop/core/vec3.hpp>
 #include <eulervop/core/scalar.hpp>
-#include <eulervop/reference/chebyshev_picard.hpp>
+#include <eulervop/reference/segment.hpp>
 
 #include <mpfi.h>
 #include <mpfr.h>

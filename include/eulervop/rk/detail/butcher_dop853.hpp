@@ -1,5 +1,5 @@
 // The 12-stage 8th-order Runge-Kutta method of DOP853 (Hairer & Wanner), as a Butcher tableau
-// built in the scalar type T. Included by <eulervop/rk/explicit_rk.hpp>; not a public header.
+// built in the scalar type T. Included by <eulervop/rk/tableaux.hpp>; not a public header.
 //
 // Source: E. Hairer, S. P. Norsett, G. Wanner, "Solving Ordinary Differential Equations I",
 // 2nd ed., Springer 1993, Section II.10, and the coefficients of the Fortran code dop853.f

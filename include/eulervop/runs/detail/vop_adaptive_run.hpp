@@ -1,0 +1,196 @@
+// The VOP formulations of the comparison runs (comparison_run.hpp) under error control, with the
+// embedded pairs of rk/embedded_pairs.hpp (rkf45, dp45, dop853) and the PI controller.
+//
+// Error measure of the element steps: the elements' estimate in scaled elements: (dc1, dc2, c1 du)
+// over (atol + rtol c1, atol + rtol c2, atol + rtol c1), c1 and c2 at their larger value before
+// and after the step. c1 du bounds the displacement of Omega that a phase error du causes:
+// |dOmega/du| = c1 sqrt(1 - k^2 sn^4) lies in [c1 kc, c1] (Eq. 12). So the three components are
+// in units of Omega, relative to the size of the components they move (Omega1, Omega2 ~ c1,
+// Omega3 ~ c2), as Hairer's scale is for Eq. 5. For theta, du = dtheta 2K / pi. The direct
+// stretches use Hairer's norm of the Omega estimate, as the euler formulation does.
+// Without torque every VOP stage agrees, the estimate is exactly zero, and the run takes its
+// maximum step everywhere, exactly as the fixed-step runs stay exact to rounding.
+#pragma once
+
+#include <eulervop/core/outcome.hpp>
+#include <eulervop/core/vec3.hpp>
+#include <eulervop/rk/detail/compensated_sum.hpp>
+#include <eulervop/rk/embedded_rk.hpp>
+#include <eulervop/rk/error_norm.hpp>
+#include <eulervop/rk/initial_step.hpp>
+#include <eulervop/rk/pi_controller.hpp>
+#include <eulervop/rk/problem_system.hpp>
+#include <eulervop/runs/detail/divergence.hpp>
+#include <eulervop/runs/detail/sample_thinner.hpp>
+#include <eulervop/runs/detail/vop_run_state.hpp>
+#include <eulervop/runs/run_result.hpp>
+#include <eulervop/runs/settings.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+
+namespace eulervop::detail {
+
+// The error scale of the element steps: the scaled elements of the header note.
+template <bool Theta>
+struct element_scale {
+  using V = vec3<double>;
+  double atol, rtol;
+  const vop_run_state<Theta>* run;
+  void operator()(const V& y0, const V& y1, V& sc) const {
+    const double c1 = std::max(std::abs(y0[0]), std::abs(y1[0]));
+    sc[0] = atol + rtol * c1;
+    sc[1] = atol + rtol * std::max(std::abs(y0[1]), std::abs(y1[1]));
+    const double w = run->phase_weight(c1);
+    sc[2] = w > 0 ? sc[0] / w : std::numeric_limits<double>::infinity();
+  }
+};
+
+// The VOP formulations under error control: vop_run_state's representations stepped with one
+// embedded pair, whose PI controller carries over between them (the derivative is re-evaluated
+// after a change).
+template <class Pair, bool Theta, class Problem>
+class vop_adaptive_run {
+ public:
+  using V = vec3<double>;
+
+  // G: the problem's constant torque.
+  vop_adaptive_run(run_result& out, const Problem& p, const V& G, const adaptive_run_settings& s, double bound)
+      : out_(out), s_(s), tau0_(p.initial_time()), bound_(bound), span_(s.tau_end - p.initial_time()),
+        h_max_(s.h_max > 0 ? std::min(s.h_max, span_) : span_),
+        run_(out, p.initial_state(), p.initial_time(), G, s.bands, first_),
+        euler_{p}, omega_scale_{s.atol, s.rtol}, element_scale_{s.atol, s.rtol, &run_},
+        samples_(out, s.samples) {}
+
+  void operator()() {
+    V state = first_, comp{0, 0, 0};
+    step_clock at{tau0_, 0, 0};
+    samples_.put(0, at.t, at.t_lo, run_.Omega(state));
+    const auto start = std::chrono::steady_clock::now();
+    prime(state, at.t);
+    double h = first_step(state, at.t);
+    while (span_ > 0) {
+      const double left = (s_.tau_end - at.t) - at.t_lo;
+      if (!(left > 0)) break;
+      const bool last = h >= left;
+      const attempt_result r = advance(state, comp, at, h, last ? left : h, last);
+      if (r == attempt_result::stopped || (r == attempt_result::accepted && last)) break;
+    }
+    out_.steps = at.n;
+    out_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (samples_.lacks_last(at.n)) samples_.put(at.n, at.t, at.t_lo, run_.Omega(state));
+    out_.rhs_evals = stepper_.rhs_evaluations() + extra_evals_;
+    run_.finish(at.t);
+  }
+
+ private:
+  // The time reached, t + t_lo, after n accepted steps. Apart from the state and its
+  // compensation (elements or Omega), whose addresses the stepper takes: kept together, all
+  // five would live in memory.
+  struct step_clock {
+    double t, t_lo;
+    std::size_t n;
+  };
+  enum class attempt_result { accepted, retry, stopped };
+
+  // One attempt of a step of h_try (the last one if `last`): accepted (state and clock advanced,
+  // h the next step), retry (h shorter, or the representation changed) or stopped (out_.status).
+  [[gnu::always_inline]] attempt_result advance(V& state, V& comp, step_clock& at, double& h, double h_try,
+                                                bool last) {
+    if (!(h_try > 16 * std::numeric_limits<double>::epsilon() * std::abs(at.t)) || !std::isfinite(h_try)) {
+      out_.status = {std::isfinite(h_try) ? outcome_kind::step_underflow : outcome_kind::non_finite, at.t};
+      return attempt_result::stopped;
+    }
+    V next{}, comp_next = comp;
+    double err = 0;
+    if (!attempt(state, comp, at.t, h_try, next, comp_next, err)) [[unlikely]] {
+      leave_elements(state, comp, at.t);
+      return attempt_result::retry;
+    }
+    const bool finite = std::isfinite(next[0] + next[1] + next[2]);
+    if (!(err <= 1) || !finite) [[unlikely]] {
+      ++out_.rejected;
+      h = h_try * controller_.rejected(finite ? err : std::numeric_limits<double>::infinity());
+      return attempt_result::retry;
+    }
+    if (!finite_within(next, bound_)) [[unlikely]] {
+      out_.status = {divergence_kind(next), at.t + h_try};
+      return attempt_result::stopped;
+    }
+    state = next;
+    comp = comp_next;
+    if (last) {
+      at.t = s_.tau_end;
+      at.t_lo = 0;
+    } else {
+      rk::detail::advance_time(at.t, at.t_lo, h_try);
+    }
+    ++at.n;
+    h = std::min(h_try * controller_.accepted(err), h_max_);
+    accept(state, comp, at);
+    return attempt_result::accepted;
+  }
+
+  // The embedded step of h of the current representation from (t, state) (error norm in err).
+  // False when an element step left the elements' domain.
+  [[gnu::always_inline]] bool attempt(const V& state, const V& comp, double t, double h, V& next, V& comp_next,
+                                      double& err) {
+    if (run_.in_elements()) {
+      err = stepper_.attempt(run_.system(), state, t, h, next, comp, comp_next, element_scale_);
+      return run_.element_step_in_domain(next);
+    }
+    err = stepper_.attempt(euler_, state, t, h, next, comp, comp_next, omega_scale_);
+    return true;
+  }
+  // After an accepted step: band entry or exit (a new representation is primed afresh), the
+  // derivative at the new state (FSAL), the sample.
+  [[gnu::always_inline]] void accept(V& state, V& comp, const step_clock& at) {
+    const bool was_elements = run_.in_elements();
+    if (run_.after_step(at.t, state, comp)) [[unlikely]] {
+      controller_.reset();
+      prime(state, at.t);
+    } else if (was_elements) {
+      stepper_.accept(run_.system(), state, at.t);
+    } else {
+      stepper_.accept(euler_, state, at.t);
+    }
+    if (samples_.wants(at.n)) [[unlikely]]
+      samples_.put(at.n, at.t, at.t_lo, run_.Omega(state));
+  }
+  // A stage left the elements' domain: the step is redone directly from its start (t, state).
+  void leave_elements(V& state, V& comp, double t) {
+    state = run_.leave_elements(t, state);
+    comp = V{0, 0, 0};
+    controller_.reset();
+    prime(state, t);
+  }
+  void prime(const V& state, double t) {
+    if (run_.in_elements()) stepper_.prime(run_.system(), state, t);
+    else stepper_.prime(euler_, state, t);
+  }
+  double first_step(const V& state, double t) {
+    if (run_.in_elements())
+      return rk::initial_step<Pair>(run_.system(), state, t, stepper_.derivative(), h_max_, element_scale_,
+                                    extra_evals_);
+    return rk::initial_step<Pair>(euler_, state, t, stepper_.derivative(), h_max_, omega_scale_, extra_evals_);
+  }
+
+  run_result& out_;
+  const adaptive_run_settings& s_;
+  double tau0_, bound_;
+  double span_, h_max_;  // tau_end - tau0; the largest step
+  V first_{};            // the starting state, in the representation vop_run_state chose
+  vop_run_state<Theta> run_;
+  rk::embedded_rk<Pair, V> stepper_;
+  rk::pi_controller controller_{Pair::estimate_order + 1};
+  rk::problem_system<Problem> euler_;
+  rk::hairer_scale<double> omega_scale_;
+  element_scale<Theta> element_scale_;
+  sample_thinner samples_;
+  std::size_t extra_evals_ = 0;  // those of the starting-step estimate
+};
+
+}  // namespace eulervop::detail
