@@ -1,8 +1,9 @@
 #include "compute/grid_flags.hpp"
 
-#include "compute/run_names.hpp"
+#include "cli/flags.hpp"
+#include "compute/formulation_probe.hpp"
+#include "compute/ladders.hpp"
 #include "compute/scene_library.hpp"
-#include "compute/scene_overrides.hpp"
 
 #include <eulervop/rk/explicit_rk.hpp>
 
@@ -18,32 +19,6 @@ constexpr std::int64_t max_repeat = 1000;
 constexpr std::int64_t max_jobs = 256;
 }  // namespace
 
-void add_grid_flags(CLI::App& sub, grid_flags& f, const grid_flag_defaults& d) {
-  add_text_option(sub, "--steps", f.steps,
-                  fmt::format("Comma-separated fixed steps: K/N (K of the initial modulus) or h (default: {})", d.steps))
-      ->type_name("LIST");
-  add_text_option(sub, "--tols", f.tols,
-                  fmt::format("Comma-separated tolerances of the adaptive runs, atol = rtol (default: {}; with --steps "
-                              "alone: none)",
-                              default_tol_ladder))
-      ->type_name("LIST");
-  add_text_option(sub, "--max-step", f.max_step,
-                  fmt::format("Largest step of the adaptive runs: K/N or h (default: {})", default_max_step))
-      ->type_name("S");
-  add_text_option(sub, "--methods", f.methods,
-                  "Comma-separated: rk4,rkf45,dp45,rk8 at the fixed steps, rkf45,dp45,dop853 at the tolerances "
-                  "(default: all)")
-      ->type_name("LIST");
-  add_text_option(sub, "--formulations", f.formulations,
-                  "Comma-separated: " + joined(available_formulations()) + " (default: all)")
-      ->type_name("LIST");
-  add_text_option(sub, "--repeat", f.repeat,
-                  fmt::format("Timed runs per case; the minimum time is kept (default: {})", d.repeat))
-      ->type_name("N");
-  add_text_option(sub, "--jobs", f.jobs, "Cases run in parallel (default: 1; above 1 the timings are less pure)")
-      ->type_name("N");
-}
-
 wp_grid grid_of(const scene& s, std::size_t samples, const grid_flags& f, const grid_flag_defaults& d) {
   wp_grid g;
   g.scn = s;
@@ -52,20 +27,12 @@ wp_grid grid_of(const scene& s, std::size_t samples, const grid_flags& f, const 
   const bool tols = f.tols || !f.steps;
   if (steps) g.steps = step_ladder(s, flag_list("--steps", f.steps.value_or(d.steps)), "--steps", !f.steps, samples);
   if (tols) g.tols = tol_ladder("--tols", f.tols.value_or(default_tol_ladder));
-  resolve_max_step(g, f.max_step);
-  if (f.formulations)
-    g.forms = formulations_of(flag_list("--formulations", *f.formulations), "--formulations " + *f.formulations, "");
-  else
-    g.forms.assign(all_formulations.begin(), all_formulations.end());
-  if (f.methods) {
-    g.methods = methods_of(flag_list("--methods", *f.methods), "--methods " + *f.methods, "");
-    check_methods_for_ladders(g.methods, steps, tols, "--methods " + *f.methods);
-  } else {
-    g.methods.assign(rk::all_methods.begin(), rk::all_methods.end());
-  }
+  g.max_step = max_step_of(s, f.max_step);
+  g.forms = chosen_formulations(f.formulations, {}, {all_formulations.begin(), all_formulations.end()});
+  g.methods = chosen_methods(f.methods, {}, {rk::all_methods.begin(), rk::all_methods.end()}, steps, tols);
   g.make_cases();
   probe_formulations(g.forms, to_problem<double>(s),
-                     steps ? g.steps.front().choice.h : std::min(g.h_max, tau_end_of<double>(s)));
+                     steps ? g.steps.front().choice.h : std::min(g.max_step.h, tau_end_of<double>(s)));
   return g;
 }
 

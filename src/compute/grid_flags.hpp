@@ -1,12 +1,11 @@
-// The flags that choose a work-precision grid (work_precision.hpp) and how its runs are timed,
-// shared by `sweep` and `map`: --steps, --tols, --max-step, --methods, --formulations, --repeat
-// and --jobs.
+// The flags that choose a work-precision grid (work_precision_grid.hpp) and how its runs are
+// timed, shared by `sweep` and `map`: --steps, --tols, --max-step, --methods, --formulations,
+// --repeat and --jobs.
 #pragma once
 
 #include "compute/scene_library.hpp"
-#include "compute/work_precision.hpp"
-
-#include <CLI/CLI.hpp>
+#include "compute/work_precision_grid.hpp"
+#include "compute/work_precision_runs.hpp"
 
 #include <cstddef>
 #include <optional>
@@ -30,8 +29,6 @@ struct grid_flag_defaults {
   std::string steps;  // the fixed-step ladder, "K/25,K/50,..."
   int repeat = 1;
 };
-
-void add_grid_flags(CLI::App& sub, grid_flags& flags, const grid_flag_defaults& defaults);
 
 // The grid of `s` the flags ask for: both ladders unless only one is given, every formulation and
 // method unless listed (the scene's [run] lists choose the runs of `report`, not a grid's), the

@@ -6,27 +6,9 @@
 
 #include <fmt/format.h>
 
-#include <charconv>
 #include <cmath>
 
 namespace eulervop::app {
-
-step_spec parse_step_text(const std::string& text, const std::string& flag) {
-  step_spec spec;
-  if (text.starts_with("K/")) {
-    std::int64_t n = 0;
-    const char* digits = text.data() + 2;
-    auto [ptr, ec] = std::from_chars(digits, text.data() + text.size(), n);
-    if (ec != std::errc{} || ptr != text.data() + text.size() || n < 1)
-      throw input_error(fmt::format("{} {}: expected K/N with a whole number N >= 1, or a positive number", flag, text));
-    spec.K_divisor = n;
-  } else {
-    spec.value = positive_flag_number(flag, text);
-  }
-  return spec;
-}
-
-step_spec parse_step_flag(const std::string& text) { return parse_step_text(text, "--step"); }
 
 fixed_step_choice step_length(const scene& s, const step_spec& spec, const std::string& origin) {
   fixed_step_choice out;
