@@ -8,7 +8,7 @@
 #include "compute/reference_compute.hpp"
 #include "io/reference_csv.hpp"
 #include "compute/scene_library.hpp"
-#include "compute/scene_overrides.hpp"
+#include "cli/scene_overrides.hpp"
 #include "compute/with_scalar.hpp"
 
 #include <eulervop/reference/chebyshev_picard.hpp>

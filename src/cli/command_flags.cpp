@@ -14,7 +14,9 @@ CLI::Option* add_text_flag(CLI::App& sub, const flag_def& flag, std::optional<st
   return option->type_name(flag.value_name);
 }
 
-CLI::Option* add_switch(CLI::App& sub, const flag_def& flag, bool& on) { return sub.add_flag(flag.name, on, flag.help); }
+CLI::Option* add_switch(CLI::App& sub, const flag_def& flag, bool& on) {
+  return sub.add_flag(flag.name, on, flag.help);
+}
 
 std::string command_line_text(const flag_def& flag, const std::optional<std::string>& text) {
   return text ? fmt::format(" {} {}", flag.name, shell_word(*text)) : "";
@@ -24,9 +26,9 @@ std::string command_line_text(const flag_def& flag, bool on) { return on ? " " +
 
 void add_output_flags(CLI::App& sub, std::optional<std::string>& out_dir, bool& no_plot, std::string_view command,
                       std::string_view figure) {
-  add_text_flag(sub,
-                {"--out-dir", "DIR", fmt::format("Output directory (default: ./eulervop-{}/, created if missing)", command)},
-                out_dir);
+  add_text_flag(
+      sub, {"--out-dir", "DIR", fmt::format("Output directory (default: ./eulervop-{}/, created if missing)", command)},
+      out_dir);
   add_switch(sub, {"--no-plot", "", fmt::format("Do not draw {0}.png/{0}.svg", figure)}, no_plot);
 }
 
@@ -62,10 +64,11 @@ void add_scene_override_flags(CLI::App& sub, scene_override_flags& o, scene_over
 // ---- the work-precision grid ------------------------------------------------------------------------
 
 void add_grid_flags(CLI::App& sub, grid_flags& f, const grid_flag_defaults& d) {
-  add_text_flag(sub,
-                {"--steps", "LIST",
-                 fmt::format("Comma-separated fixed steps: K/N (K of the initial modulus) or h (default: {})", d.steps)},
-                f.steps);
+  add_text_flag(
+      sub,
+      {"--steps", "LIST",
+       fmt::format("Comma-separated fixed steps: K/N (K of the initial modulus) or h (default: {})", d.steps)},
+      f.steps);
   add_text_flag(sub,
                 {"--tols", "LIST",
                  fmt::format("Comma-separated tolerances of the adaptive runs, atol = rtol (default: {}; with --steps "

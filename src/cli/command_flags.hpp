@@ -4,8 +4,8 @@
 // output directory, the scene overrides and the work-precision grid.
 #pragma once
 
-#include "compute/grid_flags.hpp"
-#include "compute/scene_overrides.hpp"
+#include "cli/grid_flags.hpp"
+#include "cli/scene_overrides.hpp"
 
 #include <CLI/CLI.hpp>
 

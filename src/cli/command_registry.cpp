@@ -18,8 +18,9 @@ namespace {
 template <class Options, class Run>
 command command_of(std::string name, std::string description, void (*add_flags)(CLI::App&, Options&), Run run) {
   const auto options = std::make_shared<Options>();
-  return {std::move(name), std::move(description), [options, add_flags](CLI::App& sub) { add_flags(sub, *options); },
-          [options, run](std::ostream& out, const std::string& command_line) { return run(*options, out, command_line); }};
+  return {
+      std::move(name), std::move(description), [options, add_flags](CLI::App& sub) { add_flags(sub, *options); },
+      [options, run](std::ostream& out, const std::string& command_line) { return run(*options, out, command_line); }};
 }
 
 // The run of a command that has no use for its command line.

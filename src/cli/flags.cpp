@@ -58,7 +58,8 @@ double flag_tolerance(const std::string& text) {
 
 bool flag_json_format(const std::optional<std::string>& text) {
   const std::string format = text.value_or("table");
-  if (format != "table" && format != "json") throw input_error(fmt::format("--format {}: expected table or json", format));
+  if (format != "table" && format != "json")
+    throw input_error(fmt::format("--format {}: expected table or json", format));
   return format == "json";
 }
 
@@ -162,7 +163,8 @@ std::vector<V> values_of(const std::vector<std::string>& names, const std::strin
   for (const std::string& name : names) {
     const std::optional<V> v = from_name(name);
     if (!v)
-      throw input_error(fmt::format("{}: {} `{}` is unknown (available: {}){}", where, kind, name, joined(available), hint));
+      throw input_error(
+          fmt::format("{}: {} `{}` is unknown (available: {}){}", where, kind, name, joined(available), hint));
     if (std::find(out.begin(), out.end(), *v) != out.end())
       throw input_error(fmt::format("{}: {} `{}` is listed twice", where, kind, name));
     out.push_back(*v);
@@ -181,7 +183,8 @@ std::vector<rk::method> methods_of(const std::vector<std::string>& names, const 
 }
 
 // Each method must run on at least one of the ladders present; input_error naming `where`.
-void check_methods_for_ladders(const std::vector<rk::method>& methods, bool steps, bool tols, const std::string& where) {
+void check_methods_for_ladders(const std::vector<rk::method>& methods, bool steps, bool tols,
+                               const std::string& where) {
   for (rk::method m : methods) {
     if ((steps && rk::is_fixed_step(m)) || (tols && rk::is_adaptive(m))) continue;
     const std::string name(rk::method_name(m));
@@ -204,8 +207,9 @@ std::vector<formulation> chosen_formulations(const std::optional<std::string>& f
   return fallback;
 }
 
-std::vector<rk::method> chosen_methods(const std::optional<std::string>& flag, const std::vector<std::string>& scene_list,
-                                       std::vector<rk::method> fallback, bool steps, bool tols) {
+std::vector<rk::method> chosen_methods(const std::optional<std::string>& flag,
+                                       const std::vector<std::string>& scene_list, std::vector<rk::method> fallback,
+                                       bool steps, bool tols) {
   if (flag) {
     const std::string where = "--methods " + *flag;
     std::vector<rk::method> methods = methods_of(flag_list("--methods", *flag), where, "");
@@ -227,7 +231,8 @@ step_spec flag_step(const std::string& flag, const std::string& text) {
     const char* digits = text.data() + 2;
     auto [ptr, ec] = std::from_chars(digits, text.data() + text.size(), n);
     if (ec != std::errc{} || ptr != text.data() + text.size() || n < 1)
-      throw input_error(fmt::format("{} {}: expected K/N with a whole number N >= 1, or a positive number", flag, text));
+      throw input_error(
+          fmt::format("{} {}: expected K/N with a whole number N >= 1, or a positive number", flag, text));
     spec.K_divisor = n;
   } else {
     spec.value = positive_flag_number(flag, text);
@@ -235,7 +240,8 @@ step_spec flag_step(const std::string& flag, const std::string& text) {
   return spec;
 }
 
-fixed_step_choice fixed_step_of(const scene& s, const std::optional<std::string>& flag, std::int64_t default_K_divisor) {
+fixed_step_choice fixed_step_of(const scene& s, const std::optional<std::string>& flag,
+                                std::int64_t default_K_divisor) {
   if (flag) return resolve_step(s, flag_step("--step", *flag), "--step " + *flag);
   if (s.step) return resolve_step(s, *s.step, "[run] step (override with --step)");
   step_spec spec;

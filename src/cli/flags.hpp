@@ -62,8 +62,9 @@ std::vector<formulation> chosen_formulations(const std::optional<std::string>& f
                                              std::vector<formulation> fallback);
 // --methods, else the scene's [run] methods, else `fallback`. Each listed method must run on one
 // of the ladders present: a fixed-step method on the `steps`, an adaptive one on the `tols`.
-std::vector<rk::method> chosen_methods(const std::optional<std::string>& flag, const std::vector<std::string>& scene_list,
-                                       std::vector<rk::method> fallback, bool steps, bool tols);
+std::vector<rk::method> chosen_methods(const std::optional<std::string>& flag,
+                                       const std::vector<std::string>& scene_list, std::vector<rk::method> fallback,
+                                       bool steps, bool tols);
 
 // ---- steps ---------------------------------------------------------------------------------------
 

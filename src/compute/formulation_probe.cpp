@@ -15,8 +15,9 @@ void probe_formulations(const std::vector<formulation>& forms, const euler_probl
     try {
       (void)run_fixed(f, rk::method::rk4, problem, fixed_run_settings{h, 1, 1});
     } catch (const std::domain_error& e) {
-      throw input_error(fmt::format("formulation {} cannot start from this scene: {} (leave it out with --formulations)",
-                                    formulation_name(f), e.what()));
+      throw input_error(
+          fmt::format("formulation {} cannot start from this scene: {} (leave it out with --formulations)",
+                      formulation_name(f), e.what()));
     }
   }
 }

@@ -14,9 +14,10 @@ fixed_step_choice step_length(const scene& s, const step_spec& spec, const std::
   fixed_step_choice out;
   if (spec.K_divisor) {
     if (uses_direct_form(s))
-      throw input_error(fmt::format("{}: K/N needs the modulus of Eq. 5, and this body is integrated in the direct form "
-                                    "of Eq. 1 (two moments are equal or nearly so); give the step in seconds",
-                                    origin));
+      throw input_error(
+          fmt::format("{}: K/N needs the modulus of Eq. 5, and this body is integrated in the direct form "
+                      "of Eq. 1 (two moments are equal or nearly so); give the step in seconds",
+                      origin));
     const auto N = static_cast<double>(*spec.K_divisor);
     const vec3<double> Om = to_problem<double>(s).Omega0;
     const double c1 = std::hypot(Om[0], Om[1]), c2 = std::hypot(Om[1], Om[2]);
@@ -39,9 +40,10 @@ fixed_step_choice step_length(const scene& s, const step_spec& spec, const std::
       const double K = elliptic_modulus<double>(c2 / c1).K();
       out.h = K / (N * c1);
       out.reciprocal = true;
-      out.rule = fmt::format("h = K(1/k0)/({} c1) = {} with the reciprocal modulus, since k0 = c1/c2 = {} >= 1; K = {}, "
-                             "c1 = {}",
-                             *spec.K_divisor, out.h, k0, K, c1);
+      out.rule = fmt::format(
+          "h = K(1/k0)/({} c1) = {} with the reciprocal modulus, since k0 = c1/c2 = {} >= 1; K = {}, "
+          "c1 = {}",
+          *spec.K_divisor, out.h, k0, K, c1);
     }
   } else {
     const double value = spec.value->value;

@@ -7,8 +7,8 @@
 // three significant digits, and the nearest double), the precision a parsed precision.
 #pragma once
 
-#include "io/csv_rows.hpp"
 #include "compute/scene_library.hpp"
+#include "io/csv_rows.hpp"
 
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/core/scalar.hpp>

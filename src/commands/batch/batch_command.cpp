@@ -2,10 +2,10 @@
 
 #include "cli/command_flags.hpp"
 #include "cli/flags.hpp"
+#include "cli/scene_overrides.hpp"
 #include "commands/batch/batch_manifest.hpp"
 #include "commands/batch/batch_scene.hpp"
 #include "compute/scene_library.hpp"
-#include "compute/scene_overrides.hpp"
 #include "io/progress_line.hpp"
 
 #include <fmt/format.h>
@@ -44,9 +44,11 @@ std::vector<scene_task> tasks_of(const batch_options& o, const std::optional<sha
   std::vector<scene_task> tasks;
   for (std::size_t i = 0; i < paths.size(); ++i) {
     const std::string name = fs::path(paths[i]).stem().string();
-    if (name.empty() || name == "." || name == "..") throw input_error(fmt::format("batch: `{}` is not a scene file", paths[i]));
+    if (name.empty() || name == "." || name == "..")
+      throw input_error(fmt::format("batch: `{}` is not a scene file", paths[i]));
     if (auto [it, fresh] = by_name.emplace(name, paths[i]); !fresh)
-      throw input_error(fmt::format("batch: scenes `{}` and `{}` would both write {}/ (rename one)", it->second, paths[i], name));
+      throw input_error(
+          fmt::format("batch: scenes `{}` and `{}` would both write {}/ (rename one)", it->second, paths[i], name));
     if (shard && static_cast<std::int64_t>(i % static_cast<std::size_t>(shard->count)) != shard->index - 1) continue;
     tasks.push_back({paths[i], name});
   }
@@ -54,7 +56,8 @@ std::vector<scene_task> tasks_of(const batch_options& o, const std::optional<sha
 }
 
 // Runs every task on up to `jobs` threads, one status line per scene on stderr.
-std::vector<scene_outcome> run_scenes(const batch_settings& s, const std::vector<scene_task>& tasks, std::int64_t jobs) {
+std::vector<scene_outcome> run_scenes(const batch_settings& s, const std::vector<scene_task>& tasks,
+                                      std::int64_t jobs) {
   progress_line::disable_all();  // several runs share the terminal
   std::vector<scene_outcome> results(tasks.size());
   std::atomic<std::size_t> next{0};
@@ -68,7 +71,8 @@ std::vector<scene_outcome> run_scenes(const batch_settings& s, const std::vector
                  r.message.empty() ? "" : ": " + input_error::one_line(r.message));
     }
   };
-  const std::size_t n_threads = std::min<std::size_t>(static_cast<std::size_t>(jobs), std::max<std::size_t>(tasks.size(), 1));
+  const std::size_t n_threads =
+      std::min<std::size_t>(static_cast<std::size_t>(jobs), std::max<std::size_t>(tasks.size(), 1));
   if (n_threads <= 1) {
     worker();
   } else {
@@ -91,7 +95,8 @@ void add_batch_flags(CLI::App& sub, batch_options& o) {
   add_switch(sub, {"--report", "", "Also run `report` (no figure) into DIR/SCENE/report/"}, o.report);
   add_switch(sub, reference_flags::verify.described("Verify each reference one precision up (# estimated_max_error)"),
              o.reference.verify);
-  add_switch(sub, reference_flags::certify.described("Certify each reference: a proven radius per row (docs/certified.md)"),
+  add_switch(sub,
+             reference_flags::certify.described("Certify each reference: a proven radius per row (docs/certified.md)"),
              o.reference.certify);
 }
 
@@ -111,7 +116,8 @@ int run_batch(const batch_options& o, std::ostream& standard_output) {
   batch_settings s{*o.out_dir, o.report, o.reference, passed_flags_text(o.reference)};
   std::error_code ec;
   fs::create_directories(s.out_dir, ec);
-  if (ec || !fs::is_directory(s.out_dir)) throw input_error(fmt::format("--out-dir: cannot create `{}`", s.out_dir.string()));
+  if (ec || !fs::is_directory(s.out_dir))
+    throw input_error(fmt::format("--out-dir: cannot create `{}`", s.out_dir.string()));
 
   return write_manifest(s, shard, tasks, run_scenes(s, tasks, jobs), standard_output);
 }

@@ -9,8 +9,9 @@
 
 namespace eulervop::app {
 
-int write_manifest(const batch_settings& s, const std::optional<shard_spec>& shard, const std::vector<scene_task>& tasks,
-                   const std::vector<scene_outcome>& results, std::ostream& standard_output) {
+int write_manifest(const batch_settings& s, const std::optional<shard_spec>& shard,
+                   const std::vector<scene_task>& tasks, const std::vector<scene_outcome>& results,
+                   std::ostream& standard_output) {
   const std::string suffix = shard ? fmt::format("-{}-of-{}", shard->index, shard->count) : "";
   nlohmann::ordered_json manifest;
   manifest["eulervop"] = EULERVOP_VERSION;

@@ -13,7 +13,8 @@ namespace eulervop::app {
 
 // Writes the manifest and the summary line; returns the batch's exit code, the gravest of the
 // scenes' (bad input, then numerical failure, then internal error).
-int write_manifest(const batch_settings& s, const std::optional<shard_spec>& shard, const std::vector<scene_task>& tasks,
-                   const std::vector<scene_outcome>& results, std::ostream& standard_output);
+int write_manifest(const batch_settings& s, const std::optional<shard_spec>& shard,
+                   const std::vector<scene_task>& tasks, const std::vector<scene_outcome>& results,
+                   std::ostream& standard_output);
 
 }  // namespace eulervop::app

@@ -69,8 +69,9 @@ std::vector<std::string> expected_outputs(const batch_settings& s, const scene_t
 bool up_to_date(const batch_settings& s, const fs::path& stamp, const std::string& hash,
                 const std::vector<std::string>& outputs) {
   const auto old = read_all(stamp);
-  return old && *old == hash + "\n" &&
-         std::all_of(outputs.begin(), outputs.end(), [&](const std::string& o) { return fs::is_regular_file(s.out_dir / o); });
+  return old && *old == hash + "\n" && std::all_of(outputs.begin(), outputs.end(), [&](const std::string& o) {
+           return fs::is_regular_file(s.out_dir / o);
+         });
 }
 
 // The scene's `reference` into dir/reference.csv (no wall-clock lines), and its `report` into

@@ -38,7 +38,8 @@ class reference_cursor {
     if (!pending_ || !same_time(current_->value, time.value)) {
       std::string nearest;
       if (below_) nearest += fmt::format("{} (line {})", below_->text, below_line_);
-      if (pending_) nearest += fmt::format("{}{} (line {})", nearest.empty() ? "" : " and ", current_->text, current_line_);
+      if (pending_)
+        nearest += fmt::format("{}{} (line {})", nearest.empty() ? "" : " and ", current_->text, current_line_);
       throw input_error(fmt::format("{}: line {}: {} = {} is not a sample time of {}{}", rows.where(), rows.line(),
                                     time_name, time.text, ref_.rows().where(),
                                     nearest.empty() ? " (it has no samples there)" : "; nearest: " + nearest));

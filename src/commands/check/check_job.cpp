@@ -1,6 +1,6 @@
 #include "commands/check/check_job.hpp"
 
-#include "compute/scene_overrides.hpp"
+#include "cli/scene_overrides.hpp"
 #include "io/csv_rows.hpp"
 
 #include <fmt/format.h>

@@ -121,8 +121,9 @@ std::string check_table(const check_job& job, const check_result& r) {
   out.put("scd: {:.2f}   mescd: {:.2f} (atol {}, rtol {})\n", digits_of(t.max_relative), digits_of(t.max_mixed),
           job.scd_atol, job.scd_rtol);
   if (t.has_invariants)
-    out.put("invariant drift (Eq. 7, against the reference): c1^2 max {:.3e} last {:.3e}; c2^2 max {:.3e} last {:.3e}\n",
-            t.c1_drift_max, t.c1_drift_last, t.c2_drift_max, t.c2_drift_last);
+    out.put(
+        "invariant drift (Eq. 7, against the reference): c1^2 max {:.3e} last {:.3e}; c2^2 max {:.3e} last {:.3e}\n",
+        t.c1_drift_max, t.c1_drift_last, t.c2_drift_max, t.c2_drift_last);
   else
     out.put("invariant drift: none (the body is integrated in the direct form of Eq. 1, where Eq. 7 does not apply)\n");
   if (t.has_direction)

@@ -17,7 +17,8 @@ std::vector<std::vector<map_cell>> cells_of(const map_job& job, const std::vecto
         else if (!c.best_vop || t < outcomes[s].results[*lc.best[*c.best_vop]].seconds) c.best_vop = f;
       }
       if (c.euler && c.best_vop)
-        c.speedup = outcomes[s].results[*lc.best[*c.euler]].seconds / outcomes[s].results[*lc.best[*c.best_vop]].seconds;
+        c.speedup =
+            outcomes[s].results[*lc.best[*c.euler]].seconds / outcomes[s].results[*lc.best[*c.best_vop]].seconds;
       row.push_back(c);
     }
     out.push_back(std::move(row));

@@ -6,8 +6,8 @@
 // regime_map.png/.svg.
 #pragma once
 
-#include "compute/grid_flags.hpp"
-#include "compute/scene_overrides.hpp"
+#include "cli/grid_flags.hpp"
+#include "cli/scene_overrides.hpp"
 
 #include <CLI/CLI.hpp>
 

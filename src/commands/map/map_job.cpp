@@ -1,7 +1,7 @@
 #include "commands/map/map_job.hpp"
 
 #include "cli/flags.hpp"
-#include "compute/scene_overrides.hpp"
+#include "cli/scene_overrides.hpp"
 #include "io/output_dir.hpp"
 
 #include <fmt/format.h>
@@ -54,7 +54,8 @@ map_job map_job_of(const map_options& o) {
 
   job.scales = flag_ladder("--torque-scales", o.torque_scales.value_or(default_torque_scales));
   job.levels = level_ladder(o.levels.value_or(default_map_levels));
-  if (!base.torque || std::all_of(base.torque->begin(), base.torque->end(), [](const decimal& g) { return g.value == 0; }))
+  if (!base.torque ||
+      std::all_of(base.torque->begin(), base.torque->end(), [](const decimal& g) { return g.value == 0; }))
     throw input_error(fmt::format("scene `{}` has no torque to scale (give a scene with [torque] G or M)", base.name));
   job.run = run_options_of(o.grid, map_grid_defaults, "map");
   job.run.stop_below = *std::min_element(job.levels.begin(), job.levels.end());

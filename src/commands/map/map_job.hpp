@@ -2,8 +2,8 @@
 // levels, how the runs are timed and where the outputs go.
 #pragma once
 
+#include "cli/grid_flags.hpp"
 #include "commands/map/map_command.hpp"
-#include "compute/grid_flags.hpp"
 #include "compute/scene_library.hpp"
 #include "compute/work_precision_grid.hpp"
 #include "compute/work_precision_runs.hpp"

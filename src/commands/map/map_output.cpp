@@ -142,7 +142,8 @@ std::string map_csv(const map_job& job, const std::vector<wp_outcome>& outcomes,
 
 std::string map_runs_csv(const map_job& job, const std::vector<wp_outcome>& outcomes) {
   text_buffer out;
-  out.put("scale,formulation,method,step,h,tol,steps,rejected,rhs_evals,seconds,max_error,final_error,diverged,skipped\n");
+  out.put(
+      "scale,formulation,method,step,h,tol,steps,rejected,rhs_evals,seconds,max_error,final_error,diverged,skipped\n");
   for (std::size_t s = 0; s < job.grids.size(); ++s) {
     const wp_grid& g = job.grids[s];
     for (std::size_t i = 0; i < g.cases.size(); ++i) {
@@ -208,7 +209,8 @@ std::string map_table(const map_job& job, const std::vector<wp_outcome>& outcome
   for (std::size_t s = 0; s < job.grids.size(); ++s)
     out.put(" {} {:.1f} s{}", job.scales[s].text, outcomes[s].reference_seconds, s + 1 < job.grids.size() ? "," : "\n");
   out.put("timing: {}; wall time {:.1f} s\n\n", timing_text(job.run), wall);
-  out.put("speed-up of the cheapest VOP configuration over the cheapest Euler one (max error over the span <= level):\n");
+  out.put(
+      "speed-up of the cheapest VOP configuration over the cheapest Euler one (max error over the span <= level):\n");
   out.put("{}", speedup_table(job, cells));
   out.put("\ncheapest configurations:\n");
   out.put("{}", configurations_table(job, outcomes, cells));

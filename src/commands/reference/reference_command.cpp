@@ -1,9 +1,9 @@
 #include "commands/reference/reference_command.hpp"
 
 #include "cli/exit_codes.hpp"
+#include "cli/scene_overrides.hpp"
 #include "commands/reference/reference_run.hpp"
 #include "compute/certified_reference.hpp"
-#include "compute/scene_overrides.hpp"
 #include "io/atomic_file.hpp"
 #include "io/reference_csv.hpp"
 #include "io/scratch_file.hpp"
@@ -44,7 +44,8 @@ reference_job make_job(const reference_options& o) {
 
 void add_reference_flags(CLI::App& sub, reference_options& o) {
   add_text_flag(sub, {"scene", "SCENE", "Scene file (TOML); default: the embedded paper scene"}, o.scene_path);
-  add_scene_override_flags(sub, o.overrides, scene_override_set{}, "Number of equally spaced samples, endpoints included");
+  add_scene_override_flags(sub, o.overrides, scene_override_set{},
+                           "Number of equally spaced samples, endpoints included");
   add_text_flag(sub, {"--out", "FILE", "Output file (default: standard output)"}, o.out);
   add_switch(sub, reference_flags::verify, o.verify);
   add_switch(sub, reference_flags::certify, o.certify);

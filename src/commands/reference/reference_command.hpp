@@ -3,7 +3,7 @@
 #pragma once
 
 #include "cli/command_flags.hpp"
-#include "compute/scene_overrides.hpp"
+#include "cli/scene_overrides.hpp"
 
 #include <CLI/CLI.hpp>
 

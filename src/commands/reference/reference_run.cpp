@@ -110,7 +110,8 @@ decimal decimal_of(const std::string& text) { return decimal{text, std::strtod(t
 void add_certificate(const reference_job& job, const run_certificate& certificate, reference_metadata& m) {
   m.certified_max_error = decimal_of(certificate.max_radius());
   m.certify_method = certificate.method();
-  if (job.layout == reference_layout::physical) m.certified_max_error_omega = decimal_of(certificate.max_radius_omega());
+  if (job.layout == reference_layout::physical)
+    m.certified_max_error_omega = decimal_of(certificate.max_radius_omega());
 }
 
 // Runs the job in T, streaming the CSV rows to `rows_out`.

@@ -8,7 +8,8 @@
 
 namespace eulervop::app {
 
-std::string fixed_errors_csv(const report_job& job, const fixed_reference_info& ref, const std::vector<run_errors>& runs) {
+std::string fixed_errors_csv(const report_job& job, const fixed_reference_info& ref,
+                             const std::vector<run_errors>& runs) {
   text_buffer out;
   out.put("tau");
   for (const run_spec& r : job.runs) out.put(",{}", r.column());
@@ -36,14 +37,16 @@ nlohmann::ordered_json fixed_summary_json(const report_job& job, const fixed_ref
   j["step_rule"] = job.step.rule;
   if (!job.note.empty()) j["note"] = job.note;
   j["runs"] = nlohmann::ordered_json::array();
-  for (std::size_t i = 0; i < runs.size(); ++i) j["runs"].push_back(run_json(job.runs[i], runs[i], job.step.h, nullptr));
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    j["runs"].push_back(run_json(job.runs[i], runs[i], job.step.h, nullptr));
   return j;
 }
 
 std::string fixed_table(const report_job& job, const fixed_reference_info& ref, const std::vector<run_errors>& runs) {
   text_buffer out;
-  out.put("scene {}{}: {} steps to tau = {:.6g}\n", job.scn.name, job.overrides.empty() ? "" : " (" + job.overrides + ")",
-          job.step.n_steps, static_cast<double>(job.step.n_steps) * job.step.h);
+  out.put("scene {}{}: {} steps to tau = {:.6g}\n", job.scn.name,
+          job.overrides.empty() ? "" : " (" + job.overrides + ")", job.step.n_steps,
+          static_cast<double>(job.step.n_steps) * job.step.h);
   out.put("step: {}\n", job.step.rule);
   if (!job.note.empty()) out.put("note: {}\n", job.note);
   out.put("reference: {} ({}{}), estimated max error {}\n", ref.precision, ref.source,

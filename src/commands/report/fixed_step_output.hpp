@@ -25,7 +25,8 @@ struct fixed_reference_info {
   std::optional<std::size_t> segments;
 };
 
-std::string fixed_errors_csv(const report_job& job, const fixed_reference_info& ref, const std::vector<run_errors>& runs);
+std::string fixed_errors_csv(const report_job& job, const fixed_reference_info& ref,
+                             const std::vector<run_errors>& runs);
 nlohmann::ordered_json fixed_summary_json(const report_job& job, const fixed_reference_info& ref,
                                           const std::vector<run_errors>& runs);
 std::string fixed_table(const report_job& job, const fixed_reference_info& ref, const std::vector<run_errors>& runs);

@@ -100,7 +100,8 @@ reference_samples<T> compute_reference(const report_job& job) {
 
   T tau_end = tau_end_of<T>(job.scn);
   if (out.tau.back() > tau_end) tau_end = out.tau.back();  // within the 1e-9 h slack of n_steps
-  sampled_reference<T> ref = integrate_and_sample<T>(to_problem<T>(job.scn), tau_end, out.tau, job.settings, "reference");
+  sampled_reference<T> ref =
+      integrate_and_sample<T>(to_problem<T>(job.scn), tau_end, out.tau, job.settings, "reference");
   out.Omega = std::move(ref.Omega);
   out.info.seconds = ref.wall_seconds;
   out.info.segments = ref.stats.segments;

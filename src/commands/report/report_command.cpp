@@ -3,13 +3,13 @@
 #include "cli/command_flags.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/flags.hpp"
+#include "cli/scene_overrides.hpp"
 #include "commands/report/adaptive_report.hpp"
 #include "commands/report/fixed_step_report.hpp"
 #include "commands/report/report_job.hpp"
 #include "compute/formulation_probe.hpp"
-#include "compute/scene_overrides.hpp"
-#include "io/reference_csv.hpp"
 #include "io/output_dir.hpp"
+#include "io/reference_csv.hpp"
 
 #include <fmt/format.h>
 
@@ -37,8 +37,8 @@ void check_reference_flags(const report_options& o) {
                                     std::pair{"--tolerance", o.overrides.tolerance.has_value()},
                                     std::pair{"--verify", o.verify}})
     if (given)
-      throw input_error(fmt::format("{}: not used with --reference {} (the file's samples and precision are used)", flag,
-                                    *o.reference_file));
+      throw input_error(fmt::format("{}: not used with --reference {} (the file's samples and precision are used)",
+                                    flag, *o.reference_file));
 }
 
 // A report runs either at one fixed step or under error control (--tols), each with its own flags.
@@ -51,7 +51,8 @@ void check_mode_flags(const report_options& o) {
     throw input_error(fmt::format("--tols {} and --step {}: a report runs either at one fixed step or under error "
                                   "control; give one of them",
                                   *o.tols, *o.step));
-  for (const auto& [flag, given] : {std::pair{"--reference", o.reference_file.has_value()}, std::pair{"--verify", o.verify}})
+  for (const auto& [flag, given] :
+       {std::pair{"--reference", o.reference_file.has_value()}, std::pair{"--verify", o.verify}})
     if (given)
       throw input_error(fmt::format("{}: not used with --tols (the adaptive runs are measured at their own step points "
                                     "against the reference computed here)",
@@ -108,7 +109,8 @@ report_job make_job(const report_options& o) {
       if (!adaptive) job.runs.push_back({f, m});
       for (std::size_t t = 0; t < job.tols.size(); ++t) job.runs.push_back({f, m, t});
     }
-  probe_formulations(forms, to_problem<double>(s), adaptive ? std::min(job.max_step.h, tau_end_of<double>(s)) : job.step.h);
+  probe_formulations(forms, to_problem<double>(s),
+                     adaptive ? std::min(job.max_step.h, tau_end_of<double>(s)) : job.step.h);
 
   if (o.reference_file) {
     const reference_metadata meta = read_reference_metadata("--reference", *o.reference_file);
@@ -129,11 +131,12 @@ void add_report_flags(CLI::App& sub, report_options& o) {
   add_text_flag(sub, {"scene", "SCENE", "Scene file (TOML); default: the embedded paper scene"}, o.scene_path);
   add_text_flag(sub, {"--reference", "FILE", "Reference CSV written by `eulervop reference` (default: computed here)"},
                 o.reference_file);
-  add_text_flag(sub, {"--step", "S", "Fixed step: K/N (K of the initial modulus) or h (default: [run] step, else K/200)"},
-                o.step);
   add_text_flag(sub,
-                {"--tols", "LIST", "Instead of a fixed step: comma-separated tolerances (atol = rtol) of adaptive runs"},
-                o.tols);
+                {"--step", "S", "Fixed step: K/N (K of the initial modulus) or h (default: [run] step, else K/200)"},
+                o.step);
+  add_text_flag(
+      sub, {"--tols", "LIST", "Instead of a fixed step: comma-separated tolerances (atol = rtol) of adaptive runs"},
+      o.tols);
   add_text_flag(sub, {"--max-step", "S", "Largest step of the adaptive runs: K/N or h (default: K/2)"}, o.max_step);
   add_text_flag(sub,
                 {"--methods", "LIST",

@@ -3,7 +3,7 @@
 // errors against the reference, and the paper's Fig. 1.
 #pragma once
 
-#include "compute/scene_overrides.hpp"
+#include "cli/scene_overrides.hpp"
 
 #include <CLI/CLI.hpp>
 

@@ -6,8 +6,8 @@
 // work-precision figure.
 #pragma once
 
-#include "compute/grid_flags.hpp"
-#include "compute/scene_overrides.hpp"
+#include "cli/grid_flags.hpp"
+#include "cli/scene_overrides.hpp"
 
 #include <CLI/CLI.hpp>
 

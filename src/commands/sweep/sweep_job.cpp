@@ -1,8 +1,8 @@
 #include "commands/sweep/sweep_job.hpp"
 
+#include "cli/scene_overrides.hpp"
 #include "compute/ladders.hpp"
 #include "compute/scene_library.hpp"
-#include "compute/scene_overrides.hpp"
 #include "io/output_dir.hpp"
 
 #include <cstdint>

@@ -2,8 +2,8 @@
 // reference's settings and where the outputs go.
 #pragma once
 
+#include "cli/grid_flags.hpp"
 #include "commands/sweep/sweep_command.hpp"
-#include "compute/grid_flags.hpp"
 #include "compute/work_precision_grid.hpp"
 #include "compute/work_precision_runs.hpp"
 

@@ -93,10 +93,11 @@ json cheapest_json(const wp_grid& g, const wp_outcome& o, const std::vector<leve
                   {"max_error", *o.results[i].max_error},
                   {"factor", factor(o, lc, i)}};
     }
-    cheapest.push_back({{"level", lc.level},
-                        {"cheapest", lc.winner ? json(std::string(formulation_name(g.forms[*lc.winner]))) : json(nullptr)},
-                        {"verdict", verdict(g, o, lc)},
-                        {"by_formulation", by}});
+    cheapest.push_back(
+        {{"level", lc.level},
+         {"cheapest", lc.winner ? json(std::string(formulation_name(g.forms[*lc.winner]))) : json(nullptr)},
+         {"verdict", verdict(g, o, lc)},
+         {"by_formulation", by}});
   }
   return cheapest;
 }
@@ -109,15 +110,15 @@ std::string runs_table(const wp_grid& g, const wp_outcome& o) {
   for (std::size_t i = 0; i < g.cases.size(); ++i) {
     const wp_case& c = g.cases[i];
     const wp_result& r = o.results[i];
-    rows.push_back({std::string(formulation_name(c.form)), std::string(rk::method_name(c.method)), g.rung_text(c),
-                    c.adaptive ? std::string("-") : fmt::format("{:.6g}", g.steps[c.rung].choice.h),
-                    fmt::format("{}", r.run.steps), c.adaptive ? fmt::format("{}", r.run.rejected) : std::string("-"),
-                    fmt::format("{}", r.run.rhs_evals), fmt::format("{:.3e}", r.seconds), sci(r.max_error),
-                    sci(r.final_error),
-                    r.run.diverged() ? fmt::format("DIVERGED at tau={} ({})",
-                                                   r.run.diverged_at() ? fmt::format("{:.6g}", *r.run.diverged_at()) : "?",
-                                                   describe(r.run.status))
-                                     : ""});
+    rows.push_back(
+        {std::string(formulation_name(c.form)), std::string(rk::method_name(c.method)), g.rung_text(c),
+         c.adaptive ? std::string("-") : fmt::format("{:.6g}", g.steps[c.rung].choice.h),
+         fmt::format("{}", r.run.steps), c.adaptive ? fmt::format("{}", r.run.rejected) : std::string("-"),
+         fmt::format("{}", r.run.rhs_evals), fmt::format("{:.3e}", r.seconds), sci(r.max_error), sci(r.final_error),
+         r.run.diverged() ? fmt::format("DIVERGED at tau={} ({})",
+                                        r.run.diverged_at() ? fmt::format("{:.6g}", *r.run.diverged_at()) : "?",
+                                        describe(r.run.status))
+                          : ""});
   }
   return aligned_table(rows, 3);
 }

@@ -1,4 +1,4 @@
-#include "compute/scene_overrides.hpp"
+#include "cli/scene_overrides.hpp"
 
 #include "cli/flags.hpp"
 #include "compute/scene_library.hpp"

@@ -1,4 +1,4 @@
-#include "compute/grid_flags.hpp"
+#include "cli/grid_flags.hpp"
 
 #include "cli/flags.hpp"
 #include "compute/formulation_probe.hpp"
