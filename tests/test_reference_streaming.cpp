@@ -4,11 +4,11 @@
 // dense trajectory, sampled afterwards, and the whole CSV built in a string. A run that fails
 // half-way must leave neither the output nor a scratch file.
 #include "cli_test_support.hpp"
-#include "commands/reference_command.hpp"
+#include "commands/reference/reference_command.hpp"
 #include "compute/reference_compute.hpp"
 #include "io/reference_csv.hpp"
 #include "compute/scene_library.hpp"
-#include "compute/scene_overrides.hpp"
+#include "cli/scene_overrides.hpp"
 #include "compute/with_scalar.hpp"
 
 #include <eulervop/reference/integrate.hpp>

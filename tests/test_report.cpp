@@ -3,7 +3,7 @@
 // Also the step rule in process (resolve_step).
 #include "cli_test_support.hpp"
 
-#include "commands/report_command.hpp"
+#include "cli/flags.hpp"
 #include "compute/step_rule.hpp"
 
 #include <eulervop/special/elliptic.hpp>
@@ -51,7 +51,7 @@ TEST(ReportStep, MinorAxisUsesTheReciprocalModulus) {
   // Omega(0) = (1, 0, 0.5): c1 = 1, c2 = 0.5, k0 = 2 -> h = K(1/2) / (N c1).
   const auto s = eulervop::scene::parse_scene(
       "name = \"minor\"\n[initial]\nOmega = [1.0, 0.0, 0.5]\n[span]\ntau_end = 10.0\nsamples = 3\n", "minor.toml");
-  const auto st = eulervop::app::resolve_step(s, eulervop::app::parse_step_flag("K/100"), "--step K/100");
+  const auto st = eulervop::app::resolve_step(s, eulervop::app::flag_step("--step", "K/100"), "--step K/100");
   EXPECT_TRUE(st.reciprocal);
   EXPECT_NEAR(st.h, 1.6857503548125960429 / 100, 1e-16);
   EXPECT_NE(st.rule.find("reciprocal"), std::string::npos) << st.rule;
@@ -59,7 +59,7 @@ TEST(ReportStep, MinorAxisUsesTheReciprocalModulus) {
 
 TEST(ReportStep, PlainNumberIsInTheScenesTimeVariable) {
   const auto s = eulervop::scene::load_scene_file(source_dir + "/data/scenes/spacecraft-physical.toml");
-  const auto st = eulervop::app::resolve_step(s, eulervop::app::parse_step_flag("2"), "--step 2");
+  const auto st = eulervop::app::resolve_step(s, eulervop::app::flag_step("--step", "2"), "--step 2");
   // Inertias 100, 150, 200: A = (50/100, 100/150, 50/200), dtau/dt = sqrt(A1 A2 A3) = sqrt(1/12).
   EXPECT_NEAR(st.h, 2 * std::sqrt(1.0 / 12), 1e-15);
   EXPECT_EQ(st.n_steps, 1800u);  // t_end = 3600 s

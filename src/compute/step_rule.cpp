@@ -6,35 +6,18 @@
 
 #include <fmt/format.h>
 
-#include <charconv>
 #include <cmath>
 
 namespace eulervop::app {
-
-step_spec parse_step_text(const std::string& text, const std::string& flag) {
-  step_spec spec;
-  if (text.starts_with("K/")) {
-    std::int64_t n = 0;
-    const char* digits = text.data() + 2;
-    auto [ptr, ec] = std::from_chars(digits, text.data() + text.size(), n);
-    if (ec != std::errc{} || ptr != text.data() + text.size() || n < 1)
-      throw input_error(fmt::format("{} {}: expected K/N with a whole number N >= 1, or a positive number", flag, text));
-    spec.K_divisor = n;
-  } else {
-    spec.value = positive_flag_number(flag, text);
-  }
-  return spec;
-}
-
-step_spec parse_step_flag(const std::string& text) { return parse_step_text(text, "--step"); }
 
 fixed_step_choice step_length(const scene& s, const step_spec& spec, const std::string& origin) {
   fixed_step_choice out;
   if (spec.K_divisor) {
     if (uses_direct_form(s))
-      throw input_error(fmt::format("{}: K/N needs the modulus of Eq. 5, and this body is integrated in the direct form "
-                                    "of Eq. 1 (two moments are equal or nearly so); give the step in seconds",
-                                    origin));
+      throw input_error(
+          fmt::format("{}: K/N needs the modulus of Eq. 5, and this body is integrated in the direct form "
+                      "of Eq. 1 (two moments are equal or nearly so); give the step in seconds",
+                      origin));
     const auto N = static_cast<double>(*spec.K_divisor);
     const vec3<double> Om = to_problem<double>(s).Omega0;
     const double c1 = std::hypot(Om[0], Om[1]), c2 = std::hypot(Om[1], Om[2]);
@@ -57,9 +40,10 @@ fixed_step_choice step_length(const scene& s, const step_spec& spec, const std::
       const double K = elliptic_modulus<double>(c2 / c1).K();
       out.h = K / (N * c1);
       out.reciprocal = true;
-      out.rule = fmt::format("h = K(1/k0)/({} c1) = {} with the reciprocal modulus, since k0 = c1/c2 = {} >= 1; K = {}, "
-                             "c1 = {}",
-                             *spec.K_divisor, out.h, k0, K, c1);
+      out.rule = fmt::format(
+          "h = K(1/k0)/({} c1) = {} with the reciprocal modulus, since k0 = c1/c2 = {} >= 1; K = {}, "
+          "c1 = {}",
+          *spec.K_divisor, out.h, k0, K, c1);
     }
   } else {
     const double value = spec.value->value;

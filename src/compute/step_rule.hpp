@@ -1,9 +1,9 @@
-// The fixed step of the comparison runs: "K/N" (a fraction of the quarter period K of the
-// initial motion) or a number in the scene's time variable, resolved to a step h in tau.
+// The steps of the comparison runs: a fixed step "K/N" (a fraction of the quarter period K of
+// the initial motion) or a number in the scene's time variable, resolved to a step h in tau; and
+// the largest step of the adaptive runs.
 #pragma once
 
 #include "compute/scene_library.hpp"
-#include "compute/scene_overrides.hpp"
 
 #include <eulervop/core/scalar.hpp>
 
@@ -20,17 +20,18 @@ struct fixed_step_choice {
   std::string rule;            // how h was obtained, for the summary
 };
 
+// The adaptive runs' largest step, in tau, and how it was obtained.
+struct max_step_choice {
+  double h = 0;
+  std::string rule;
+};
+
 // Resolves a step specification for scene `s` ("K/N": h = K(k0) / (N c2_0), or for k0 > 1
 // K(1/k0) / (N c1_0); a number: h in the scene's time variable, converted to tau). `origin`
 // names where the step came from ("--step K/0", "[run] step") in messages.
 fixed_step_choice resolve_step(const scene& s, const step_spec& spec, const std::string& origin);
 // The same length alone (n_steps stays 0): for a maximum step, which may exceed the span.
 fixed_step_choice step_length(const scene& s, const step_spec& spec, const std::string& origin);
-
-// Parses step text: "K/N" (whole N >= 1) or a positive number; input_error "FLAG TEXT: why".
-step_spec parse_step_text(const std::string& text, const std::string& flag);
-// The --step flag of `report`.
-step_spec parse_step_flag(const std::string& text);
 
 // n h, exactly in quad and MPFR (a 53-bit h times an integer below 2^53).
 template <scalar T>

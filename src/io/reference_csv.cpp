@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <fstream>
 #include <sstream>
 
 namespace eulervop::app {
@@ -89,6 +90,11 @@ std::string precision_text(const eulervop::precision& p) {
   return p.name();
 }
 
+reference_layout reference_layout_of(const scene& s) {
+  if (uses_direct_form(s)) return reference_layout::direct;
+  return s.is_physical() ? reference_layout::physical : reference_layout::normalized;
+}
+
 std::string reference_csv_header(const reference_metadata& m, reference_layout layout) {
   fmt::memory_buffer out;
   auto line = [&]<class... Args>(fmt::format_string<Args...> format, Args&&... args) {
@@ -146,6 +152,11 @@ reference_csv_reader::reference_csv_reader(std::istream& in, std::string where)
     : rows_(in, std::move(where)), meta_(metadata_of(rows_)) {
   const char* state = rows_.column("Omega1") || !rows_.column("omega1") ? "Omega" : "omega";
   for (int k = 0; k < 3; ++k) Omega_[k] = column(fmt::format("{}{}", state, k + 1));
+}
+
+reference_metadata read_reference_metadata(std::string_view what, const std::string& path) {
+  std::ifstream in = open_input_file(what, path);
+  return reference_csv_reader(in, fmt::format("{} {}", what, path)).metadata();
 }
 
 std::size_t reference_csv_reader::column(const std::string& name, std::string_view why) const {

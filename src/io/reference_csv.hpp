@@ -7,8 +7,8 @@
 // three significant digits, and the nearest double), the precision a parsed precision.
 #pragma once
 
-#include "io/csv_rows.hpp"
 #include "compute/scene_library.hpp"
+#include "io/csv_rows.hpp"
 
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/core/scalar.hpp>
@@ -54,6 +54,9 @@ std::string precision_text(const eulervop::precision& p);
 // The columns of a reference file: tau and Omega; then t and omega for a physical scene; or t and
 // omega alone for a body integrated in the direct form of Eq. 1, which has no tau or Omega.
 enum class reference_layout { normalized, physical, direct };
+
+// The layout of the scene's reference file: the one place that decides it.
+reference_layout reference_layout_of(const scene& s);
 
 // The metadata block and the column header of a reference file, each line ending in '\n'.
 std::string reference_csv_header(const reference_metadata& m, reference_layout layout);
@@ -132,6 +135,9 @@ class reference_csv_writer {
   std::string text_;
   reference_csv_row_writer rows_;
 };
+
+// The metadata block of the reference file at `path`; `what` names it in messages ("--reference").
+reference_metadata read_reference_metadata(std::string_view what, const std::string& path);
 
 // Streams a reference file: the metadata and the header on construction, then one row per
 // next(). Every problem is an input_error naming `where`, the line and the cell.

@@ -5,8 +5,10 @@
 #include <fmt/format.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include <fcntl.h>
@@ -19,6 +21,21 @@ namespace {
 constexpr std::size_t copy_chunk = 1 << 16;
 
 }  // namespace
+
+std::filesystem::path scratch_directory_for(const atomic_file* output) {
+  if (output && output->replaces_target()) {
+    const std::filesystem::path dir = output->target().parent_path();
+    return dir.empty() ? std::filesystem::path(".") : dir;
+  }
+  std::error_code ec;
+  std::filesystem::path tmp = std::filesystem::temp_directory_path(ec);
+  if (ec) {
+    const char* value = std::getenv("TMPDIR");
+    throw input_error(fmt::format("TMPDIR {}: not a usable directory for the rows of standard output: {}",
+                                  value ? value : "(unset)", ec.message()));
+  }
+  return tmp;
+}
 
 scratch_file::scratch_file(const std::filesystem::path& directory) : directory_(directory) {
   std::string pattern = (directory_ / ".eulervop-scratch.XXXXXX").string();

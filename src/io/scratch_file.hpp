@@ -8,12 +8,19 @@
 // (docs/design.md section 5.3).
 #pragma once
 
+#include "io/atomic_file.hpp"
+
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string_view>
 
 namespace eulervop::app {
+
+// Where the rows of `output` wait: beside the output file (its file system holds them in the end
+// anyway); for standard output (none) or a device, in the temporary directory (TMPDIR).
+// input_error when TMPDIR is not usable.
+std::filesystem::path scratch_directory_for(const atomic_file* output);
 
 class scratch_file {
  public:

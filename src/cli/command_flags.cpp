@@ -1,0 +1,96 @@
+#include "cli/command_flags.hpp"
+
+#include "compute/ladders.hpp"
+#include "compute/run_names.hpp"
+#include "io/shell_word.hpp"
+
+#include <fmt/format.h>
+
+namespace eulervop::app {
+
+CLI::Option* add_text_flag(CLI::App& sub, const flag_def& flag, std::optional<std::string>& text) {
+  CLI::Option* option =
+      sub.add_option_function<std::string>(flag.name, [&text](const std::string& v) { text = v; }, flag.help);
+  return option->type_name(flag.value_name);
+}
+
+CLI::Option* add_switch(CLI::App& sub, const flag_def& flag, bool& on) {
+  return sub.add_flag(flag.name, on, flag.help);
+}
+
+std::string command_line_text(const flag_def& flag, const std::optional<std::string>& text) {
+  return text ? fmt::format(" {} {}", flag.name, shell_word(*text)) : "";
+}
+
+std::string command_line_text(const flag_def& flag, bool on) { return on ? " " + flag.name : ""; }
+
+void add_output_flags(CLI::App& sub, std::optional<std::string>& out_dir, bool& no_plot, std::string_view command,
+                      std::string_view figure) {
+  add_text_flag(
+      sub, {"--out-dir", "DIR", fmt::format("Output directory (default: ./eulervop-{}/, created if missing)", command)},
+      out_dir);
+  add_switch(sub, {"--no-plot", "", fmt::format("Do not draw {0}.png/{0}.svg", figure)}, no_plot);
+}
+
+// ---- the scene overrides --------------------------------------------------------------------------
+
+namespace override_flags {
+const flag_def precision{"--precision", "P", "double | quad | mpfr:BITS (overrides [reference] precision)"};
+const flag_def tau_end{"--tau-end", "T", "End of the span in tau (normalized scenes)"};
+const flag_def t_end{"--t-end", "T", "End of the span in s (physical scenes)"};
+const flag_def times{"--times", "LIST", "Exact sample times t1,t2,... (tau, or t for physical scenes)"};
+const flag_def degree{"--degree", "N", "Chebyshev degree (default: from the precision)"};
+const flag_def tolerance{
+    "--tolerance", "X",
+    "Relative tolerance; each segment's truncation is held to a sixteenth of it (default: from the precision)"};
+const flag_def samples{"--samples", "N", ""};
+}  // namespace override_flags
+
+void add_scene_override_flags(CLI::App& sub, scene_override_flags& o, scene_override_set which,
+                              const std::string& samples_help) {
+  if (which.reference) add_text_flag(sub, override_flags::precision, o.precision);
+  if (which.span) {
+    add_text_flag(sub, override_flags::tau_end, o.tau_end);
+    add_text_flag(sub, override_flags::t_end, o.t_end);
+  }
+  if (which.samples) add_text_flag(sub, override_flags::samples.described(samples_help), o.samples);
+  if (which.times) add_text_flag(sub, override_flags::times, o.times);
+  if (which.reference) {
+    add_text_flag(sub, override_flags::degree, o.degree);
+    add_text_flag(sub, override_flags::tolerance, o.tolerance);
+  }
+}
+
+// ---- the work-precision grid ------------------------------------------------------------------------
+
+void add_grid_flags(CLI::App& sub, grid_flags& f, const grid_flag_defaults& d) {
+  add_text_flag(
+      sub,
+      {"--steps", "LIST",
+       fmt::format("Comma-separated fixed steps: K/N (K of the initial modulus) or h (default: {})", d.steps)},
+      f.steps);
+  add_text_flag(sub,
+                {"--tols", "LIST",
+                 fmt::format("Comma-separated tolerances of the adaptive runs, atol = rtol (default: {}; with --steps "
+                             "alone: none)",
+                             default_tol_ladder)},
+                f.tols);
+  add_text_flag(sub,
+                {"--max-step", "S",
+                 fmt::format("Largest step of the adaptive runs: K/N or h (default: {})", default_max_step)},
+                f.max_step);
+  add_text_flag(sub,
+                {"--methods", "LIST",
+                 "Comma-separated: rk4,rkf45,dp45,rk8 at the fixed steps, rkf45,dp45,dop853 at the tolerances "
+                 "(default: all)"},
+                f.methods);
+  add_text_flag(sub,
+                {"--formulations", "LIST", "Comma-separated: " + joined(available_formulations()) + " (default: all)"},
+                f.formulations);
+  add_text_flag(sub,
+                {"--repeat", "N", fmt::format("Timed runs per case; the minimum time is kept (default: {})", d.repeat)},
+                f.repeat);
+  add_text_flag(sub, {"--jobs", "N", "Cases run in parallel (default: 1; above 1 the timings are less pure)"}, f.jobs);
+}
+
+}  // namespace eulervop::app

@@ -1,0 +1,26 @@
+// Every command of the program: its name and description, its flags (bound to the command's own
+// options) and what runs it. main() offers them in this order and runs the one given.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace eulervop::app {
+
+struct command {
+  std::string name;
+  std::string description;
+  std::function<void(CLI::App& sub)> add_flags;
+  // With the flags parsed: runs the command and returns its exit code. `command_line` is the
+  // invocation as command_text states it.
+  std::function<int(std::ostream& standard_output, const std::string& command_line)> run;
+};
+
+// reference, report, sweep, check, batch, map.
+std::vector<command> all_commands();
+
+}  // namespace eulervop::app

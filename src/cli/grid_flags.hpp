@@ -1,0 +1,45 @@
+// The flags that choose a work-precision grid (work_precision_grid.hpp) and how its runs are
+// timed, shared by `sweep` and `map`: --steps, --tols, --max-step, --methods, --formulations,
+// --repeat and --jobs.
+#pragma once
+
+#include "compute/scene_library.hpp"
+#include "compute/work_precision_grid.hpp"
+#include "compute/work_precision_runs.hpp"
+
+#include <cstddef>
+#include <optional>
+#include <string>
+
+namespace eulervop::app {
+
+// The flags exactly as given.
+struct grid_flags {
+  std::optional<std::string> steps;         // "K/25,K/100,0.01": the fixed-step ladder
+  std::optional<std::string> tols;          // "1e-6,1e-8": the tolerance ladder (atol = rtol)
+  std::optional<std::string> max_step;      // the adaptive runs' largest step, "K/N" or h
+  std::optional<std::string> methods;       // "rk4,dop853"
+  std::optional<std::string> formulations;  // "euler,vop"
+  std::optional<std::string> repeat;        // timed runs per case (the minimum is kept)
+  std::optional<std::string> jobs;          // cases run in parallel
+};
+
+// What differs between the commands.
+struct grid_flag_defaults {
+  std::string steps;  // the fixed-step ladder, "K/25,K/50,..."
+  int repeat = 1;
+};
+
+// The grid of `s` the flags ask for: both ladders unless only one is given, every formulation and
+// method unless listed (the scene's [run] lists choose the runs of `report`, not a grid's), the
+// cases made and the formulations probed at the first step. input_error naming the flag and its
+// value otherwise.
+wp_grid grid_of(const scene& s, std::size_t samples, const grid_flags& flags, const grid_flag_defaults& defaults);
+
+// --repeat and --jobs (input_error naming the flag and its value).
+wp_run_options run_options_of(const grid_flags& flags, const grid_flag_defaults& defaults, std::string progress_label);
+
+// "each time is the minimum of 3 run(s), one case at a time", for the summary and the figure.
+std::string timing_text(const wp_run_options& o);
+
+}  // namespace eulervop::app

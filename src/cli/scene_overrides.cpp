@@ -1,0 +1,61 @@
+#include "cli/scene_overrides.hpp"
+
+#include "cli/flags.hpp"
+#include "compute/scene_library.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+namespace eulervop::app {
+
+std::string applied_overrides::text() const { return fmt::format("{}", fmt::join(flags, " ")); }
+
+applied_overrides apply_scene_overrides(scene& s, const scene_override_flags& o) {
+  applied_overrides out;
+  // The span end: --tau-end for normalized scenes, --t-end for physical ones.
+  if (o.tau_end && s.is_physical())
+    throw input_error(fmt::format("--tau-end {}: scene {} is physical (has [body]); give --t-end in s", *o.tau_end,
+                                  s.name));
+  if (o.t_end && !s.is_physical())
+    throw input_error(fmt::format("--t-end {}: scene {} is normalized (no [body]); give --tau-end", *o.t_end, s.name));
+  const std::optional<std::string>& end_flag = s.is_physical() ? o.t_end : o.tau_end;
+  const std::string end_name = s.is_physical() ? "--t-end" : "--tau-end";
+  if (end_flag) {
+    s.span_end = positive_flag_number(end_name, *end_flag);
+    out.flags.push_back(fmt::format("{}={}", end_name, *end_flag));
+  }
+  // The samples: --samples or --times replace the scene's choice; the scene's own times must
+  // still fit in a shortened span.
+  if (o.samples && o.times) throw input_error("--samples and --times: give one or the other");
+  if (o.samples) {
+    s.samples = flag_integer("--samples", *o.samples, scene_limits::min_samples, scene_limits::max_samples);
+    s.times.clear();
+    out.flags.push_back(fmt::format("--samples={}", *o.samples));
+  } else if (o.times) {
+    s.times = flag_times(*o.times, s.span_end, s.span_key());
+    s.samples.reset();
+    out.flags.push_back(fmt::format("--times={}", *o.times));
+  } else if (end_flag && !s.times.empty() && s.times.back().value > s.span_end.value) {
+    throw input_error(fmt::format("{} {}: the scene's times go up to {}; shorten them with --times", end_name,
+                                  *end_flag, s.times.back().text));
+  }
+  // The reference integrator: --precision, --degree and --tolerance, else the scene's [reference].
+  out.precision = o.precision ? flag_precision(*o.precision) : s.reference_precision;
+  if (o.precision) out.flags.push_back(fmt::format("--precision={}", *o.precision));
+  if (o.degree) {
+    out.settings.degree =
+        static_cast<unsigned>(flag_integer("--degree", *o.degree, scene_limits::min_degree, scene_limits::max_degree));
+    out.flags.push_back(fmt::format("--degree={}", *o.degree));
+  } else if (s.degree) {
+    out.settings.degree = *s.degree;
+  }
+  if (o.tolerance) {
+    out.settings.tolerance = flag_tolerance(*o.tolerance);
+    out.flags.push_back(fmt::format("--tolerance={}", *o.tolerance));
+  } else if (s.tolerance) {
+    out.settings.tolerance = s.tolerance->value;
+  }
+  return out;
+}
+
+}  // namespace eulervop::app

@@ -1,0 +1,161 @@
+#include "commands/check/against_file.hpp"
+
+#include "commands/check/trajectory_columns.hpp"
+#include "compute/with_scalar.hpp"
+#include "io/csv_rows.hpp"
+#include "io/output_cells.hpp"
+#include "io/reference_csv.hpp"
+
+#include <eulervop/model/physical_scaling.hpp>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <optional>
+#include <stdexcept>
+#include <type_traits>
+
+namespace eulervop::app {
+
+namespace {
+
+// Trajectory times must equal reference sample times to this relative difference.
+constexpr double time_match_rel = 1e-12;
+
+bool same_time(double a, double b) { return std::abs(a - b) <= time_match_rel * std::max(std::abs(a), std::abs(b)); }
+
+// Walks a reference file's rows (times increasing) alongside a trajectory's: each trajectory
+// time must be one of the reference's sample times.
+class reference_cursor {
+ public:
+  reference_cursor(reference_csv_reader& ref, std::size_t time_column) : ref_(ref), time_(time_column) {}
+
+  // Advances to the sample at `time`; input_error naming the nearest samples if there is none.
+  void seek(const decimal& time, const csv_rows& rows, const std::string& time_name) {
+    while (load() && current_->value < time.value && !same_time(current_->value, time.value)) consume();
+    if (!pending_ || !same_time(current_->value, time.value)) {
+      std::string nearest;
+      if (below_) nearest += fmt::format("{} (line {})", below_->text, below_line_);
+      if (pending_)
+        nearest += fmt::format("{}{} (line {})", nearest.empty() ? "" : " and ", current_->text, current_line_);
+      throw input_error(fmt::format("{}: line {}: {} = {} is not a sample time of {}{}", rows.where(), rows.line(),
+                                    time_name, time.text, ref_.rows().where(),
+                                    nearest.empty() ? " (it has no samples there)" : "; nearest: " + nearest));
+    }
+    consume();
+  }
+
+ private:
+  // Reads the next reference row unless one is pending; false at the end of the file.
+  bool load() {
+    if (pending_) return true;
+    csv_rows& r = ref_.rows();
+    if (!r.next()) return false;
+    const decimal t = r.number(time_);
+    if (current_ && !(t.value > current_->value))
+      throw input_error(fmt::format("{}: line {}: column {} = {} does not increase", r.where(), r.line(),
+                                    r.header()[time_], t.text));
+    current_ = t;
+    current_line_ = r.line();
+    pending_ = true;
+    return true;
+  }
+  // The current row is matched or passed: no later trajectory row can match it.
+  void consume() {
+    pending_ = false;
+    below_ = current_;
+    below_line_ = current_line_;
+  }
+
+  reference_csv_reader& ref_;
+  std::size_t time_;
+  std::optional<decimal> current_;  // the last reference time read, and its line
+  std::size_t current_line_ = 0;
+  bool pending_ = false;            // the current row is neither matched nor passed yet
+  std::optional<decimal> below_;    // the last reference time consumed, and its line
+  std::size_t below_line_ = 0;
+};
+
+// The physical scaling of the reference's scene (from its "# scene_text:" lines).
+template <scalar T>
+physical_scaling<T> scaling_of_reference(const reference_csv_reader& ref) {
+  const std::string& where = ref.rows().where();
+  if (ref.metadata().scene_text.empty())
+    throw input_error(fmt::format("{}: no `# scene_text:` lines, so omega cannot be mapped to Omega", where));
+  const scene s = parse_scene(ref.metadata().scene_text, where + " (scene_text)");
+  if (!s.is_physical()) throw input_error(fmt::format("{}: the scene is not physical", where));
+  return scaling_of<T>(s);
+}
+
+void describe_reference_file(const check_job& job, const reference_metadata& meta, check_result& r) {
+  const auto& error = meta.estimated_max_error;
+  r.reference_text = fmt::format("file {} (scene {}, {}, estimated max error {})", job.reference_path,
+                                 meta.scene_name.empty() ? "?" : meta.scene_name, meta.precision.name(),
+                                 error ? error->text : "-");
+  r.reference_json = {
+      {"source", "file"},
+      {"path", job.reference_path},
+      {"scene", meta.scene_name.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(meta.scene_name)},
+      {"precision", meta.precision.name()},
+      {"estimated_max_error", number_or_null(error ? std::optional<double>(error->value) : std::nullopt)}};
+}
+
+template <scalar T>
+check_result check_in(const check_job& job, reference_csv_reader& ref) {
+  std::ifstream in = open_input_file("trajectory", job.trajectory_path);
+  csv_rows rows(in, "trajectory " + job.trajectory_path);
+  const trajectory_columns cols = find_columns(job, rows);
+  // The reference's columns are always the canonical names of `eulervop reference`.
+  const std::size_t ref_time =
+      cols.physical ? ref.column("t", " (the trajectory has physical times; the reference is normalized)")
+                    : ref.column("tau");
+  std::optional<physical_scaling<T>> scale;
+  if (cols.physical) scale.emplace(scaling_of_reference<T>(ref));
+  // The equations, for the direction of motion: from the reference's scene text, if it has one.
+  std::optional<euler_problem<T>> problem;
+  if (!ref.metadata().scene_text.empty())
+    problem = to_problem<T>(parse_scene(ref.metadata().scene_text, ref.rows().where() + " (scene_text)"));
+
+  check_result r;
+  r.time_name = cols.time_name;
+  // A certified reference: each row's radius (of Omega, the state compared here).
+  const std::optional<std::size_t> radius_column = ref.rows().column("radius");
+  r.t.certified = radius_column.has_value();
+  errors_writer out(job.errors_out);
+  out.header(cols.time_name, r.t.certified);
+  row_reader reader{rows, cols};
+  reference_cursor cursor(ref, ref_time);
+  while (rows.next()) {
+    const decimal time = reader.time();
+    const std::array<decimal, 3> d = reader.values();
+    cursor.seek(time, rows, cols.time_name);
+    vec3<T> Om = {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
+    if (scale) Om = scale->Omega_of_omega(Om);
+    std::optional<decimal> radius;
+    if (radius_column) radius = ref.rows().number(*radius_column);
+    record<T>(job, r.t, out, rows.line(), time, ref.template Omega<T>(), Om, problem ? &*problem : nullptr, radius);
+  }
+  if (!r.t.rows) throw input_error(fmt::format("{}: no data rows", rows.where()));
+  out.commit();
+  describe_reference_file(job, ref.metadata(), r);
+  return r;
+}
+
+
+}  // namespace
+
+check_result check_against_file(const check_job& job) {
+  std::ifstream in = open_input_file("reference", job.reference_path);
+  reference_csv_reader ref(in, "reference " + job.reference_path);
+  return with_scalar(ref.metadata().reading_precision(), [&](auto zero) -> check_result {
+    using T = decltype(zero);
+    if constexpr (std::is_same_v<T, double>)
+      throw std::logic_error("a reference file is read in quad or MPFR");
+    else
+      return check_in<T>(job, ref);
+  });
+}
+
+}  // namespace eulervop::app

@@ -1,0 +1,135 @@
+#include "commands/check/against_scene.hpp"
+
+#include "commands/check/trajectory_columns.hpp"
+#include "compute/reference_compute.hpp"
+#include "compute/with_scalar.hpp"
+#include "io/csv_rows.hpp"
+
+#include <eulervop/model/physical_scaling.hpp>
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <optional>
+#include <vector>
+
+namespace eulervop::app {
+
+namespace {
+
+// The trajectory's time and state in the scene's tau and Omega (from t and omega in rad/s for
+// physical columns, Eqs. 2-4).
+template <scalar T>
+class scene_variables {
+ public:
+  scene_variables(const scene& s, bool physical) : physical_(physical) {
+    if (s.is_physical()) scale_.emplace(scaling_of<T>(s));
+  }
+  T tau(const decimal& x) const {
+    const T v = x.template to_scalar<T>();
+    return physical_ ? scale_->tau_of_t(v) : v;
+  }
+  vec3<T> Omega(const std::array<decimal, 3>& d) const {
+    const vec3<T> v = {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
+    return physical_ ? scale_->Omega_of_omega(v) : v;
+  }
+
+ private:
+  bool physical_;
+  std::optional<physical_scaling<T>> scale_;
+};
+
+// The trajectory's columns, which the scene must be able to compare: physical times need a
+// physical scene, and a body in the direct form has no tau or Omega.
+trajectory_columns scene_columns(const check_job& job, const csv_rows& rows) {
+  const scene& s = job.scn;
+  const trajectory_columns cols = find_columns(job, rows);
+  if (cols.physical && !s.is_physical())
+    throw input_error(fmt::format("{}: line {}: column `{}` is a physical time, but scene {} is normalized (give "
+                                  "tau,Omega1,Omega2,Omega3)",
+                                  rows.where(), rows.line(), cols.time_name, s.name));
+  if (!cols.physical && uses_direct_form(s))
+    throw input_error(fmt::format("{}: line {}: scene {} is integrated in the direct form of Eq. 1 (two moments are "
+                                  "equal or nearly so), which has no tau or Omega: give t,omega1,omega2,omega3",
+                                  rows.where(), rows.line(), s.name));
+  return cols;
+}
+
+// Pass 1: the columns, and every row validated with its time in tau (the values are not held).
+template <scalar T>
+struct trajectory_times {
+  trajectory_columns cols;
+  std::vector<T> tau;
+};
+
+template <scalar T>
+trajectory_times<T> read_times(const check_job& job) {
+  std::ifstream in = open_input_file("trajectory", job.trajectory_path);
+  csv_rows rows(in, "trajectory " + job.trajectory_path);
+  trajectory_times<T> out{scene_columns(job, rows), {}};
+  const scene_variables<T> vars(job.scn, out.cols.physical);
+  row_reader reader{rows, out.cols};
+  while (rows.next()) {
+    out.tau.push_back(vars.tau(reader.time()));
+    reader.values();
+  }
+  if (out.tau.empty()) throw input_error(fmt::format("{}: no data rows", rows.where()));
+  return out;
+}
+
+void describe_scene_reference(const check_job& job, double tau_end, const reference_run& ref, check_result& r) {
+  const scene& s = job.scn;
+  r.reference_text = fmt::format("scene {} ({}, computed to tau = {:.6g} in {:.2f} s, {} segments)", s.name,
+                                 job.precision.name(), tau_end, ref.wall_seconds, ref.stats.segments);
+  r.reference_json = {{"source", "scene"},
+                      {"path", job.reference_path},
+                      {"scene", s.name},
+                      {"precision", job.precision.name()},
+                      {"tau_end", tau_end},
+                      {"seconds", ref.wall_seconds},
+                      {"segments", ref.stats.segments}};
+}
+
+// Pass 2, during the integration: each row is read again as the reference at its time arrives.
+// Pass 1 checked that the times increase, and their conversion to tau in T is monotone, so the
+// reference is evaluated as its segments are accepted and none is kept (integrate_at would fall
+// back to the dense output otherwise).
+template <scalar T>
+check_result check_in(const check_job& job) {
+  const trajectory_times<T> pass1 = read_times<T>(job);
+  const trajectory_columns& cols = pass1.cols;
+  const std::vector<T>& taus = pass1.tau;
+  T tau_end = taus.back();
+  if (!(tau_end > 0)) tau_end = T(1);  // a trajectory at tau = 0 only
+  errors_writer out(job.errors_out);    // an unwritable path fails before the integration
+  const euler_problem<T> problem = to_problem<T>(job.scn);
+  const scene_variables<T> vars(job.scn, cols.physical);
+
+  check_result r;
+  r.time_name = cols.time_name;
+  out.header(cols.time_name, false);
+  std::ifstream in = open_input_file("trajectory", job.trajectory_path);
+  csv_rows rows(in, "trajectory " + job.trajectory_path);
+  row_reader reader{rows, cols};
+  const auto changed = [&] { return input_error(fmt::format("{}: the file changed while it was read", rows.where())); };
+  const reference_run ref = integrate_at<T>(problem, tau_end, taus, job.settings, "reference",
+                                            [&](std::size_t i, const vec3<T>& Omega_ref) {
+                                              if (!rows.next()) throw changed();
+                                              const decimal time = reader.time();
+                                              if (vars.tau(time) != taus[i]) throw changed();
+                                              record<T>(job, r.t, out, rows.line(), time, Omega_ref,
+                                                        vars.Omega(reader.values()), &problem);
+                                            });
+  if (rows.next()) throw changed();
+  out.commit();
+  describe_scene_reference(job, static_cast<double>(tau_end), ref, r);
+  return r;
+}
+
+}  // namespace
+
+check_result check_against_scene(const check_job& job) {
+  return with_scalar(job.precision, [&](auto zero) { return check_in<decltype(zero)>(job); });
+}
+
+}  // namespace eulervop::app

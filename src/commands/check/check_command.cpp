@@ -1,0 +1,43 @@
+#include "commands/check/check_command.hpp"
+
+#include "cli/command_flags.hpp"
+#include "commands/check/against_file.hpp"
+#include "commands/check/against_scene.hpp"
+#include "commands/check/check_job.hpp"
+#include "commands/check/check_output.hpp"
+
+namespace eulervop::app {
+
+void add_check_flags(CLI::App& sub, check_options& o) {
+  sub.add_option("reference", o.reference, "A scene (.toml), or a reference CSV written by `eulervop reference`")
+      ->required()
+      ->type_name("SCENE_OR_REFERENCE");
+  sub.add_option("trajectory", o.trajectory,
+                 "The trajectory: CSV with header tau,Omega1,Omega2,Omega3 (or t,omega1..3)")
+      ->required()
+      ->type_name("TRAJECTORY");
+  add_text_flag(sub,
+                {"--columns", "MAP", "Column names of the file: tau=time,Omega1=w1,... (default: the canonical names)"},
+                o.columns);
+  add_text_flag(sub, {"--precision", "P", "Scene only: double, quad or mpfr:BITS (default: the scene's [reference])"},
+                o.precision);
+  add_text_flag(sub, {"--tol", "ABS", "Pass if every row's Eq. 20 error <= ABS (+ R |Omega_ref| with --rel-tol)"},
+                o.tol);
+  add_text_flag(sub, {"--rel-tol", "R", "Pass if every row's Eq. 20 error <= R |Omega_ref| (+ ABS with --tol)"},
+                o.rel_tol);
+  add_text_flag(sub, {"--errors-out", "FILE", "Write the per-row errors to FILE (CSV: line,time,error,bar)"},
+                o.errors_out);
+  add_text_flag(sub, {"--format", "F", "Standard output: table (default) or json"}, o.format);
+  add_text_flag(
+      sub, {"--scd-atol", "A", "atol of the mixed error |dy| / (atol/rtol + |y_ref|) behind mescd (default 1e-12)"},
+      o.scd_atol);
+  add_text_flag(sub, {"--scd-rtol", "R", "rtol of that mixed error (default 1e-12)"}, o.scd_rtol);
+}
+
+int run_check(const check_options& options, std::ostream& standard_output) {
+  const check_job job = check_job_of(options);
+  const check_result result = job.from_scene ? check_against_scene(job) : check_against_file(job);
+  return print_check(job, result, standard_output);
+}
+
+}  // namespace eulervop::app

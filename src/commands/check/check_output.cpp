@@ -1,0 +1,146 @@
+#include "commands/check/check_output.hpp"
+
+#include "cli/exit_codes.hpp"
+#include "io/output_cells.hpp"
+#include "io/text_buffer.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <string>
+
+namespace eulervop::app {
+
+namespace {
+
+using json = nlohmann::ordered_json;
+
+double time_value(const std::string& text) { return std::strtod(text.c_str(), nullptr); }
+
+// -log10 of a largest error: significant correct digits (infinite for an exact match).
+double digits_of(double max_error) {
+  return max_error > 0 ? -std::log10(max_error) : std::numeric_limits<double>::infinity();
+}
+
+double rms_of(const tally& t) {
+  return static_cast<double>(std::sqrt(t.sum_squares / static_cast<long double>(t.rows)));
+}
+
+bool has_bar(const check_job& job) { return job.tol || job.rel_tol; }
+
+// Against a certified reference: the rows whose verdict the radius leaves open.
+void add_certified_json(const check_job& job, const tally& t, json& j) {
+  const bool open = t.certified && has_bar(job);
+  j["certified_reference"] = t.certified;
+  j["max_reference_radius"] = t.certified ? json(t.max_radius) : json(nullptr);
+  j["uncertain_rows"] = open ? json(t.uncertain) : json(nullptr);
+  j["uncertain_lines"] = open ? json(t.uncertain_lines) : json(nullptr);
+  j["all_rows_certain"] = open ? json(t.uncertain == 0) : json(nullptr);
+}
+
+// The oracle metrics: scd, mescd, the largest error per component, the drift of Eq. 7 and the
+// error along and across the motion.
+void add_metrics_json(const check_job& job, const tally& t, json& j) {
+  const auto digits = [](double max_error) {
+    const double d = digits_of(max_error);
+    return std::isfinite(d) ? json(d) : json(nullptr);  // null: exact
+  };
+  j["scd"] = digits(t.max_relative);
+  j["mescd"] = digits(t.max_mixed);
+  j["scd_atol"] = job.scd_atol;
+  j["scd_rtol"] = job.scd_rtol;
+  j["max_component_errors"] = {t.max_component[0], t.max_component[1], t.max_component[2]};
+  const auto drift = [&](double max, double last) {
+    return t.has_invariants ? json{{"max", max}, {"last", last}} : json(nullptr);
+  };
+  j["c1_squared_drift"] = drift(t.c1_drift_max, t.c1_drift_last);
+  j["c2_squared_drift"] = drift(t.c2_drift_max, t.c2_drift_last);
+  j["max_error_along_motion"] = t.has_direction ? json(t.max_along) : json(nullptr);
+  j["max_error_across_motion"] = t.has_direction ? json(t.max_across) : json(nullptr);
+}
+
+json check_json(const check_job& job, const check_result& r) {
+  const tally& t = r.t;
+  json j;
+  j["trajectory"] = job.trajectory_path;
+  j["reference"] = r.reference_json;
+  j["time_column"] = r.time_name;
+  j["rows"] = t.rows;
+  j["first_time"] = time_value(t.first_time);
+  j["last_time"] = time_value(t.last_time);
+  j["max_error"] = t.max_error;
+  j["max_error_time"] = time_value(t.max_time);
+  j["max_error_line"] = t.max_line;
+  j["rms_error"] = rms_of(t);
+  j["tol"] = number_or_null(job.tol);
+  j["rel_tol"] = number_or_null(job.rel_tol);
+  j["exceeding_rows"] = t.exceeding;
+  j["first_exceeding_time"] = t.first_exceeding_time ? json(time_value(*t.first_exceeding_time)) : json(nullptr);
+  j["first_exceeding_line"] = t.first_exceeding_time ? json(t.first_exceeding_line) : json(nullptr);
+  j["pass"] = t.exceeding == 0;
+  add_certified_json(job, t, j);
+  add_metrics_json(job, t, j);
+  return j;
+}
+
+// The table's lines on the bar: the tolerance, a certified reference's uncertain rows, the result.
+void put_verdict(const check_job& job, const check_result& r, text_buffer& out) {
+  const tally& t = r.t;
+  if (!has_bar(job)) {
+    out.put("tolerance: none given (--tol, --rel-tol)\n");
+    return;
+  }
+  std::string bar;
+  if (job.tol) bar = fmt::format("{}", *job.tol);
+  if (job.rel_tol) bar += fmt::format("{}{} |Omega_ref|", bar.empty() ? "" : " + ", *job.rel_tol);
+  out.put("tolerance: error <= {}\n", bar);
+  if (t.certified)
+    out.put("certified reference: each error is +- its row's radius (max {:.3g}); a row fails only if error - radius > "
+            "bar; {} of {} rows uncertain\n",
+            t.max_radius, t.uncertain, t.rows);
+  if (t.exceeding == 0)
+    out.put("result: PASS (every row within tolerance)\n");
+  else
+    out.put("result: FAIL ({} of {} rows exceed; first at {} = {}, line {})\n", t.exceeding, t.rows, r.time_name,
+            *t.first_exceeding_time, t.first_exceeding_line);
+}
+
+std::string check_table(const check_job& job, const check_result& r) {
+  const tally& t = r.t;
+  text_buffer out;
+  out.put("trajectory: {} ({} rows, {} from {} to {})\n", job.trajectory_path, t.rows, r.time_name, t.first_time,
+          t.last_time);
+  out.put("reference: {}\n", r.reference_text);
+  out.put("max error: {} at {} = {} (line {})\n", t.max_error, r.time_name, t.max_time, t.max_line);
+  out.put("rms error: {:.6e}\n", rms_of(t));
+  out.put("per component: max |dOmega_i| = {:.3e}, {:.3e}, {:.3e}\n", t.max_component[0], t.max_component[1],
+          t.max_component[2]);
+  out.put("scd: {:.2f}   mescd: {:.2f} (atol {}, rtol {})\n", digits_of(t.max_relative), digits_of(t.max_mixed),
+          job.scd_atol, job.scd_rtol);
+  if (t.has_invariants)
+    out.put(
+        "invariant drift (Eq. 7, against the reference): c1^2 max {:.3e} last {:.3e}; c2^2 max {:.3e} last {:.3e}\n",
+        t.c1_drift_max, t.c1_drift_last, t.c2_drift_max, t.c2_drift_last);
+  else
+    out.put("invariant drift: none (the body is integrated in the direct form of Eq. 1, where Eq. 7 does not apply)\n");
+  if (t.has_direction)
+    out.put("error along the motion (phase): max {:.3e}; across it: max {:.3e}\n", t.max_along, t.max_across);
+  put_verdict(job, r, out);
+  return out.text();
+}
+
+}  // namespace
+
+int print_check(const check_job& job, const check_result& r, std::ostream& standard_output) {
+  if (job.json)
+    standard_output << check_json(job, r).dump(2) << "\n";
+  else
+    standard_output << check_table(job, r);
+  standard_output << std::flush;
+  return r.t.exceeding == 0 ? exit_success : exit_check_outside;
+}
+
+}  // namespace eulervop::app

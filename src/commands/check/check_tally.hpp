@@ -1,0 +1,144 @@
+// The tally of a check: each trajectory row's Eq. 20 error against the reference at its time,
+// against the bar (--tol, --rel-tol; with a certified reference, +- the row's radius), and the
+// oracle metrics over all rows.
+#pragma once
+
+#include "commands/check/check_job.hpp"
+#include "commands/check/errors_writer.hpp"
+#include "compute/scene_library.hpp"
+
+#include <eulervop/core/numerical_failure.hpp>
+#include <eulervop/core/scalar.hpp>
+#include <eulervop/model/error_measure.hpp>
+#include <eulervop/model/euler_problem.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace eulervop::app {
+
+struct tally {
+  std::size_t rows = 0;
+  std::string first_time, last_time;  // as written in the file
+  double max_error = -1;
+  std::string max_time;
+  std::size_t max_line = 0;
+  long double sum_squares = 0;
+  std::size_t exceeding = 0;
+  std::optional<std::string> first_exceeding_time;
+  std::size_t first_exceeding_line = 0;
+  // The oracle metrics (IVP Test Set and DiffEqDevTools terms), over rows and components:
+  double max_relative = 0;  // max |dy_i| / |y_ref_i| over the components with y_ref_i != 0 (scd)
+  double max_mixed = 0;     // max |dy_i| / (atol/rtol + |y_ref_i|) (mescd)
+  std::array<double, 3> max_component{};  // max |dy_i| per component
+  // c1^2 and c2^2 (Eq. 7) of the trajectory minus the reference's: largest magnitude, and at
+  // the last row.
+  // Absent (has_invariants false) for a body integrated in the direct form, where Eq. 7 has no
+  // meaning.
+  bool has_invariants = true;
+  double c1_drift_max = 0, c2_drift_max = 0, c1_drift_last = 0, c2_drift_last = 0;
+  // The error along the reference's direction of motion (Eq. 5's right-hand side there: a phase
+  // error) and across it, largest over the rows; absent without the torque.
+  bool has_direction = false;
+  double max_along = 0, max_across = 0;
+  // Against a certified reference (a `radius` column, docs/certified.md): each row's error is the
+  // interval error +- radius. A row fails only when error - radius exceeds the bar, and is
+  // uncertain when the bar lies inside its interval.
+  bool certified = false;
+  double max_radius = 0;
+  std::size_t uncertain = 0;
+  std::vector<std::size_t> uncertain_lines;  // the first max_listed_lines of them
+  static constexpr std::size_t max_listed_lines = 1000;
+};
+
+// What a check found, and how it describes its reference.
+struct check_result {
+  tally t;
+  std::string time_name;
+  std::string reference_text;  // for the table
+  nlohmann::ordered_json reference_json;
+};
+
+// The oracle metrics of one row (tally's second half). `problem`: the equations, for the
+// reference's direction of motion, when known.
+template <scalar T>
+void record_metrics(const check_job& job, tally& t, const vec3<T>& ref, const vec3<T>& Om,
+                    const euler_problem<T>* problem) {
+  using std::abs;
+  using std::sqrt;
+  vec3<T> d;
+  for (int i = 0; i < 3; ++i) {
+    d[i] = Om[i] - ref[i];
+    const double err = static_cast<double>(abs(d[i]));
+    t.max_component[i] = std::max(t.max_component[i], err);
+    const double y = static_cast<double>(abs(ref[i]));
+    if (y > 0) t.max_relative = std::max(t.max_relative, err / y);
+    t.max_mixed = std::max(t.max_mixed, err / (job.scd_atol / job.scd_rtol + y));
+  }
+  const T c1 = (Om[0] * Om[0] + Om[1] * Om[1]) - (ref[0] * ref[0] + ref[1] * ref[1]);
+  const T c2 = (Om[1] * Om[1] + Om[2] * Om[2]) - (ref[1] * ref[1] + ref[2] * ref[2]);
+  t.c1_drift_last = static_cast<double>(c1);
+  t.c2_drift_last = static_cast<double>(c2);
+  t.c1_drift_max = std::max(t.c1_drift_max, std::abs(t.c1_drift_last));
+  t.c2_drift_max = std::max(t.c2_drift_max, std::abs(t.c2_drift_last));
+  if (!problem) return;
+  t.has_invariants = problem->normalized();
+  vec3<T> v;
+  problem->rhs(problem->tau0, ref, v);
+  const T speed = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (!(speed > 0)) return;  // at rest: no direction of motion (the row is left out of the split)
+  t.has_direction = true;
+  const T along = (d[0] * v[0] + d[1] * v[1] + d[2] * v[2]) / speed;
+  const T across2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - along * along;
+  t.max_along = std::max(t.max_along, static_cast<double>(abs(along)));
+  t.max_across = std::max(t.max_across, static_cast<double>(across2 > 0 ? sqrt(across2) : T(0)));
+}
+
+// `radius`: the reference row's certified radius, if it has one.
+template <scalar T>
+void record(const check_job& job, tally& t, errors_writer& out, std::size_t line, const decimal& time,
+            const vec3<T>& ref, const vec3<T>& Om, const euler_problem<T>* problem,
+            const std::optional<decimal>& radius = std::nullopt) {
+  const double e = static_cast<double>(eq20_error(ref, Om));
+  if (!std::isfinite(e)) throw numerical_failure({outcome_kind::error_non_finite, time.value});
+  record_metrics(job, t, ref, Om, problem);
+  const double r = radius ? radius->value : 0.0;
+  if (radius) t.max_radius = std::max(t.max_radius, r);
+  std::optional<double> bar;
+  if (job.tol || job.rel_tol) {
+    using std::sqrt;
+    const double norm = static_cast<double>(sqrt(ref[0] * ref[0] + ref[1] * ref[1] + ref[2] * ref[2]));
+    bar = job.tol.value_or(0.0) + job.rel_tol.value_or(0.0) * norm;
+    // The true error lies in [e - r, e + r]: failing only if certainly above the bar.
+    if (radius && e - r <= *bar && e + r > *bar) {
+      ++t.uncertain;
+      if (t.uncertain_lines.size() < tally::max_listed_lines) t.uncertain_lines.push_back(line);
+    }
+    if (e - r > *bar) {
+      if (!t.exceeding) {
+        t.first_exceeding_time = time.text;
+        t.first_exceeding_line = line;
+      }
+      ++t.exceeding;
+    }
+  }
+  if (!t.rows) t.first_time = time.text;
+  t.last_time = time.text;
+  ++t.rows;
+  if (e > t.max_error) {
+    t.max_error = e;
+    t.max_time = time.text;
+    t.max_line = line;
+  }
+  t.sum_squares += static_cast<long double>(e) * e;
+  out.row(line, time.text, e, bar, radius);
+}
+
+}  // namespace eulervop::app

@@ -1,0 +1,75 @@
+#include "commands/map/map_job.hpp"
+
+#include "cli/flags.hpp"
+#include "cli/scene_overrides.hpp"
+#include "io/output_dir.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdint>
+
+namespace eulervop::app {
+
+const std::string default_torque_scales = "1e-6,1e-4,1e-2,1";
+const std::string default_map_levels = "1e-6,1e-8,1e-10,1e-12";
+const grid_flag_defaults map_grid_defaults{
+    "K/1,K/2,K/3,K/6,K/12,K/25,K/50,K/100,K/200,K/400,K/800,K/1600,K/3200,K/6400", 1};
+
+namespace {
+
+constexpr std::int64_t default_samples = 200;
+
+bool is_vop(formulation f) { return f != formulation::euler; }
+
+// The grid of the scene with its torque scaled by each scale (the decimals multiplied exactly).
+std::vector<wp_grid> scaled_grids(const scene& base, const map_job& job, const map_options& o) {
+  std::vector<wp_grid> grids;
+  for (const decimal& scale : job.scales) {
+    scene scaled = base;
+    for (decimal& gi : *scaled.torque) {
+      const auto product = decimal_product(gi, scale);
+      if (!product)
+        throw input_error(fmt::format("--torque-scales {}: {} times the torque {} is out of the range of a double",
+                                      o.torque_scales.value_or(default_torque_scales), scale.text, gi.text));
+      gi = *product;
+    }
+    grids.push_back(grid_of(scaled, static_cast<std::size_t>(*base.samples), o.grid, map_grid_defaults));
+  }
+  return grids;
+}
+
+}  // namespace
+
+map_job map_job_of(const map_options& o) {
+  map_job job;
+  scene base = o.scene_path ? load_scene_file(*o.scene_path) : load_default_scene();
+  base.times.clear();
+  base.samples = default_samples;
+  const applied_overrides applied = apply_scene_overrides(base, o.overrides);
+  job.overrides = applied.text();
+  job.precision = applied.precision;
+  job.settings = applied.settings;
+  job.scene_name = base.name;
+
+  job.scales = flag_ladder("--torque-scales", o.torque_scales.value_or(default_torque_scales));
+  job.levels = level_ladder(o.levels.value_or(default_map_levels));
+  if (!base.torque ||
+      std::all_of(base.torque->begin(), base.torque->end(), [](const decimal& g) { return g.value == 0; }))
+    throw input_error(fmt::format("scene `{}` has no torque to scale (give a scene with [torque] G or M)", base.name));
+  job.run = run_options_of(o.grid, map_grid_defaults, "map");
+  job.run.stop_below = *std::min_element(job.levels.begin(), job.levels.end());
+
+  job.grids = scaled_grids(base, job, o);
+  const std::vector<formulation>& forms = job.grids.front().forms;  // the same at every scale
+  if (std::none_of(forms.begin(), forms.end(), is_vop) ||
+      std::find(forms.begin(), forms.end(), formulation::euler) == forms.end())
+    throw input_error(fmt::format("--formulations {}: the map compares euler with vop or vop-theta; give both kinds",
+                                  o.grid.formulations.value_or("")));
+
+  job.out_dir = out_dir_of(o.out_dir, "map");
+  job.plot = !o.no_plot;
+  return job;
+}
+
+}  // namespace eulervop::app

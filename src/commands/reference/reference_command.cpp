@@ -1,0 +1,201 @@
+#include "commands/reference/reference_command.hpp"
+
+#include "cli/exit_codes.hpp"
+#include "cli/scene_overrides.hpp"
+#include "compute/certified_reference.hpp"
+#include "compute/reference_compute.hpp"
+#include "compute/scene_library.hpp"
+#include "compute/with_scalar.hpp"
+#include "io/atomic_file.hpp"
+#include "io/reference_csv.hpp"
+#include "io/scratch_file.hpp"
+
+#include <eulervop/core/scalar.hpp>
+#include <eulervop/model/euler_problem.hpp>
+#include <eulervop/model/physical_scaling.hpp>
+#include <eulervop/reference/segment_sampler.hpp>
+
+#include <array>
+#include <cstdlib>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace eulervop::app {
+
+namespace reference_flags {
+const flag_def verify{"--verify", "", "Recompute one precision up and report # estimated_max_error"};
+const flag_def certify{"--certify", "",
+                       "Prove a bound on every row's distance to the exact solution: a radius column and "
+                       "# certified_max_error (docs/certified.md)"};
+}  // namespace reference_flags
+
+namespace {
+
+// Everything a run needs, validated.
+struct reference_job {
+  scene scn;                         // the scene with --tau-end/--t-end/--samples/--times applied
+  eulervop::precision precision;     // --precision, else [reference] precision
+  picard_settings settings;          // --degree/--tolerance, else [reference], else automatic
+  reference_layout layout = reference_layout::normalized;  // of the header and of every row
+  bool verify = false;
+  bool certify = false;
+  bool omit_timing = false;          // no "# wall_seconds" lines
+  std::string command;               // the "# command:" line, if any
+  std::string overrides;             // the flags that changed the scene, for the metadata
+};
+
+// The flags applied to the scene and validated (a scene --certify cannot prove is bad input),
+// before any computation.
+reference_job make_job(const reference_options& o) {
+  reference_job job;
+  job.scn = o.scene_path ? load_scene_file(*o.scene_path) : load_default_scene();
+  const applied_overrides applied = apply_scene_overrides(job.scn, o.overrides);
+  job.precision = applied.precision;
+  job.settings = applied.settings;
+  job.layout = reference_layout_of(job.scn);
+  job.verify = o.verify;
+  job.certify = o.certify;
+  if (job.certify) require_certifiable(job.scn, job.precision);
+  job.omit_timing = o.omit_timing;
+  job.command = o.command;
+  job.overrides = applied.text();
+  return job;
+}
+
+// Integrates the job's scene in T and writes each sample's row, in the job's layout, to
+// `rows_out` as it is evaluated. `kept`, if given, receives the samples too. With --certify,
+// `certificate` checks every segment and each row carries the radius of the state as printed
+// (its cells formatted first, as the radius is computed for them).
+template <scalar T>
+reference_run stream_rows(const reference_job& job, const T& tau_end, const sample_times<T>& times,
+                          scratch_file& rows_out, std::vector<vec3<T>>* kept, run_certificate* certificate) {
+  std::optional<physical_scaling<T>> scale;
+  if (job.layout == reference_layout::physical) scale.emplace(scaling_of<T>(job.scn));
+  reference_csv_row_writer rows([&](std::string_view chunk) { rows_out.write(chunk); });
+  segment_sink<T> certify_segment;
+  if (certificate)
+    certify_segment = [&](const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
+      certificate->add_segment(seg, nodes);
+    };
+  const reference_run run = integrate_streaming<T>(
+      to_problem<T>(job.scn), tau_end, times.tau, job.settings, "reference",
+      [&](std::size_t i, const vec3<T>& Om) {
+        switch (job.layout) {
+          case reference_layout::normalized:
+            if (certificate) {
+              const std::array<std::string, 3> cells = {to_text(Om[0]), to_text(Om[1]), to_text(Om[2])};
+              rows.certified_row(times.tau[i], cells, certificate->radius(times.tau[i], cells));
+            } else {
+              rows.row(times.tau[i], Om);
+            }
+            break;
+          case reference_layout::physical:
+            if (certificate) {
+              const vec3<T> om = scale->omega_of_Omega(Om);
+              const std::array<std::string, 3> Omega_cells = {to_text(Om[0]), to_text(Om[1]), to_text(Om[2])};
+              const std::array<std::string, 3> omega_cells = {to_text(om[0]), to_text(om[1]), to_text(om[2])};
+              rows.certified_row(times.tau[i], Omega_cells, times.t[i], omega_cells,
+                                 certificate->physical_radii(times.tau[i], times.t[i], Omega_cells, omega_cells));
+            } else {
+              rows.row(times.tau[i], Om, times.t[i], scale->omega_of_Omega(Om));
+            }
+            break;
+          case reference_layout::direct: rows.row(times.t[i], Om); break;  // the state is omega, and tau is t
+        }
+        if (kept) kept->push_back(Om);
+      },
+      certify_segment);
+  rows.flush();
+  return run;
+}
+
+// The metadata block of a finished run (without --verify's and --certify's lines).
+reference_metadata metadata_of(const reference_job& job, const reference_run& run) {
+  reference_metadata m;
+  m.scene_name = job.scn.name;
+  m.scene_source = job.scn.origin;
+  m.command = job.command;
+  m.overrides = job.overrides;
+  m.precision = job.precision;
+  m.method = method_text(job.settings, run.stats);
+  if (!job.omit_timing) m.wall_seconds = run.wall_seconds;
+  m.scene_text = job.scn.source_text;
+  return m;
+}
+
+decimal decimal_of(const std::string& text) { return decimal{text, std::strtod(text.c_str(), nullptr)}; }
+
+// --certify's lines: the largest radius (and that of omega for a physical scene) and the method.
+void add_certificate(const reference_job& job, const run_certificate& certificate, reference_metadata& m) {
+  m.certified_max_error = decimal_of(certificate.max_radius());
+  m.certify_method = certificate.method();
+  if (job.layout == reference_layout::physical)
+    m.certified_max_error_omega = decimal_of(certificate.max_radius_omega());
+}
+
+// Runs the job in T, streaming the CSV rows to `rows_out`.
+template <scalar T>
+reference_metadata run_in(const reference_job& job, scratch_file& rows_out) {
+  const T tau_end = tau_end_of<T>(job.scn);
+  const sample_times<T> times = sample_times_of<T>(job.scn);
+  // --verify compares the samples with a wider run's, so it keeps them: memory then grows with
+  // the number of samples (never with the span). Without it nothing is kept.
+  std::vector<vec3<T>> kept;
+  std::optional<run_certificate> certificate;
+  if (job.certify) certificate.emplace(job.scn, job.precision);
+  const reference_run run = stream_rows<T>(job, tau_end, times, rows_out, job.verify ? &kept : nullptr,
+                                           certificate ? &*certificate : nullptr);
+  reference_metadata m = metadata_of(job, run);
+  if (certificate) add_certificate(job, *certificate, m);
+  if (job.verify) {
+    const verify_result check = verify<T>(job.scn, tau_end, times.tau, kept, job.precision);
+    m.estimated_max_error = check.max_error;
+    m.verify_precision = check.precision;
+    m.verify_method = check.method;
+    if (!job.omit_timing) m.wall_seconds_verify = check.wall_seconds;
+  }
+  return m;
+}
+
+// Runs the job in its precision, streaming the CSV rows to `rows_out`, and returns the metadata
+// block's content (layout in the README, "Command line").
+reference_metadata run_job(const reference_job& job, scratch_file& rows_out) {
+  return with_scalar(job.precision, [&](auto zero) { return run_in<decltype(zero)>(job, rows_out); });
+}
+
+}  // namespace
+
+void add_reference_flags(CLI::App& sub, reference_options& o) {
+  add_text_flag(sub, {"scene", "SCENE", "Scene file (TOML); default: the embedded paper scene"}, o.scene_path);
+  add_scene_override_flags(sub, o.overrides, scene_override_set{},
+                           "Number of equally spaced samples, endpoints included");
+  add_text_flag(sub, {"--out", "FILE", "Output file (default: standard output)"}, o.out);
+  add_switch(sub, reference_flags::verify, o.verify);
+  add_switch(sub, reference_flags::certify, o.certify);
+}
+
+int run_reference(const reference_options& options, std::ostream& standard_output) {
+  const reference_job job = make_job(options);
+  // Open the output first, so an unwritable path fails before any computation.
+  std::unique_ptr<atomic_file> file;
+  if (options.out) file = std::make_unique<atomic_file>(*options.out);
+  // The header states the finished run (segments, wall time, --verify's estimate) but comes
+  // first: the rows are streamed to a scratch file during the run, then copied after it.
+  scratch_file rows(scratch_directory_for(file.get()));
+  const std::string header = reference_csv_header(run_job(job, rows), job.layout);
+  if (file) {
+    file->write(header);
+    rows.copy_to([&](std::string_view chunk) { file->write(chunk); });
+    file->commit();
+  } else {
+    standard_output << header;
+    rows.copy_to([&](std::string_view chunk) { standard_output.write(chunk.data(), std::ssize(chunk)); });
+    standard_output << std::flush;
+  }
+  return exit_success;
+}
+
+}  // namespace eulervop::app

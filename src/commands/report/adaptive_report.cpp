@@ -1,0 +1,108 @@
+#include "commands/report/adaptive_report.hpp"
+
+#include "commands/report/adaptive_output.hpp"
+#include "commands/report/report_output.hpp"
+#include "compute/reference_compute.hpp"
+#include "compute/with_scalar.hpp"
+#include "io/output_dir.hpp"
+
+#include <eulervop/model/error_measure.hpp>
+#include <eulervop/core/scalar.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <utility>
+
+namespace eulervop::app {
+
+namespace {
+
+// The sample times of all adaptive runs (tau_hi + tau_lo, in T) in increasing order, and the
+// run and sample each one belongs to.
+template <scalar T>
+struct merged_sample_times {
+  std::vector<T> tau;
+  std::vector<std::pair<std::size_t, std::size_t>> owner;  // (run, sample)
+};
+
+template <scalar T>
+merged_sample_times<T> merge_sample_times(const std::vector<run_errors>& runs) {
+  merged_sample_times<T> all;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const run_result& r = runs[i].run;
+    for (std::size_t k = 0; k < r.Omega.size(); ++k) {
+      all.tau.push_back(T(r.sample_tau[k]) + T(r.sample_tau_lo[k]));
+      all.owner.emplace_back(i, k);
+    }
+  }
+  std::vector<std::size_t> order(all.tau.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return all.tau[a] < all.tau[b]; });
+  merged_sample_times<T> sorted;
+  for (std::size_t j : order) {
+    sorted.tau.push_back(all.tau[j]);
+    sorted.owner.push_back(all.owner[j]);
+  }
+  return sorted;
+}
+
+// Every adaptive run's errors against one reference. The runs are done first: their sample
+// times (their accepted steps, known only once they end) are then evaluated in increasing order
+// as the reference's segments are accepted, so no segment is kept.
+template <scalar T>
+computed_reference_info measure_adaptive(const report_job& job, const T& tau_end, std::vector<run_errors>& runs) {
+  for (run_errors& a : runs) a.error.resize(a.run.Omega.size());
+  const merged_sample_times<T> times = merge_sample_times<T>(runs);
+  const reference_run ref = integrate_at<T>(
+      to_problem<T>(job.scn), tau_end, times.tau, job.settings, "reference", [&](std::size_t j, const vec3<T>& Om) {
+        const auto [i, k] = times.owner[j];
+        const double e = static_cast<double>(eq20_error(Om, runs[i].run.Omega[k]));
+        if (std::isfinite(e)) runs[i].error[k] = e;  // never a NaN as an error value
+      });
+  for (run_errors& a : runs) {
+    for (std::size_t k = 0; k < a.error.size(); ++k) {
+      if (!a.error[k]) continue;
+      a.max_error = std::max(a.max_error.value_or(0.0), *a.error[k]);
+      a.final_tau = a.run.sample_tau[k];
+      a.final_error = a.error[k];
+    }
+  }
+  return {ref.wall_seconds, ref.stats.segments};
+}
+
+// Every formulation x method x tolerance, to the span end.
+std::vector<run_errors> adaptive_runs(const report_job& job, double tau_end) {
+  const euler_problem<double> problem = to_problem<double>(job.scn);
+  std::vector<run_errors> runs;
+  for (const run_spec& spec : job.runs) {
+    adaptive_run_settings s;
+    s.tau_end = tau_end;
+    s.atol = s.rtol = job.tols[*spec.tol].value;
+    s.h_max = job.max_step.h;
+    s.samples = job.samples;
+    run_errors a;
+    a.run = run_adaptive(spec.form, spec.method, problem, s);
+    runs.push_back(std::move(a));
+  }
+  return runs;
+}
+
+template <scalar T>
+void report_in(const report_job& job, std::ostream& standard_output) {
+  output_dir dir(job.out_dir, "errors.csv");
+  const T tau_end = tau_end_of<T>(job.scn);
+  std::vector<run_errors> runs = adaptive_runs(job, static_cast<double>(tau_end));
+  const computed_reference_info info = measure_adaptive<T>(job, tau_end, runs);
+  const std::string summary = adaptive_summary_json(job, info, runs).dump(2) + "\n";
+  write_report(job, dir, adaptive_errors_csv(job, runs), summary, job.json ? summary : adaptive_table(job, info, runs),
+               standard_output);
+}
+
+}  // namespace
+
+void run_adaptive_report(const report_job& job, std::ostream& standard_output) {
+  with_scalar(job.precision, [&](auto zero) { report_in<decltype(zero)>(job, standard_output); });
+}
+
+}  // namespace eulervop::app

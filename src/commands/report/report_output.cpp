@@ -1,0 +1,110 @@
+#include "commands/report/report_output.hpp"
+
+#include "io/figure.hpp"
+#include "io/output_cells.hpp"
+
+#include <eulervop/core/outcome_text.hpp>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <utility>
+
+namespace eulervop::app {
+
+namespace {
+
+// The VOP fallback stretches (docs/vop-strategies.md): [[tau_in, tau_out], ...].
+nlohmann::ordered_json bands_json(const std::vector<std::pair<double, double>>& bands) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const auto& [in, out_tau] : bands) out.push_back({in, out_tau});
+  return out;
+}
+
+// "separatrix band tau 14.19..15.19, small-k bands tau 0..0.52, 3.1..3.4 (120 direct Euler steps,
+// 1 regime change)": one line under the table for a run that left its elements; empty otherwise.
+std::string bands_note(const run_result& r) {
+  std::vector<std::string> parts;
+  auto list = [&](const char* what, const std::vector<std::pair<double, double>>& bands) {
+    if (bands.empty()) return;
+    constexpr std::size_t shown = 4;
+    std::string text = fmt::format("{} band{} tau ", what, bands.size() > 1 ? "s" : "");
+    for (std::size_t i = 0; i < std::min(bands.size(), shown); ++i)
+      text += fmt::format("{}{:.4g}..{:.4g}", i ? ", " : "", bands[i].first, bands[i].second);
+    if (bands.size() > shown) text += fmt::format(" and {} more", bands.size() - shown);
+    parts.push_back(std::move(text));
+  };
+  list("separatrix", r.separatrix_bands);
+  list("small-k", r.small_k_bands);
+  if (parts.empty()) return "";
+  std::string line = parts[0];
+  for (std::size_t i = 1; i < parts.size(); ++i) line += "; " + parts[i];
+  line += fmt::format(" ({} direct Euler steps", r.direct_steps);
+  if (r.regime_changes) line += fmt::format(", {} regime change{}", r.regime_changes, r.regime_changes > 1 ? "s" : "");
+  return line + ")";
+}
+
+}  // namespace
+
+std::string optional_text(const std::optional<double>& x, const char* spec) {
+  return x ? fmt::format(fmt::runtime(spec), *x) : std::string("-");
+}
+
+std::string divergence_note(const run_result& r) {
+  if (!r.diverged()) return "";
+  return fmt::format("diverged at tau={} ({})", optional_text(r.diverged_at(), "{:.6g}"), describe(r.status));
+}
+
+nlohmann::ordered_json run_json(const run_spec& spec, const run_errors& e, nlohmann::ordered_json step,
+                                nlohmann::ordered_json tol) {
+  const run_result& r = e.run;
+  const bool adaptive = spec.tol.has_value();
+  auto if_adaptive = [&](auto v) { return adaptive ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
+  auto if_diverged = [&](auto v) { return r.diverged() ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
+  return {{"formulation", std::string(formulation_name(spec.form))},
+          {"method", std::string(rk::method_name(spec.method))},
+          {"step", std::move(step)},
+          {"tol", std::move(tol)},
+          {"steps", r.steps},
+          {"accepted", if_adaptive(r.steps)},
+          {"rejected", if_adaptive(r.rejected)},
+          {"rhs_evals", r.rhs_evals},
+          {"seconds", r.seconds},
+          {"max_error", number_or_null(e.max_error)},
+          {"final_tau", number_or_null(e.final_tau)},
+          {"final_error", number_or_null(e.final_error)},
+          {"diverged", r.diverged()},
+          {"diverged_at", r.diverged() ? number_or_null(r.diverged_at()) : nlohmann::ordered_json(nullptr)},
+          {"why", if_diverged(describe(r.status))},
+          {"separatrix_bands", bands_json(r.separatrix_bands)},
+          {"small_k_bands", bands_json(r.small_k_bands)},
+          {"direct_steps", r.direct_steps},
+          {"regime_changes", r.regime_changes}};
+}
+
+std::string run_label(const report_job& job, const run_spec& spec) {
+  const std::string label = fmt::format("{} {}", formulation_name(spec.form), rk::method_name(spec.method));
+  return spec.tol ? fmt::format("{} tol {}", label, job.tols[*spec.tol].text) : label;
+}
+
+std::string bands_notes(const report_job& job, const std::vector<run_errors>& runs) {
+  std::string out;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const std::string note = bands_note(runs[i].run);
+    if (note.empty()) continue;
+    if (out.empty()) out += "\n";
+    out += fmt::format("{}: {}\n", run_label(job, job.runs[i]), note);
+  }
+  return out;
+}
+
+void write_report(const report_job& job, output_dir& dir, const std::string& errors_csv, const std::string& summary,
+                  const std::string& printed, std::ostream& standard_output) {
+  write_atomically(dir.path() / "errors.csv", errors_csv);
+  write_atomically(dir.path() / "summary.json", summary);
+  dir.keep();
+  standard_output << printed << std::flush;
+  if (job.plot) draw_figure(dir.path(), "plot_fig1.py");
+}
+
+}  // namespace eulervop::app

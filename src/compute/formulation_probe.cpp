@@ -1,0 +1,25 @@
+#include "compute/formulation_probe.hpp"
+
+#include "compute/scene_library.hpp"
+
+#include <eulervop/rk/explicit_rk.hpp>
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace eulervop::app {
+
+void probe_formulations(const std::vector<formulation>& forms, const euler_problem<double>& problem, double h) {
+  for (formulation f : forms) {
+    try {
+      (void)run_fixed(f, rk::method::rk4, problem, fixed_run_settings{h, 1, 1});
+    } catch (const std::domain_error& e) {
+      throw input_error(
+          fmt::format("formulation {} cannot start from this scene: {} (leave it out with --formulations)",
+                      formulation_name(f), e.what()));
+    }
+  }
+}
+
+}  // namespace eulervop::app

@@ -1,0 +1,15 @@
+// Whether each formulation can start from a scene's state, checked before anything is computed.
+#pragma once
+
+#include <eulervop/model/euler_problem.hpp>
+#include <eulervop/runs/comparison_run.hpp>
+
+#include <vector>
+
+namespace eulervop::app {
+
+// A formulation that cannot start from this state (the paper's VOP needs k0 < 1) is bad input:
+// one step of h with each.
+void probe_formulations(const std::vector<formulation>& forms, const euler_problem<double>& problem, double h);
+
+}  // namespace eulervop::app
