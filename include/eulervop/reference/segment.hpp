@@ -5,9 +5,26 @@
 
 #include <array>
 #include <cstddef>
+#include <type_traits>
 #include <vector>
 
 namespace eulervop {
+
+namespace detail {
+// a == b and a > b as IEEE comparisons, which are false for NaN already. For quad these compare
+// the __float128 values directly: Boost.Multiprecision's operators first test both sides for NaN,
+// out of line unless the compiler happens to inline them, on every comparison of the node search.
+template <scalar T>
+bool equal_values(const T& a, const T& b) {
+  if constexpr (std::is_same_v<T, quad>) return a.backend().value() == b.backend().value();
+  else return a == b;
+}
+template <scalar T>
+bool greater_value(const T& a, const T& b) {
+  if constexpr (std::is_same_v<T, quad>) return a.backend().value() > b.backend().value();
+  else return a > b;
+}
+}  // namespace detail
 
 // y(tau) = base + (base_lo + p(s)), where p is the polynomial through the increments `values` at
 // the Chebyshev-Lobatto nodes s_j = -cos(j pi/N) and s = (tau - tau_begin) / half_length - 1 in
@@ -29,11 +46,11 @@ std::array<T, D> evaluate_segment(const chebyshev_segment<T, D>& seg, const std:
   std::array<T, D> out;
   const std::size_t n1 = nodes.size();
   T s = (tau - seg.tau_begin) / seg.half_length - 1;
-  if (s > 1) s = 1;
+  if (detail::greater_value(s, T(1))) s = 1;
   std::size_t hit = n1;
-  if (tau == seg.tau_begin) hit = 0;  // the segment's start is known exactly
+  if (detail::equal_values(tau, seg.tau_begin)) hit = 0;  // the segment's start is known exactly
   for (std::size_t j = 0; j < n1 && hit == n1; ++j)
-    if (s == nodes[j]) hit = j;
+    if (detail::equal_values(s, nodes[j])) hit = j;
   if (hit < n1) {
     for (std::size_t i = 0; i < D; ++i) out[i] = seg.base[i] + (seg.base_lo[i] + seg.values[hit][i]);
     return out;
