@@ -4,7 +4,7 @@
 // Reference values and their provenance:
 //   - rotation x1' = -x2, x2' = x1: exact solution (cos t, sin t), evaluated in quad.
 //   - y' = y cos t (non-autonomous, checks the nodes c): exact y = exp(sin t), in quad.
-//   - normalized Euler equations (model.hpp, Eq. 5) with G = (1,1,1), Omega(0) = (0.5, 0, 1),
+//   - normalized Euler equations (model/euler_problem.hpp, Eq. 5) with G = (1,1,1), Omega(0) = (0.5, 0, 1),
 //     the paper's scene: no closed form. Reference by a Taylor-series integrator written in this
 //     file (coefficients by Cauchy products, which are exact for a quadratic right-hand side),
 //     order 60, MPFR at 200 bits; its own accuracy is checked by halving its step.
