@@ -6,6 +6,7 @@
 #include "cli_test_support.hpp"
 #include "commands/reference/reference_command.hpp"
 #include "compute/reference_compute.hpp"
+#include "compute/verify.hpp"
 #include "io/reference_csv.hpp"
 #include "compute/scene_library.hpp"
 #include "cli/scene_overrides.hpp"

@@ -12,8 +12,10 @@
 #include "compute/step_rule.hpp"
 
 #include <eulervop/core/scalar.hpp>
-#include <eulervop/rk/explicit_rk.hpp>
-#include <eulervop/runs/comparison_run.hpp>
+#include <eulervop/rk/tableaux.hpp>
+#include <eulervop/runs/formulation.hpp>
+#include <eulervop/runs/run_result.hpp>
+#include <eulervop/runs/settings.hpp>
 
 #include <cstddef>
 #include <cstdint>

@@ -5,7 +5,7 @@
 #include "compute/ladders.hpp"
 #include "compute/scene_library.hpp"
 
-#include <eulervop/rk/explicit_rk.hpp>
+#include <eulervop/rk/tableaux.hpp>
 
 #include <fmt/format.h>
 

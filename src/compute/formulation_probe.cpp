@@ -1,8 +1,9 @@
 #include "compute/formulation_probe.hpp"
 
+#include "compute/comparison_runs.hpp"
 #include "compute/scene_library.hpp"
 
-#include <eulervop/rk/explicit_rk.hpp>
+#include <eulervop/rk/tableaux.hpp>
 
 #include <fmt/format.h>
 

@@ -2,7 +2,9 @@
 #pragma once
 
 #include <eulervop/model/euler_problem.hpp>
-#include <eulervop/runs/comparison_run.hpp>
+#include <eulervop/runs/formulation.hpp>
+#include <eulervop/runs/run_result.hpp>
+#include <eulervop/runs/settings.hpp>
 
 #include <vector>
 

@@ -1,18 +1,22 @@
 // The reference solution as the subcommands compute it: integrate a scene's problem with the
-// Chebyshev-Picard integrator (with a progress line), evaluate it at sample times known in
+// Chebyshev-Picard integrator (with a progress line), and evaluate it at sample times known in
 // advance as the segments are accepted (or keep the dense output, where the times are not known
-// in advance), and optionally verify the samples one precision up (--verify). Shared by
-// `reference`, `report`, `check` and the grids of `sweep` and `map`.
+// in advance). Shared by `reference`, `report`, `check` and the grids of `sweep` and `map`.
+//
+// The integrations are compiled once, in reference_compute.cpp, for double, quad and MPFR: the
+// commands that call them do not instantiate the integrator again.
 #pragma once
 
 #include "io/progress_line.hpp"
 #include "compute/scene_library.hpp"
 #include "compute/with_scalar.hpp"
 
-#include <eulervop/reference/integrate.hpp>
-#include <eulervop/model/error_measure.hpp>
-#include <eulervop/model/euler_problem.hpp>
+#include <eulervop/core/numerical_failure.hpp>
 #include <eulervop/core/scalar.hpp>
+#include <eulervop/model/euler_problem.hpp>
+#include <eulervop/reference/dense_trajectory.hpp>
+#include <eulervop/reference/segment_sampler.hpp>
+#include <eulervop/reference/settings.hpp>
 
 #include <boost/math/special_functions/fpclassify.hpp>
 #include <fmt/format.h>
@@ -25,10 +29,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <type_traits>
 #include <vector>
-
-#include <mpfr.h>
 
 namespace eulervop::app {
 
@@ -64,13 +65,7 @@ double run_with_progress(const std::string& label, double total, Integrate&& int
 
 template <scalar T>
 dense_reference<T> integrate_dense(const euler_problem<T>& problem, const T& tau_end,
-                                   const picard_settings& settings, const std::string& label) {
-  dense_reference<T> out;
-  out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
-    out.trajectory = integrate_reference<T>(problem, tau_end, settings, progress, &out.stats);
-  });
-  return out;
-}
+                                   const picard_settings& settings, const std::string& label);
 
 // A sample at `tau`, checked: a non-finite value is a numerical_failure there, so that no NaN is
 // ever printed as a result (docs/design.md section 5.3).
@@ -106,64 +101,20 @@ using sample_function = std::function<void(std::size_t index, const vec3<T>& Ome
 template <scalar T>
 reference_run integrate_streaming(const euler_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
                                   const picard_settings& settings, const std::string& label,
-                                  const sample_function<T>& on_sample, const segment_sink<T>& after_segment = {}) {
-  reference_run out;
-  out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
-    integrate_reference_samples<T>(
-        problem, tau_end, taus,
-        [&](std::size_t index, const T& tau, const vec3<T>& Om) { on_sample(index, require_finite(Om, tau)); },
-        settings, progress, &out.stats, after_segment);
-  });
-  return out;
-}
+                                  const sample_function<T>& on_sample, const segment_sink<T>& after_segment = {});
 
 // The same, keeping the samples: memory grows with the samples, not with the span.
 template <scalar T>
 sampled_reference<T> integrate_and_sample(const euler_problem<T>& problem, const T& tau_end,
                                           const std::vector<T>& taus, const picard_settings& settings,
-                                          const std::string& label) {
-  sampled_reference<T> out;
-  out.Omega.reserve(taus.size());
-  const reference_run run = integrate_streaming<T>(problem, tau_end, taus, settings, label,
-                                                   [&](std::size_t, const vec3<T>& Om) { out.Omega.push_back(Om); });
-  out.stats = run.stats;
-  out.wall_seconds = run.wall_seconds;
-  return out;
-}
+                                          const std::string& label);
 
 // The same for times in any order: streamed when they do not decrease, else evaluated from the
 // dense output, which keeps every segment (memory grows with the span).
 template <scalar T>
 reference_run integrate_at(const euler_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
                            const picard_settings& settings, const std::string& label,
-                           const sample_function<T>& on_sample) {
-  if (std::is_sorted(taus.begin(), taus.end()))
-    return integrate_streaming<T>(problem, tau_end, taus, settings, label, on_sample);
-  const dense_reference<T> ref = integrate_dense<T>(problem, tau_end, settings, label);
-  for (std::size_t i = 0; i < taus.size(); ++i) on_sample(i, sample_dense(ref.trajectory, taus[i]));
-  return {ref.stats, ref.wall_seconds};
-}
-
-// A value of the narrower type, exactly, in the wider one (created at the current precision).
-template <scalar Hi, scalar Lo>
-Hi widen(const Lo& x) {
-  if constexpr (std::is_same_v<Hi, mpfr_real> && std::is_same_v<Lo, mpfr_real>) {
-    Hi r;  // thread default precision, which is the wider one inside the verify scope
-    mpfr_set(r.backend().data(), x.backend().data(), MPFR_RNDN);
-    return r;
-  } else {
-    return Hi(x);  // double -> quad, quad -> mpfr: exact
-  }
-}
-
-// "1.23e-30": three significant digits, in the wide type (an MPFR error can underflow double).
-template <scalar T>
-std::string three_digits(const T& x) {
-  if constexpr (std::is_same_v<T, double>)
-    return fmt::format("{:.2e}", x);
-  else
-    return x.str(2, std::ios_base::scientific);
-}
+                           const sample_function<T>& on_sample);
 
 // The settings the integrator actually used (it derives degree and tolerance from the
 // precision when they are left at 0).
@@ -172,55 +123,6 @@ inline std::string method_text(const picard_settings& settings, const picard_sta
   const double tolerance = stats.tolerance > 0 ? stats.tolerance : settings.tolerance;
   return fmt::format("chebyshev-picard degree={} tolerance={:.3g} segments={} rejected={}", degree, tolerance,
                      stats.segments, stats.rejected);
-}
-
-// The verification (--verify): the same samples, recomputed one precision up with the
-// integrator's default (stricter) settings, from the scene's decimals converted directly into
-// the wider type. Evaluated at the narrow run's tau values (widened exactly), so the difference
-// measures the narrow run's error at the rows it prints, input rounding included.
-struct verify_result {
-  decimal max_error;  // three significant digits, as the metadata prints it
-  eulervop::precision precision;
-  std::string method;
-  double wall_seconds = 0;
-};
-
-template <scalar Hi, scalar Lo>
-verify_result verify_in(const scene& s, const Lo& tau_end, const std::vector<Lo>& taus,
-                        const std::vector<vec3<Lo>>& Omega, const eulervop::precision& wide) {
-  std::vector<Hi> wide_taus;
-  wide_taus.reserve(taus.size());
-  for (const Lo& t : taus) wide_taus.push_back(widen<Hi>(t));
-  // Compared as they come: the wide samples are not kept.
-  Hi worst = 0;
-  const reference_run run = integrate_streaming<Hi>(
-      to_problem<Hi>(s), widen<Hi>(tau_end), wide_taus, picard_settings{}, "verify",
-      [&](std::size_t i, const vec3<Hi>& ref) {
-        const vec3<Hi> narrow = {widen<Hi>(Omega[i][0]), widen<Hi>(Omega[i][1]), widen<Hi>(Omega[i][2])};
-        const Hi err = eq20_error(ref, narrow);
-        if (err > worst) worst = err;
-      });
-  return {decimal{three_digits(worst), static_cast<double>(worst)}, wide, method_text(picard_settings{}, run.stats),
-          run.wall_seconds};
-}
-
-// One precision up: double -> quad -> mpfr:(113+64) ; mpfr:B -> mpfr:(B+64). `narrow` is the
-// precision of Lo (its bits matter for MPFR).
-template <scalar Lo>
-verify_result verify(const scene& s, const Lo& tau_end, const std::vector<Lo>& taus,
-                     const std::vector<vec3<Lo>>& Omega, const eulervop::precision& narrow) {
-  constexpr unsigned extra_bits = 64;
-  const eulervop::precision wide =
-      std::is_same_v<Lo, double>
-          ? eulervop::precision::binary128()
-          : eulervop::precision::mpfr((std::is_same_v<Lo, quad> ? 113u : narrow.bits) + extra_bits);
-  return with_scalar(wide, [&](auto zero) -> verify_result {
-    using Hi = decltype(zero);
-    if constexpr (std::is_same_v<Hi, double> || (std::is_same_v<Hi, quad> && !std::is_same_v<Lo, double>))
-      throw std::logic_error("verify: the precision is not wider");
-    else
-      return verify_in<Hi>(s, tau_end, taus, Omega, wide);
-  });
 }
 
 }  // namespace eulervop::app

@@ -1,7 +1,9 @@
 #include "compute/run_names.hpp"
 
-#include <eulervop/rk/explicit_rk.hpp>
-#include <eulervop/runs/comparison_run.hpp>
+#include <eulervop/rk/tableaux.hpp>
+#include <eulervop/runs/formulation.hpp>
+#include <eulervop/runs/run_result.hpp>
+#include <eulervop/runs/settings.hpp>
 
 namespace eulervop::app {
 

@@ -7,8 +7,10 @@
 #include "compute/scene_library.hpp"
 #include "compute/step_rule.hpp"
 
-#include <eulervop/rk/explicit_rk.hpp>
-#include <eulervop/runs/comparison_run.hpp>
+#include <eulervop/rk/tableaux.hpp>
+#include <eulervop/runs/formulation.hpp>
+#include <eulervop/runs/run_result.hpp>
+#include <eulervop/runs/settings.hpp>
 
 #include <cstddef>
 #include <string>

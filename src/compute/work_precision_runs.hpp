@@ -6,7 +6,9 @@
 
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/reference/settings.hpp>
-#include <eulervop/runs/comparison_run.hpp>
+#include <eulervop/runs/formulation.hpp>
+#include <eulervop/runs/run_result.hpp>
+#include <eulervop/runs/settings.hpp>
 
 #include <cstddef>
 #include <optional>

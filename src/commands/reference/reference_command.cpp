@@ -4,6 +4,7 @@
 #include "cli/scene_overrides.hpp"
 #include "compute/certified_reference.hpp"
 #include "compute/reference_compute.hpp"
+#include "compute/verify.hpp"
 #include "compute/scene_library.hpp"
 #include "compute/with_scalar.hpp"
 #include "io/atomic_file.hpp"

@@ -1,8 +1,10 @@
 #include "commands/report/fixed_step_report.hpp"
 
+#include "compute/comparison_runs.hpp"
 #include "commands/report/fixed_step_output.hpp"
 #include "commands/report/report_output.hpp"
 #include "compute/reference_compute.hpp"
+#include "compute/verify.hpp"
 #include "compute/step_rule.hpp"
 #include "compute/with_scalar.hpp"
 #include "io/csv_rows.hpp"

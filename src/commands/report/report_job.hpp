@@ -11,8 +11,10 @@
 
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/reference/settings.hpp>
-#include <eulervop/rk/explicit_rk.hpp>
-#include <eulervop/runs/comparison_run.hpp>
+#include <eulervop/rk/tableaux.hpp>
+#include <eulervop/runs/formulation.hpp>
+#include <eulervop/runs/run_result.hpp>
+#include <eulervop/runs/settings.hpp>
 
 #include <fmt/format.h>
 

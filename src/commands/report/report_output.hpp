@@ -7,7 +7,9 @@
 #include "commands/report/report_job.hpp"
 #include "io/output_dir.hpp"
 
-#include <eulervop/runs/comparison_run.hpp>
+#include <eulervop/runs/formulation.hpp>
+#include <eulervop/runs/run_result.hpp>
+#include <eulervop/runs/settings.hpp>
 
 #include <nlohmann/json.hpp>
 

@@ -1,0 +1,78 @@
+#include "compute/reference_compute.hpp"
+
+#include <eulervop/reference/integrate.hpp>
+
+namespace eulervop::app {
+
+template <scalar T>
+dense_reference<T> integrate_dense(const euler_problem<T>& problem, const T& tau_end,
+                                   const picard_settings& settings, const std::string& label) {
+  dense_reference<T> out;
+  out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
+    out.trajectory = integrate_reference<T>(problem, tau_end, settings, progress, &out.stats);
+  });
+  return out;
+}
+
+// Integrates the problem to tau_end and evaluates the dense output at every tau (non-decreasing,
+// each within [tau0, tau_end]) as the segments are accepted, handing each sample to `on_sample`
+// and keeping nothing (only the latest segment): memory beyond the caller's times grows with
+// neither the span nor the samples. A non-finite sample is a numerical_failure at its tau. The
+// wall time includes `on_sample`.
+template <scalar T>
+reference_run integrate_streaming(const euler_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
+                                  const picard_settings& settings, const std::string& label,
+                                  const sample_function<T>& on_sample, const segment_sink<T>& after_segment) {
+  reference_run out;
+  out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
+    integrate_reference_samples<T>(
+        problem, tau_end, taus,
+        [&](std::size_t index, const T& tau, const vec3<T>& Om) { on_sample(index, require_finite(Om, tau)); },
+        settings, progress, &out.stats, after_segment);
+  });
+  return out;
+}
+
+// The same, keeping the samples: memory grows with the samples, not with the span.
+template <scalar T>
+sampled_reference<T> integrate_and_sample(const euler_problem<T>& problem, const T& tau_end,
+                                          const std::vector<T>& taus, const picard_settings& settings,
+                                          const std::string& label) {
+  sampled_reference<T> out;
+  out.Omega.reserve(taus.size());
+  const reference_run run = integrate_streaming<T>(problem, tau_end, taus, settings, label,
+                                                   [&](std::size_t, const vec3<T>& Om) { out.Omega.push_back(Om); });
+  out.stats = run.stats;
+  out.wall_seconds = run.wall_seconds;
+  return out;
+}
+
+// The same for times in any order: streamed when they do not decrease, else evaluated from the
+// dense output, which keeps every segment (memory grows with the span).
+template <scalar T>
+reference_run integrate_at(const euler_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
+                           const picard_settings& settings, const std::string& label,
+                           const sample_function<T>& on_sample) {
+  if (std::is_sorted(taus.begin(), taus.end()))
+    return integrate_streaming<T>(problem, tau_end, taus, settings, label, on_sample);
+  const dense_reference<T> ref = integrate_dense<T>(problem, tau_end, settings, label);
+  for (std::size_t i = 0; i < taus.size(); ++i) on_sample(i, sample_dense(ref.trajectory, taus[i]));
+  return {ref.stats, ref.wall_seconds};
+}
+
+#define EULERVOP_REFERENCE_COMPUTE(T)                                                                  \
+  template dense_reference<T> integrate_dense<T>(const euler_problem<T>&, const T&, const picard_settings&,      \
+                                                 const std::string&);                                           \
+  template reference_run integrate_streaming<T>(const euler_problem<T>&, const T&, const std::vector<T>&,       \
+                                                const picard_settings&, const std::string&,                     \
+                                                const sample_function<T>&, const segment_sink<T>&);             \
+  template sampled_reference<T> integrate_and_sample<T>(const euler_problem<T>&, const T&, const std::vector<T>&, \
+                                                        const picard_settings&, const std::string&);            \
+  template reference_run integrate_at<T>(const euler_problem<T>&, const T&, const std::vector<T>&,              \
+                                         const picard_settings&, const std::string&, const sample_function<T>&);
+EULERVOP_REFERENCE_COMPUTE(double)
+EULERVOP_REFERENCE_COMPUTE(quad)
+EULERVOP_REFERENCE_COMPUTE(mpfr_real)
+#undef EULERVOP_REFERENCE_COMPUTE
+
+}  // namespace eulervop::app

@@ -1,0 +1,87 @@
+#include "compute/verify.hpp"
+
+#include "compute/reference_compute.hpp"
+#include "compute/with_scalar.hpp"
+
+#include <eulervop/model/error_measure.hpp>
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+#include <type_traits>
+
+#include <mpfr.h>
+
+namespace eulervop::app {
+
+namespace {
+
+// A value of the narrower type, exactly, in the wider one (created at the current precision).
+template <scalar Hi, scalar Lo>
+Hi widen(const Lo& x) {
+  if constexpr (std::is_same_v<Hi, mpfr_real> && std::is_same_v<Lo, mpfr_real>) {
+    Hi r;  // thread default precision, which is the wider one inside the verify scope
+    mpfr_set(r.backend().data(), x.backend().data(), MPFR_RNDN);
+    return r;
+  } else {
+    return Hi(x);  // double -> quad, quad -> mpfr: exact
+  }
+}
+
+// "1.23e-30": three significant digits, in the wide type (an MPFR error can underflow double).
+template <scalar T>
+std::string three_digits(const T& x) {
+  if constexpr (std::is_same_v<T, double>)
+    return fmt::format("{:.2e}", x);
+  else
+    return x.str(2, std::ios_base::scientific);
+}
+
+template <scalar Hi, scalar Lo>
+verify_result verify_in(const scene& s, const Lo& tau_end, const std::vector<Lo>& taus,
+                        const std::vector<vec3<Lo>>& Omega, const eulervop::precision& wide) {
+  std::vector<Hi> wide_taus;
+  wide_taus.reserve(taus.size());
+  for (const Lo& t : taus) wide_taus.push_back(widen<Hi>(t));
+  // Compared as they come: the wide samples are not kept.
+  Hi worst = 0;
+  const reference_run run = integrate_streaming<Hi>(
+      to_problem<Hi>(s), widen<Hi>(tau_end), wide_taus, picard_settings{}, "verify",
+      [&](std::size_t i, const vec3<Hi>& ref) {
+        const vec3<Hi> narrow = {widen<Hi>(Omega[i][0]), widen<Hi>(Omega[i][1]), widen<Hi>(Omega[i][2])};
+        const Hi err = eq20_error(ref, narrow);
+        if (err > worst) worst = err;
+      });
+  return {decimal{three_digits(worst), static_cast<double>(worst)}, wide, method_text(picard_settings{}, run.stats),
+          run.wall_seconds};
+}
+
+}  // namespace
+
+// One precision up: double -> quad -> mpfr:(113+64) ; mpfr:B -> mpfr:(B+64). `narrow` is the
+// precision of Lo (its bits matter for MPFR).
+template <scalar Lo>
+verify_result verify(const scene& s, const Lo& tau_end, const std::vector<Lo>& taus,
+                     const std::vector<vec3<Lo>>& Omega, const eulervop::precision& narrow) {
+  constexpr unsigned extra_bits = 64;
+  const eulervop::precision wide =
+      std::is_same_v<Lo, double>
+          ? eulervop::precision::binary128()
+          : eulervop::precision::mpfr((std::is_same_v<Lo, quad> ? 113u : narrow.bits) + extra_bits);
+  return with_scalar(wide, [&](auto zero) -> verify_result {
+    using Hi = decltype(zero);
+    if constexpr (std::is_same_v<Hi, double> || (std::is_same_v<Hi, quad> && !std::is_same_v<Lo, double>))
+      throw std::logic_error("verify: the precision is not wider");
+    else
+      return verify_in<Hi>(s, tau_end, taus, Omega, wide);
+  });
+}
+
+template verify_result verify<double>(const scene&, const double&, const std::vector<double>&,
+                                     const std::vector<vec3<double>>&, const eulervop::precision&);
+template verify_result verify<quad>(const scene&, const quad&, const std::vector<quad>&, const std::vector<vec3<quad>>&,
+                                   const eulervop::precision&);
+template verify_result verify<mpfr_real>(const scene&, const mpfr_real&, const std::vector<mpfr_real>&,
+                                        const std::vector<vec3<mpfr_real>>&, const eulervop::precision&);
+
+}  // namespace eulervop::app

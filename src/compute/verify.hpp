@@ -1,0 +1,32 @@
+// --verify: the samples of a reference recomputed one precision up, and the largest Eq. 20
+// difference (docs/reference.md). Compiled once, in verify.cpp, for double, quad and MPFR.
+#pragma once
+
+#include "compute/scene_library.hpp"
+
+#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/vec3.hpp>
+
+#include <string>
+#include <vector>
+
+namespace eulervop::app {
+
+// The verification (--verify): the same samples, recomputed one precision up with the
+// integrator's default (stricter) settings, from the scene's decimals converted directly into
+// the wider type. Evaluated at the narrow run's tau values (widened exactly), so the difference
+// measures the narrow run's error at the rows it prints, input rounding included.
+struct verify_result {
+  decimal max_error;  // three significant digits, as the metadata prints it
+  eulervop::precision precision;
+  std::string method;
+  double wall_seconds = 0;
+};
+
+// One precision up: double -> quad -> mpfr:(113+64) ; mpfr:B -> mpfr:(B+64). `narrow` is the
+// precision of Lo (its bits matter for MPFR).
+template <scalar Lo>
+verify_result verify(const scene& s, const Lo& tau_end, const std::vector<Lo>& taus,
+                     const std::vector<vec3<Lo>>& Omega, const eulervop::precision& narrow);
+
+}  // namespace eulervop::app
