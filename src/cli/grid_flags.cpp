@@ -51,4 +51,17 @@ std::string timing_text(const wp_run_options& o) {
                      o.repeat, o.jobs);
 }
 
+scene work_precision_scene(const std::optional<std::string>& path, const scene_override_flags& flags, wp_job& job) {
+  scene s = path ? load_scene_file(*path) : load_default_scene();
+  // Error samples are step points of each run, about --samples of them; the scene's own sample
+  // times and count are for `reference` and do not apply.
+  s.times.clear();
+  s.samples = 200;
+  const applied_overrides applied = apply_scene_overrides(s, flags);
+  job.overrides = applied.text();
+  job.precision = applied.precision;
+  job.settings = applied.settings;
+  return s;
+}
+
 }  // namespace eulervop::app

@@ -3,11 +3,16 @@
 // --repeat and --jobs.
 #pragma once
 
+#include "cli/scene_overrides.hpp"
 #include "compute/scene_library.hpp"
 #include "compute/work_precision_grid.hpp"
 #include "compute/work_precision_runs.hpp"
 
+#include <eulervop/core/scalar.hpp>
+#include <eulervop/reference/settings.hpp>
+
 #include <cstddef>
+#include <filesystem>
 #include <optional>
 #include <string>
 
@@ -38,6 +43,22 @@ wp_grid grid_of(const scene& s, std::size_t samples, const grid_flags& flags, co
 
 // --repeat and --jobs (input_error naming the flag and its value).
 wp_run_options run_options_of(const grid_flags& flags, const grid_flag_defaults& defaults, std::string progress_label);
+
+// What `sweep` and `map` share of their jobs: the flags that changed the scene, how the runs
+// are timed, the reference's precision and settings, and where the outputs go.
+struct wp_job {
+  std::string overrides;
+  wp_run_options run;
+  eulervop::precision precision;
+  picard_settings settings;
+  std::filesystem::path out_dir;
+  bool plot = true;
+};
+
+// The scene of a sweep or a map: the file (or the embedded default) with about 200 error samples
+// in place of its own sample times (those are for `reference`), and the scene flags applied;
+// job's overrides, precision and settings are theirs.
+scene work_precision_scene(const std::optional<std::string>& path, const scene_override_flags& flags, wp_job& job);
 
 // "each time is the minimum of 3 run(s), one case at a time", for the summary and the figure.
 std::string timing_text(const wp_run_options& o);

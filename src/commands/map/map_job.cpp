@@ -18,8 +18,6 @@ const grid_flag_defaults map_grid_defaults{
 
 namespace {
 
-constexpr std::int64_t default_samples = 200;
-
 bool is_vop(formulation f) { return f != formulation::euler; }
 
 // The grid of the scene with its torque scaled by each scale (the decimals multiplied exactly).
@@ -43,13 +41,7 @@ std::vector<wp_grid> scaled_grids(const scene& base, const map_job& job, const m
 
 map_job map_job_of(const map_options& o) {
   map_job job;
-  scene base = o.scene_path ? load_scene_file(*o.scene_path) : load_default_scene();
-  base.times.clear();
-  base.samples = default_samples;
-  const applied_overrides applied = apply_scene_overrides(base, o.overrides);
-  job.overrides = applied.text();
-  job.precision = applied.precision;
-  job.settings = applied.settings;
+  const scene base = work_precision_scene(o.scene_path, o.overrides, job);
   job.scene_name = base.name;
 
   job.scales = flag_ladder("--torque-scales", o.torque_scales.value_or(default_torque_scales));

@@ -24,17 +24,11 @@ extern const std::string default_torque_scales;
 extern const std::string default_map_levels;
 extern const grid_flag_defaults map_grid_defaults;
 
-struct map_job {
+struct map_job : wp_job {
   std::vector<decimal> scales;
   std::vector<double> levels;  // increasing order of difficulty: as given
   std::vector<wp_grid> grids;  // one per scale
   std::string scene_name;
-  std::string overrides;
-  wp_run_options run;
-  eulervop::precision precision;
-  picard_settings settings;
-  std::filesystem::path out_dir;
-  bool plot = true;
 };
 
 map_job map_job_of(const map_options& options);

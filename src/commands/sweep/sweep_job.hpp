@@ -22,14 +22,8 @@ extern const grid_flag_defaults sweep_grid_defaults;
 // The error levels of the cheapest-configuration table.
 inline constexpr std::array<double, 5> sweep_error_levels = {1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
 
-struct sweep_job {
+struct sweep_job : wp_job {
   wp_grid grid;
-  std::string overrides;
-  wp_run_options run;
-  eulervop::precision precision;
-  picard_settings settings;
-  std::filesystem::path out_dir;
-  bool plot = true;
 };
 
 sweep_job sweep_job_of(const sweep_options& options);
