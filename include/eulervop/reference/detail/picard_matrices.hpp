@@ -53,7 +53,7 @@ struct picard_matrices {
   // any sum (a row-by-row dot product is bound by the latency of its serial additions); four
   // columns per pass over y quarter its loads and stores, which bound the plain column loop.
   template <class Components>
-  void double_integral(const Components& g, Components& y) const {
+  [[gnu::always_inline]] void double_integral(const Components& g, Components& y) const {
     for (std::size_t i = 0; i < g.size(); ++i) {
       double* out = y[i].data();
       const double* gi = g[i].data();
