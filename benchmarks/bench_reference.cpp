@@ -20,14 +20,30 @@
 //   - Boost.Odeint bulirsch_stoer on MPFR at 256 bits, tol 1e-40, 1e-50, 1e-60; the sweep stops
 //     after the first row that takes more than 120 s, and a row is abandoned after --mpfr-cap s.
 //
-// Options: --quick (quad rows with tol >= 1e-24 only, tau_end = 20), --targets (only ours in
-//          quad at the default, Odeint bulirsch_stoer<float128> at 1e-28 and ours in mpfr:256 at
-//          1e-60: the rows the speed targets compare), --repeat N, --no-mpfr,
-//          --mpfr-cap SECONDS (default 600), --recompute-truth.
+// Options: --problem paper|sciml (default paper), --quick (quad rows with tol >= 1e-24 only,
+//          tau_end = 20), --targets (only ours in quad at the default, Odeint
+//          bulirsch_stoer<float128> at 1e-28 and ours in mpfr:256 at 1e-60: the rows the speed
+//          targets compare), --repeat N, --no-mpfr, --mpfr-cap SECONDS (default 600),
+//          --recompute-truth.
+//
+// --problem sciml: the SciML rigid body (SciMLBenchmarks, NonStiffODE/RigidBody_wpd.jmd), the
+// scene data/scenes/problems/sciml-rigid-body-100.toml in the coefficient form:
+//   y1' = -2 y2 y3, y2' = 1.25 y1 y3, y3' = -0.5 y1 y2 + 0.25 sin^2 t, y(0) = (1, 0, 0.9),
+//   t in [0, 100], samples t = i/16, i = 0..1600.
+// Our integrator runs the problem the scene compiles (scene::with_problem, a torque of time);
+// the peer integrates the same equations written out, with the scene's initial state in its
+// own type. Truth: ours in mpfr:320 (cached as bench_reference_truth_320_sciml_<t_end>.txt).
+// Rows: ours in quad at 1e-24, 1e-28 and the default; Odeint bulirsch_stoer<float128> at 1e-20,
+// 1e-24, 1e-28 (the baseline), 1e-32; --targets: ours quad default and Odeint 1e-28. No MPFR or
+// rkf78 rows for this problem. The error is the same norm, sqrt(sum_i (y_i - y_i^truth)^2).
+// The scene file is found from the working directory or from this source file's location.
 // Progress goes to standard error; the table to standard output.
 #include <eulervop/reference/integrate.hpp>
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/core/scalar.hpp>
+#include <eulervop/model/expression_torque.hpp>
+#include <eulervop/scene/scene.hpp>
+#include <eulervop/scene/scene_problem.hpp>
 
 #include <boost/multiprecision/float128.hpp>
 #include <boost/multiprecision/mpfr.hpp>
@@ -47,7 +63,9 @@
 #include <limits>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace mp = boost::multiprecision;
@@ -80,7 +98,10 @@ double seconds_since(clock_type::time_point t0) {
   return std::chrono::duration<double>(clock_type::now() - t0).count();
 }
 
+enum class problem_id { paper, sciml };
+
 struct options {
+  problem_id problem = problem_id::paper;
   bool quick = false;
   bool targets = false;  // only the rows the speed targets compare (docs/benchmarks.md)
   bool no_mpfr = false;
@@ -107,6 +128,81 @@ eulervop::euler_problem<T> paper_problem() {
   p.Omega0 = {T(1) / T(2), T(0), T(1)};
   p.tau0 = T(0);
   return p;
+}
+
+// ---- the SciML rigid body ------------------------------------------------------------------
+constexpr const char* sciml_scene_relative = "data/scenes/problems/sciml-rigid-body-100.toml";
+
+std::filesystem::path sciml_scene_path() {
+  const std::filesystem::path rel = sciml_scene_relative;
+  if (std::filesystem::exists(rel)) return rel;
+  return std::filesystem::path(__FILE__).parent_path().parent_path() / rel;
+}
+
+// The peer's equations, written out in V: y' = (a1 y2 y3, a2 y3 y1, a3 y1 y2 + 0.25 sin(t)^2),
+// a = (-2, 1.25, -0.5); every constant is exact in binary.
+template <class V>
+struct sciml_system {
+  std::array<V, 3> a{V(-2), V(5) / V(4), V(-1) / V(2)};
+  V quarter = V(1) / V(4);
+  void operator()(const std::array<V, 3>& y, std::array<V, 3>& dydt, const V& t) const {
+    using std::sin;
+    using boost::multiprecision::sin;
+    const V s = sin(t);
+    dydt[0] = a[0] * y[1] * y[2];
+    dydt[1] = a[1] * y[2] * y[0];
+    dydt[2] = a[2] * y[0] * y[1] + quarter * (s * s);
+  }
+};
+
+// Loads the scene and checks that it is the problem the peer's equations state (coefficients,
+// initial state, span, and the torque's value at a few times in quad), so that both sides
+// integrate the same thing.
+eulervop::scene::scene load_sciml_scene() {
+  const auto path = sciml_scene_path();
+  eulervop::scene::scene scn = eulervop::scene::load_scene_file(path);
+  auto fail = [&](const std::string& why) {
+    throw std::runtime_error("scene " + path.string() + " is not the SciML rigid body this benchmark states: " + why);
+  };
+  if (!scn.is_coefficient_form() || !scn.coefficients) fail("not in the coefficient form");
+  const double a[3] = {-2.0, 1.25, -0.5}, y0[3] = {1.0, 0.0, 0.9};
+  for (int i = 0; i < 3; ++i)
+    if ((*scn.coefficients)[i].value != a[i]) fail("a differs");
+  const auto* rates = std::get_if<eulervop::scene::initial_rates>(&scn.initial);
+  if (!rates) fail("no initial y");
+  for (int i = 0; i < 3; ++i)
+    if (rates->rates[i].value != y0[i]) fail("y(0) differs");
+  if (scn.span_end.value != 100.0) fail("t_end is not 100");
+  if (eulervop::scene::torque_kind_of(scn) != eulervop::scene::torque_kind::of_time) fail("f is not a formula of time");
+  using Q = eulervop::quad;
+  const auto problem = eulervop::scene::to_problem_with_law<Q, false>(scn);
+  const sciml_system<Q> sys;
+  for (int i = 0; i < 3; ++i)
+    if (problem.a[i] != sys.a[i]) fail("a in quad differs");
+  const eulervop::vec3<Q> y = {Q(1), Q(2), Q(3)};
+  for (int k = 0; k <= 7; ++k) {
+    const Q t = Q(k * 13 + 1) / Q(8);
+    const auto g = problem.torque.value(t, y);
+    std::array<Q, 3> f;
+    sys({Q(0), Q(0), Q(0)}, f, t);
+    for (int i = 0; i < 3; ++i)
+      if (abs(g[i] - f[i]) > 4 * std::numeric_limits<Q>::epsilon()) fail("f(t) differs at t = " + std::to_string(static_cast<double>(t)));
+  }
+  return scn;
+}
+
+// Calls f with the scene's problem in T, whose torque is a formula of time (the only kind this
+// benchmark instantiates the integrator for).
+template <class T, class F>
+auto with_sciml_problem(const eulervop::scene::scene& scn, F&& f) {
+  using time_problem = eulervop::euler_problem<T, eulervop::time_torque<T>>;
+  using R = std::invoke_result_t<F&, const time_problem&>;
+  return eulervop::scene::with_problem<T>(scn, [&](const auto& problem) -> R {
+    if constexpr (std::is_same_v<std::decay_t<decltype(problem)>, time_problem>)
+      return f(problem);
+    else
+      throw std::runtime_error("the SciML scene's torque is not a formula of time");
+  });
 }
 
 // Full-precision text of an odeint MPFR value (round-trip, like eulervop::to_text).
@@ -142,15 +238,34 @@ std::filesystem::path executable_dir() {
   return ec ? std::filesystem::current_path() : p.parent_path();
 }
 
-std::string truth_header(int tau_end) {
+std::string truth_header(problem_id problem, int tau_end) {
+  if (problem == problem_id::sciml)
+    return "# eulervop bench_reference truth v1: integrate_reference<mpfr_real> mpfr:320 default settings;"
+           " scene sciml-rigid-body-100: y' = (-2 y2 y3, 1.25 y1 y3, -0.5 y1 y2 + 0.25*sin(t)^2)"
+           " y0=(1,0,0.9) t=i/16 i=0.." +
+           std::to_string(sample_count(tau_end) - 1);
   return "# eulervop bench_reference truth v1: integrate_reference<mpfr_real> mpfr:320 default settings;"
          " G=(1,1,1) Omega0=(0.5,0,1) tau=i/16 i=0.." +
          std::to_string(sample_count(tau_end) - 1);
 }
 
-std::vector<text3> load_or_make_truth(int tau_end, bool recompute) {
-  const auto path = executable_dir() / ("bench_reference_truth_320_" + std::to_string(tau_end) + ".txt");
-  const std::string header = truth_header(tau_end);
+// The truth's samples: the problem integrated in T (mpfr:320), its dense output at the samples.
+template <class T, class Problem>
+std::vector<text3> truth_samples(const Problem& problem, int tau_end, eulervop::picard_stats& st) {
+  const auto traj = eulervop::integrate_reference<T>(problem, T(tau_end), {}, progress_printer("truth mpfr:320"), &st);
+  std::vector<text3> rows;
+  for (const T& tau : sample_times<T>(tau_end)) {
+    const auto v = traj(tau);
+    rows.push_back({eulervop::to_text(v[0]), eulervop::to_text(v[1]), eulervop::to_text(v[2])});
+  }
+  return rows;
+}
+
+std::vector<text3> load_or_make_truth(problem_id problem, const eulervop::scene::scene* scn, int tau_end,
+                                      bool recompute) {
+  const std::string key = problem == problem_id::sciml ? "sciml_" : "";
+  const auto path = executable_dir() / ("bench_reference_truth_320_" + key + std::to_string(tau_end) + ".txt");
+  const std::string header = truth_header(problem, tau_end);
   if (!recompute) {
     std::ifstream in(path);
     std::string line;
@@ -169,13 +284,10 @@ std::vector<text3> load_or_make_truth(int tau_end, bool recompute) {
   using T = eulervop::mpfr_real;
   const auto t0 = clock_type::now();
   eulervop::picard_stats st;
-  const auto traj = eulervop::integrate_reference<T>(paper_problem<T>(), T(tau_end), {},
-                                                     progress_printer("truth mpfr:320"), &st);
-  std::vector<text3> rows;
-  for (const T& tau : sample_times<T>(tau_end)) {
-    const auto v = traj(tau);
-    rows.push_back({eulervop::to_text(v[0]), eulervop::to_text(v[1]), eulervop::to_text(v[2])});
-  }
+  const std::vector<text3> rows =
+      problem == problem_id::sciml
+          ? with_sciml_problem<T>(*scn, [&](const auto& p) { return truth_samples<T>(p, tau_end, st); })
+          : truth_samples<T>(paper_problem<T>(), tau_end, st);
   std::fprintf(stderr, "truth: %.1f s, %zu segments, degree %u\n", seconds_since(t0), st.segments, st.degree);
   const auto tmp = path.string() + ".tmp";
   {
@@ -249,9 +361,9 @@ std::string tol_text(double tol) {
 }
 
 // Our integrator in T: integrate, then evaluate the dense output at the sample times.
-template <class T>
+template <class T, class Problem>
 row run_ours(const std::string& precision_name, double tol, int tau_end, const options& opt,
-             const std::vector<text3>& truth) {
+             const std::vector<text3>& truth, const Problem& problem) {
   row r;
   r.method = "ours Chebyshev-Picard";
   r.precision = precision_name;
@@ -259,7 +371,6 @@ row run_ours(const std::string& precision_name, double tol, int tau_end, const o
   settings.tolerance = tol;
   r.tolerance = tol_text(tol);
   std::fprintf(stderr, "row: %s %s tol %s\n", r.method.c_str(), r.precision.c_str(), r.tolerance.c_str());
-  const auto problem = paper_problem<T>();
   const auto times = sample_times<T>(tau_end);
   std::vector<eulervop::vec3<T>> values;
   eulervop::picard_stats st;
@@ -295,18 +406,28 @@ struct euler_system {
   }
 };
 
+// The paper scene for the peer: Eq. 5 with G = (1, 1, 1), Omega(0) = (0.5, 0, 1).
+template <class V>
+euler_system<V> paper_system() {
+  return {{V(1), V(1), V(1)}};
+}
+template <class V>
+std::array<V, 3> paper_initial() {
+  return {V(1) / V(2), V(0), V(1)};
+}
+
 // A Boost.Odeint controlled stepper run with integrate_times over the sample times.
 // make_stepper(tol) returns a fresh stepper; the sweep abandons a run after `cap` seconds.
-template <class V, class MakeStepper>
+template <class V, class MakeStepper, class System>
 row run_odeint(const std::string& method, const std::string& precision_name, double tol, int tau_end,
-               const options& opt, const std::vector<text3>& truth, MakeStepper make_stepper, double cap) {
+               const options& opt, const std::vector<text3>& truth, MakeStepper make_stepper, double cap,
+               const System& sys, const std::array<V, 3>& x0) {
   row r;
   r.method = method;
   r.precision = precision_name;
   r.tolerance = tol_text(tol);
   std::fprintf(stderr, "row: %s %s tol %s\n", r.method.c_str(), r.precision.c_str(), r.tolerance.c_str());
   using state = std::array<V, 3>;
-  euler_system<V> sys{{V(1), V(1), V(1)}};
   const auto times = sample_times<V>(tau_end);
   std::vector<state> values;
   double best = std::numeric_limits<double>::infinity();
@@ -314,7 +435,7 @@ row run_odeint(const std::string& method, const std::string& precision_name, dou
   for (int rep = 0; rep < opt.repeat; ++rep) {
     values.clear();
     values.reserve(times.size());
-    state x{V(1) / V(2), V(0), V(1)};
+    state x = x0;
     auto stepper = make_stepper(V(tol));
     const auto t0 = clock_type::now();
     double last_report = 0;
@@ -362,11 +483,20 @@ auto rkf78_maker() {
   };
 }
 
-void print_table(const std::vector<row>& rows, const row* baseline, int tau_end, int samples) {
-  std::printf("\nReference generation, paper scene (G = (1,1,1), Omega(0) = (0.5,0,1)), tau in [0, %d], "
-              "%d samples (tau = i/16)\n",
-              tau_end, samples);
-  std::printf("Error: max over the samples of Eq. 20 against our mpfr:320 reference, computed in MPFR 400 bits.\n");
+void print_table(problem_id problem, const std::vector<row>& rows, const row* baseline, int tau_end, int samples) {
+  if (problem == problem_id::sciml) {
+    std::printf("\nReference generation, SciML rigid body (scene sciml-rigid-body-100: y1' = -2 y2 y3, "
+                "y2' = 1.25 y1 y3, y3' = -0.5 y1 y2 + 0.25 sin^2 t, y(0) = (1, 0, 0.9)), t in [0, %d], "
+                "%d samples (t = i/16)\n",
+                tau_end, samples);
+    std::printf("Error: max over the samples of sqrt(sum_i (y_i - y_i^truth)^2) against our mpfr:320 reference on "
+                "the same problem, computed in MPFR 400 bits.\n");
+  } else {
+    std::printf("\nReference generation, paper scene (G = (1,1,1), Omega(0) = (0.5,0,1)), tau in [0, %d], "
+                "%d samples (tau = i/16)\n",
+                tau_end, samples);
+    std::printf("Error: max over the samples of Eq. 20 against our mpfr:320 reference, computed in MPFR 400 bits.\n");
+  }
   if (baseline)
     std::printf("Speed ratio: wall time of Boost.Odeint bulirsch_stoer<float128> tol 1e-28 (%.3f s) / row time.\n",
                 baseline->seconds);
@@ -388,7 +518,9 @@ void print_table(const std::vector<row>& rows, const row* baseline, int tau_end,
 
 int usage(const char* argv0) {
   std::fprintf(stderr,
-               "usage: %s [--quick | --targets] [--repeat N] [--no-mpfr] [--mpfr-cap SECONDS] [--recompute-truth]\n", argv0);
+               "usage: %s [--problem paper|sciml] [--quick | --targets] [--repeat N] [--no-mpfr] [--mpfr-cap SECONDS]"
+               " [--recompute-truth]\n",
+               argv0);
   return 2;
 }
 
@@ -398,7 +530,12 @@ int main(int argc, char** argv) {
   options opt;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
-    if (arg == "--quick") opt.quick = true;
+    if (arg == "--problem" && a + 1 < argc) {
+      const std::string name = argv[++a];
+      if (name == "paper") opt.problem = problem_id::paper;
+      else if (name == "sciml") opt.problem = problem_id::sciml;
+      else return usage(argv[0]);
+    } else if (arg == "--quick") opt.quick = true;
     else if (arg == "--targets") opt.targets = true;
     else if (arg == "--no-mpfr") opt.no_mpfr = true;
     else if (arg == "--recompute-truth") opt.recompute_truth = true;
@@ -412,10 +549,35 @@ int main(int argc, char** argv) {
       return usage(argv[0]);
     }
   }
-  const int tau_end = opt.quick ? 20 : 136;
+  const bool sciml = opt.problem == problem_id::sciml;
+  const int tau_end = opt.quick ? 20 : sciml ? 100 : 136;
   try {
-    const auto truth = load_or_make_truth(tau_end, opt.recompute_truth);
+    std::optional<eulervop::scene::scene> scn;
+    if (sciml) scn = load_sciml_scene();
+    const auto truth = load_or_make_truth(opt.problem, scn ? &*scn : nullptr, tau_end, opt.recompute_truth);
     std::vector<row> rows;
+    if (sciml) {
+      using Q = eulervop::quad;
+      const std::vector<double> ours_tols = opt.quick     ? std::vector<double>{1e-20, 1e-24}
+                                            : opt.targets ? std::vector<double>{0}
+                                                          : std::vector<double>{1e-24, 1e-28, 0};
+      const std::vector<double> peer_tols = opt.quick     ? std::vector<double>{1e-20, 1e-24}
+                                            : opt.targets ? std::vector<double>{1e-28}
+                                                          : std::vector<double>{1e-20, 1e-24, 1e-28, 1e-32};
+      with_sciml_problem<Q>(*scn, [&](const auto& problem) {
+        for (double tol : ours_tols) rows.push_back(run_ours<Q>("quad", tol, tau_end, opt, truth, problem));
+      });
+      const auto x0 = eulervop::scene::initial_state_of<Q>(*scn);
+      std::optional<std::size_t> baseline_index;
+      for (double tol : peer_tols) {
+        if (tol == 1e-28) baseline_index = rows.size();
+        rows.push_back(run_odeint<Q>("odeint bulirsch_stoer", "float128", tol, tau_end, opt, truth,
+                                     bulirsch_stoer_maker<Q>(), 1e9, sciml_system<Q>{}, {x0[0], x0[1], x0[2]}));
+      }
+      const row* baseline = baseline_index && rows[*baseline_index].done ? &rows[*baseline_index] : nullptr;
+      print_table(opt.problem, rows, baseline, tau_end, sample_count(tau_end));
+      return 0;
+    }
     const std::vector<double> quad_tols = opt.quick     ? std::vector<double>{1e-20, 1e-24}
                                           : opt.targets ? std::vector<double>{0}
                                                         : std::vector<double>{1e-20, 1e-24, 1e-28, 1e-30, 0};
@@ -424,7 +586,7 @@ int main(int argc, char** argv) {
                                                           : std::vector<double>{1e-20, 1e-24, 1e-28, 1e-32};
 
     for (double tol : quad_tols)
-      rows.push_back(run_ours<eulervop::quad>("quad", tol, tau_end, opt, truth));
+      rows.push_back(run_ours<eulervop::quad>("quad", tol, tau_end, opt, truth, paper_problem<eulervop::quad>()));
     std::size_t baseline_index = rows.size();
     bool have_baseline = false;
     for (double tol : odeint_tols) {
@@ -433,30 +595,34 @@ int main(int argc, char** argv) {
         have_baseline = true;
       }
       rows.push_back(run_odeint<eulervop::quad>("odeint bulirsch_stoer", "float128", tol, tau_end, opt, truth,
-                                                bulirsch_stoer_maker<eulervop::quad>(), 1e9));
+                                                bulirsch_stoer_maker<eulervop::quad>(), 1e9, paper_system<eulervop::quad>(),
+                                                paper_initial<eulervop::quad>()));
     }
     if (!opt.targets)
       for (double tol : odeint_tols)
         rows.push_back(run_odeint<eulervop::quad>("odeint rk_fehlberg78 controlled", "float128", tol, tau_end, opt,
-                                                  truth, rkf78_maker<eulervop::quad>(), 60.0));
+                                                  truth, rkf78_maker<eulervop::quad>(), 60.0,
+                                                  paper_system<eulervop::quad>(), paper_initial<eulervop::quad>()));
     if (!opt.quick && !opt.no_mpfr) {
       {
         eulervop::mpfr_precision_scope scope(256);
         for (double tol : opt.targets ? std::vector<double>{1e-60} : std::vector<double>{1e-40, 1e-50, 1e-60, 0.0})
-          rows.push_back(run_ours<eulervop::mpfr_real>("mpfr:256", tol, tau_end, opt, truth));
+          rows.push_back(run_ours<eulervop::mpfr_real>("mpfr:256", tol, tau_end, opt, truth,
+                                                       paper_problem<eulervop::mpfr_real>()));
       }
       if (!opt.targets) {
         // The peer at 256 bits (257 effective, like ours: the same digits10 setting).
         odeint_mpfr::thread_default_precision(eulervop::mpfr_digits10_for_bits(256));
         for (double tol : {1e-40, 1e-50, 1e-60}) {
           rows.push_back(run_odeint<odeint_mpfr>("odeint bulirsch_stoer", "mpfr:256", tol, tau_end, opt, truth,
-                                                 bulirsch_stoer_maker<odeint_mpfr>(), opt.mpfr_cap));
+                                                 bulirsch_stoer_maker<odeint_mpfr>(), opt.mpfr_cap,
+                                                 paper_system<odeint_mpfr>(), paper_initial<odeint_mpfr>()));
           if (!rows.back().done || rows.back().seconds > 120) break;
         }
       }
     }
     const row* baseline = have_baseline && rows[baseline_index].done ? &rows[baseline_index] : nullptr;
-    print_table(rows, baseline, tau_end, sample_count(tau_end));
+    print_table(opt.problem, rows, baseline, tau_end, sample_count(tau_end));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_reference: %s\n", e.what());
     return 3;

@@ -42,6 +42,12 @@ const std::string good_scene =
 const std::string physical_scene =
     "name = \"phys\"\n[body]\ninertia = [100, 150, 200]\n[torque]\nM = [0.01, -0.02, 0.005]\n"
     "[initial]\nomega = [0.02, 0.1, 0.05]\n[span]\nt_end = 10\nsamples = 3\n";
+// The SciML rigid body's equations (docs/test-problems.md): the coefficient form with a formula.
+const std::string coefficient_scene =
+    "name = \"coef\"\n[equations]\na = [-2.0, 1.25, -0.5]\n[torque]\nf = [0.0, 0.0, \"0.25*sin(t)^2\"]\n"
+    "[initial]\ny = [1.0, 0.0, 0.9]\n[span]\nt_end = 1.0\nsamples = 3\n";
+// A torque on a window: [[torque.piece]] with formula bounds.
+const std::string piece_scene = good_scene + "[[torque.piece]]\nfrom = \"0.25\"\nto = \"pi/8\"\nG = [0, 0, 2]\n";
 
 struct bad_input {
   const char* label;
@@ -77,8 +83,8 @@ std::vector<bad_input> bad_inputs() {
       {"Omega and c1", with(g, "Omega = [0.5, 0.0, 1.0]", "Omega = [0.5, 0.0, 1.0]\nc1 = 0.5"), {}, "[initial]"},
       {"Omega wrong type", with(g, "[0.5, 0.0, 1.0]", "\"0.5, 0, 1\""), {}, "[initial] Omega"},
       {"Omega nan", with(g, "[0.5, 0.0, 1.0]", "[nan, 0.0, 1.0]"), {}, "[initial] Omega = nan"},
-      {"G inf", with(g, "[1.0, 1.0, 1.0]", "[1.0, inf, 1.0]"), {}, "[torque] G = inf"},
-      {"G negative inf", with(g, "[1.0, 1.0, 1.0]", "[1.0, 1.0, -inf]"), {}, "[torque] G = -inf"},
+      {"G inf", with(g, "[1.0, 1.0, 1.0]", "[1.0, inf, 1.0]"), {}, "[torque] G2 = inf"},
+      {"G negative inf", with(g, "[1.0, 1.0, 1.0]", "[1.0, 1.0, -inf]"), {}, "[torque] G3 = -inf"},
       {"k not below 1", with(g, "Omega = [0.5, 0.0, 1.0]", "c1 = 2\nc2 = 1\nu = 0"), {}, "[initial] c1 = 2"},
       {"tau_end zero", with(g, "tau_end = 1.0", "tau_end = 0"), {}, "[span] tau_end = 0"},
       {"tau_end negative", with(g, "tau_end = 1.0", "tau_end = -1"), {}, "[span] tau_end = -1"},
@@ -86,7 +92,6 @@ std::vector<bad_input> bad_inputs() {
       {"samples 1", with(g, "samples = 3", "samples = 1"), {}, "[span] samples = 1"},
       {"samples wrong type", with(g, "samples = 3", "samples = \"3\""), {}, "[span] samples"},
       {"times unordered", with(g, "samples = 3", "times = [0.5, 0.25]"), {}, "[span] times = 0.25"},
-      {"inertias of no rigid body", with(p, "[100, 150, 200]", "[100, 150, 300]"), {}, "[body] inertia"},
       {"negative inertia", with(p, "[100, 150, 200]", "[100, -150, 200]"), {}, "[body] inertia"},
       {"omega without body", with(p, "[body]\ninertia = [100, 150, 200]\n[torque]\nM = [0.01, -0.02, 0.005]\n", ""),
        {}, "[initial] omega"},
@@ -96,6 +101,39 @@ std::vector<bad_input> bad_inputs() {
       {"precision mpfr:1 in scene", g + "[reference]\nprecision = \"mpfr:1\"\n", {}, "[reference] precision"},
       {"method unknown", g + "[run]\nmethods = [\"euler-forward\"]\n", {}, "[run] methods"},
       {"step zero", g + "[run]\nstep = 0\n", {}, "[run] step = 0"},
+      // torque formulas (G3 of the normalized scene, M3 of the physical one, f3 of the coefficient form)
+      {"formula unknown identifier", with(g, "G = [1.0, 1.0, 1.0]", "G = [1.0, 1.0, \"foo*tau\"]"), {}, "`foo`"},
+      {"formula unknown function", with(g, "G = [1.0, 1.0, 1.0]", "G = [1.0, 1.0, \"tan(tau)\"]"), {}, "`tan`"},
+      {"formula omega1 in a normalized scene", with(g, "G = [1.0, 1.0, 1.0]", "G = [1.0, 1.0, \"omega1\"]"), {},
+       "`omega1` is a variable of a physical scene"},
+      {"formula tau in a physical scene", with(p, "M = [0.01, -0.02, 0.005]", "M = [0.01, -0.02, \"tau\"]"), {},
+       "`tau` is a variable of a normalized scene"},
+      {"formula omega1 in the coefficient form", with(coefficient_scene, "\"0.25*sin(t)^2\"", "\"omega1\""), {},
+       "[torque] f3 = \"omega1\""},
+      {"formula unbalanced open", with(g, "G = [1.0, 1.0, 1.0]", "G = [1.0, 1.0, \"sin(tau\"]"), {}, "[torque] G3"},
+      {"formula unbalanced close", with(g, "G = [1.0, 1.0, 1.0]", "G = [1.0, 1.0, \"tau)\"]"), {}, "`)`"},
+      {"formula dangling operator", with(g, "G = [1.0, 1.0, 1.0]", "G = [1.0, 1.0, \"tau*\"]"), {}, "[torque] G3"},
+      {"formula non-integer power", with(g, "G = [1.0, 1.0, 1.0]", "G = [1.0, 1.0, \"tau^0.5\"]"), {}, "power"},
+      {"formula wrong arity", with(g, "G = [1.0, 1.0, 1.0]", "G = [1.0, 1.0, \"sin(tau, 1)\"]"), {}, "sin"},
+      {"formula empty", with(g, "G = [1.0, 1.0, 1.0]", "G = [1.0, 1.0, \"  \"]"), {}, "[torque] G3"},
+      {"formula not a string", with(g, "G = [1.0, 1.0, 1.0]", "G = [1.0, 1.0, true]"), {}, "[torque] G3 = true"},
+      // the coefficient form
+      {"equations with body", with(p, "[torque]", "[equations]\na = [1, 2, 3]\n[torque]"), {}, "[equations]"},
+      {"equations a of length 2", with(coefficient_scene, "a = [-2.0, 1.25, -0.5]", "a = [-2.0, 1.25]"), {},
+       "[equations] a"},
+      {"equations a nan", with(coefficient_scene, "a = [-2.0, 1.25, -0.5]", "a = [-2.0, nan, -0.5]"), {},
+       "[equations] a = nan"},
+      {"coefficient form with Omega", with(coefficient_scene, "y = [", "Omega = ["), {}, "[initial]"},
+      {"coefficient form with G", with(coefficient_scene, "f = [", "G = ["), {}, "[torque]"},
+      {"coefficient form with tau_end", with(coefficient_scene, "t_end", "tau_end"), {}, "[span] tau_end"},
+      // pieces
+      {"piece without from", with(piece_scene, "from = \"0.25\"\n", ""), {}, "`from`"},
+      {"piece without to", with(piece_scene, "to = \"pi/8\"\n", ""), {}, "`to`"},
+      {"piece from after to", with(piece_scene, "from = \"0.25\"", "from = \"0.5\""), {}, "must be below to = pi/8"},
+      {"piece bound not constant", with(piece_scene, "from = \"0.25\"", "from = \"tau\""), {}, "from = \"tau\""},
+      {"piece without G", with(piece_scene, "G = [0, 0, 2]", ""), {}, "`G`"},
+      {"pieces overlap", piece_scene + "[[torque.piece]]\nfrom = 0.3\nto = 0.5\nG = [0, 0, 1]\n", {}, "overlaps"},
+      {"piece of M in a normalized scene", with(piece_scene, "G = [0, 0, 2]", "M = [0, 0, 2]"), {}, "`M`"},
       // paths
       {"unreadable scene path", "", {"does-not-exist.toml"}, "does-not-exist.toml", false, false},
       {"scene is a directory", "", {"."}, "scene .", false, false},
@@ -286,6 +324,60 @@ TEST(Reference, MpfrRunReportsEffectiveBits) {
   ASSERT_EQ(rows.size(), 3u);
   // Enough digits to round-trip 128+ bits: at least 40 significant digits per value.
   EXPECT_GE(rows[2].find(','), 40u) << rows[2];
+}
+
+// ---- torques of time and state, the coefficient form, moments of no rigid body ----------------
+
+TEST(Reference, CoefficientFormWritesTAndY) {
+  temp_dir dir;
+  write_file(dir.path() / "scene.toml", coefficient_scene);
+  const run_result r = run(dir.path(), {"reference", "scene.toml", "--out", "ref.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string csv = read_file(dir.path() / "ref.csv");
+  const auto rows = data_rows(csv);
+  ASSERT_EQ(rows.size(), 4u) << csv;
+  EXPECT_EQ(rows[0], "t,y1,y2,y3");
+  EXPECT_TRUE(rows[1].starts_with("0.000000000000000000000000000000000000e+00,1.0000")) << rows[1];
+}
+
+// Moments that break the triangle inequality are integrated, with one note on stderr and one in
+// the file's metadata.
+TEST(Reference, MomentsOfNoRigidBodyAreIntegratedWithANote) {
+  temp_dir dir;
+  write_file(dir.path() / "scene.toml", with(physical_scene, "[100, 150, 200]", "[100, 150, 300]"));
+  const run_result r = run(dir.path(), {"reference", "scene.toml", "--out", "ref.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto err = lines_of(r.err);
+  ASSERT_EQ(err.size(), 1u) << r.err;
+  EXPECT_TRUE(err[0].starts_with("note: scene phys: [body] inertia = [100, 150, 300]: no rigid body")) << err[0];
+  const std::string csv = read_file(dir.path() / "ref.csv");
+  EXPECT_NE(csv.find("\n# note: [body] inertia = [100, 150, 300]: no rigid body has these moments"), std::string::npos)
+      << csv;
+  EXPECT_EQ(data_rows(csv).size(), 4u);
+}
+
+// A formula that is not finite where the integrator evaluates it: exit 3, one line naming the
+// formula and the time, and no output file.
+TEST(Reference, NonFiniteTorqueIsANumericalFailureNamingTheFormula) {
+  temp_dir dir;
+  write_file(dir.path() / "scene.toml", with(good_scene, "G = [1.0, 1.0, 1.0]", "G = [1.0, 1.0, \"log(tau - 0.5)\"]"));
+  const run_result r = run(dir.path(), {"reference", "scene.toml", "--out", "ref.csv"});
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  const auto err = lines_of(r.err);
+  ASSERT_EQ(err.size(), 1u) << r.err;
+  EXPECT_NE(err[0].find("G3 = log(tau - 0.5) is nan at tau = "), std::string::npos) << err[0];
+  EXPECT_EQ(err[0].find("nan,"), std::string::npos) << err[0];
+  EXPECT_EQ(leftovers(dir.path()), std::vector<std::string>{});
+}
+
+TEST(Reference, CertifyRefusesATorqueOfTime) {
+  temp_dir dir;
+  write_file(dir.path() / "scene.toml", coefficient_scene);
+  expect_one_line_error(run(dir.path(), {"reference", "scene.toml", "--certify", "--out", "ref.csv"}), "--certify");
+  write_file(dir.path() / "scene.toml", piece_scene);
+  const run_result r = run(dir.path(), {"reference", "scene.toml", "--certify", "--out", "ref.csv"});
+  expect_one_line_error(r, "changes with the time");
+  EXPECT_EQ(leftovers(dir.path()), std::vector<std::string>{});
 }
 
 }  // namespace

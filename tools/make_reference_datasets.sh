@@ -28,6 +28,10 @@ for scene in data/scenes/hard/*.toml; do
   name=$(basename "$scene" .toml)
   datasets+=("$name|$scene|--samples 501")
 done
+# The published test problems (docs/test-problems.md), at their scenes' own samples.
+for scene in data/scenes/problems/*.toml; do
+  datasets+=("$(basename "$scene" .toml)|$scene|")
+done
 
 for entry in "${datasets[@]}"; do
   IFS='|' read -r name scene flags <<<"$entry"

@@ -31,7 +31,7 @@ wp_grid grid_of(const scene& s, std::size_t samples, const grid_flags& f, const 
   g.forms = chosen_formulations(f.formulations, {}, {all_formulations.begin(), all_formulations.end()});
   g.methods = chosen_methods(f.methods, {}, {rk::all_methods.begin(), rk::all_methods.end()}, steps, tols);
   g.make_cases();
-  probe_formulations(g.forms, to_problem<double>(s),
+  probe_formulations(g.forms, s,
                      steps ? g.steps.front().choice.h : std::min(g.max_step.h, tau_end_of<double>(s)));
   return g;
 }
@@ -52,7 +52,7 @@ std::string timing_text(const wp_run_options& o) {
 }
 
 scene work_precision_scene(const std::optional<std::string>& path, const scene_override_flags& flags, wp_job& job) {
-  scene s = path ? load_scene_file(*path) : load_default_scene();
+  scene s = load_scene(path);
   // Error samples are step points of each run, about --samples of them; the scene's own sample
   // times and count are for `reference` and do not apply.
   s.times.clear();

@@ -15,6 +15,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <variant>
@@ -36,6 +37,24 @@ inline void require_certifiable(const scene& s, const eulervop::precision& p) {
     throw input_error(
         "--certify: precision double is not certified (its reference is the double run's own "
         "rounding); use quad or mpfr:BITS");
+  if (s.has_torque_law())
+    throw input_error(fmt::format(
+        "--certify: scene {} has a torque that changes with {} (a formula or pieces), which is not certified yet; "
+        "only a constant torque is",
+        s.name, torque_kind_of(s) == torque_kind::of_state ? "the state" : "the time"));
+  const auto formula_in = [](const std::optional<eulervop::scene::decimal3>& v) {
+    return v && std::any_of(v->begin(), v->end(), [](const decimal& d) { return d.formula != nullptr; });
+  };
+  const auto* rates = std::get_if<eulervop::scene::initial_rates>(&s.initial);
+  if (formula_in(s.inertia) || (rates && formula_in(rates->rates)))
+    throw input_error(fmt::format(
+        "--certify: scene {} gives a number as a formula ([body] inertia or [initial]), which is not enclosed; "
+        "give decimals",
+        s.name));
+  if (s.is_coefficient_form())
+    throw input_error(fmt::format(
+        "--certify: scene {} is in the coefficient form ([equations] a), which is not certified; only Eq. 5 is",
+        s.name));
   if (uses_direct_form(s))
     throw input_error(fmt::format(
         "--certify: scene {} has (nearly) equal moments of inertia and is integrated in the direct form of "

@@ -2,9 +2,8 @@
 
 namespace eulervop {
 
-template run_result run_fixed<euler_problem<double>>(formulation, rk::method, const euler_problem<double>&,
-                                                     const fixed_run_settings&);
-template run_result run_adaptive<euler_problem<double>>(formulation, rk::method, const euler_problem<double>&,
-                                                        const adaptive_run_settings&);
+EULERVOP_COMPARISON_RUNS(, constant_torque<double>)
+EULERVOP_COMPARISON_RUNS(, time_torque<double>)
+EULERVOP_COMPARISON_RUNS(, state_torque<double>)
 
 }  // namespace eulervop

@@ -11,10 +11,10 @@
 
 namespace eulervop::app {
 
-void probe_formulations(const std::vector<formulation>& forms, const euler_problem<double>& problem, double h) {
+void probe_formulations(const std::vector<formulation>& forms, const scene& s, double h) {
   for (formulation f : forms) {
     try {
-      (void)run_fixed(f, rk::method::rk4, problem, fixed_run_settings{h, 1, 1});
+      with_problem<double>(s, [&](const auto& problem) { (void)run_fixed(f, rk::method::rk4, problem, fixed_run_settings{h, 1, 1}); });
     } catch (const std::domain_error& e) {
       throw input_error(
           fmt::format("formulation {} cannot start from this scene: {} (leave it out with --formulations)",

@@ -4,12 +4,12 @@
 
 namespace eulervop::app {
 
-template <scalar T>
-dense_reference<T> integrate_dense(const euler_problem<T>& problem, const T& tau_end,
+template <scalar T, class Torque>
+dense_reference<T> integrate_dense(const euler_problem<T, Torque>& problem, const T& tau_end,
                                    const picard_settings& settings, const std::string& label) {
   dense_reference<T> out;
   out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
-    out.trajectory = integrate_reference<T>(problem, tau_end, settings, progress, &out.stats);
+    out.trajectory = integrate_reference(problem, tau_end, settings, progress, &out.stats);
   });
   return out;
 }
@@ -19,13 +19,13 @@ dense_reference<T> integrate_dense(const euler_problem<T>& problem, const T& tau
 // and keeping nothing (only the latest segment): memory beyond the caller's times grows with
 // neither the span nor the samples. A non-finite sample is a numerical_failure at its tau. The
 // wall time includes `on_sample`.
-template <scalar T>
-reference_run integrate_streaming(const euler_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
+template <scalar T, class Torque>
+reference_run integrate_streaming(const euler_problem<T, Torque>& problem, const T& tau_end, const std::vector<T>& taus,
                                   const picard_settings& settings, const std::string& label,
                                   const sample_function<T>& on_sample, const segment_sink<T>& after_segment) {
   reference_run out;
   out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
-    integrate_reference_samples<T>(
+    integrate_reference_samples(
         problem, tau_end, taus,
         [&](std::size_t index, const T& tau, const vec3<T>& Om) { on_sample(index, require_finite(Om, tau)); },
         settings, progress, &out.stats, after_segment);
@@ -34,8 +34,8 @@ reference_run integrate_streaming(const euler_problem<T>& problem, const T& tau_
 }
 
 // The same, keeping the samples: memory grows with the samples, not with the span.
-template <scalar T>
-sampled_reference<T> integrate_and_sample(const euler_problem<T>& problem, const T& tau_end,
+template <scalar T, class Torque>
+sampled_reference<T> integrate_and_sample(const euler_problem<T, Torque>& problem, const T& tau_end,
                                           const std::vector<T>& taus, const picard_settings& settings,
                                           const std::string& label) {
   sampled_reference<T> out;
@@ -49,8 +49,8 @@ sampled_reference<T> integrate_and_sample(const euler_problem<T>& problem, const
 
 // The same for times in any order: streamed when they do not decrease, else evaluated from the
 // dense output, which keeps every segment (memory grows with the span).
-template <scalar T>
-reference_run integrate_at(const euler_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
+template <scalar T, class Torque>
+reference_run integrate_at(const euler_problem<T, Torque>& problem, const T& tau_end, const std::vector<T>& taus,
                            const picard_settings& settings, const std::string& label,
                            const sample_function<T>& on_sample) {
   if (std::is_sorted(taus.begin(), taus.end()))
@@ -60,19 +60,24 @@ reference_run integrate_at(const euler_problem<T>& problem, const T& tau_end, co
   return {ref.stats, ref.wall_seconds};
 }
 
-#define EULERVOP_REFERENCE_COMPUTE(T)                                                                  \
-  template dense_reference<T> integrate_dense<T>(const euler_problem<T>&, const T&, const picard_settings&,      \
-                                                 const std::string&);                                           \
-  template reference_run integrate_streaming<T>(const euler_problem<T>&, const T&, const std::vector<T>&,       \
-                                                const picard_settings&, const std::string&,                     \
-                                                const sample_function<T>&, const segment_sink<T>&);             \
-  template sampled_reference<T> integrate_and_sample<T>(const euler_problem<T>&, const T&, const std::vector<T>&, \
-                                                        const picard_settings&, const std::string&);            \
-  template reference_run integrate_at<T>(const euler_problem<T>&, const T&, const std::vector<T>&,              \
-                                         const picard_settings&, const std::string&, const sample_function<T>&);
-EULERVOP_REFERENCE_COMPUTE(double)
-EULERVOP_REFERENCE_COMPUTE(quad)
-EULERVOP_REFERENCE_COMPUTE(mpfr_real)
+#define EULERVOP_REFERENCE_COMPUTE(T, G)                                                                         \
+  template dense_reference<T> integrate_dense(const euler_problem<T, G>&, const T&, const picard_settings&,         \
+                                              const std::string&);                                               \
+  template reference_run integrate_streaming(const euler_problem<T, G>&, const T&, const std::vector<T>&,          \
+                                             const picard_settings&, const std::string&, const sample_function<T>&, \
+                                             const segment_sink<T>&);                                             \
+  template sampled_reference<T> integrate_and_sample(const euler_problem<T, G>&, const T&, const std::vector<T>&,  \
+                                                     const picard_settings&, const std::string&);                 \
+  template reference_run integrate_at(const euler_problem<T, G>&, const T&, const std::vector<T>&,                 \
+                                      const picard_settings&, const std::string&, const sample_function<T>&);
+#define EULERVOP_REFERENCE_COMPUTE_ALL(T)        \
+  EULERVOP_REFERENCE_COMPUTE(T, constant_torque<T>) \
+  EULERVOP_REFERENCE_COMPUTE(T, time_torque<T>)     \
+  EULERVOP_REFERENCE_COMPUTE(T, state_torque<T>)
+EULERVOP_REFERENCE_COMPUTE_ALL(double)
+EULERVOP_REFERENCE_COMPUTE_ALL(quad)
+EULERVOP_REFERENCE_COMPUTE_ALL(mpfr_real)
+#undef EULERVOP_REFERENCE_COMPUTE_ALL
 #undef EULERVOP_REFERENCE_COMPUTE
 
 }  // namespace eulervop::app

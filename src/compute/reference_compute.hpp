@@ -3,8 +3,9 @@
 // advance as the segments are accepted (or keep the dense output, where the times are not known
 // in advance). Shared by `reference`, `report`, `check` and the grids of `sweep` and `map`.
 //
-// The integrations are compiled once, in reference_compute.cpp, for double, quad and MPFR: the
-// commands that call them do not instantiate the integrator again.
+// The integrations are compiled once, in reference_compute.cpp, for double, quad and MPFR and
+// for each kind of torque (constant, of time, of time and state: scene_problem.hpp's
+// with_problem): the commands that call them do not instantiate the integrator again.
 #pragma once
 
 #include "io/progress_line.hpp"
@@ -14,6 +15,7 @@
 #include <eulervop/core/numerical_failure.hpp>
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/model/euler_problem.hpp>
+#include <eulervop/model/expression_torque.hpp>
 #include <eulervop/reference/dense_trajectory.hpp>
 #include <eulervop/reference/segment_sampler.hpp>
 #include <eulervop/reference/settings.hpp>
@@ -63,8 +65,8 @@ double run_with_progress(const std::string& label, double total, Integrate&& int
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-template <scalar T>
-dense_reference<T> integrate_dense(const euler_problem<T>& problem, const T& tau_end,
+template <scalar T, class Torque>
+dense_reference<T> integrate_dense(const euler_problem<T, Torque>& problem, const T& tau_end,
                                    const picard_settings& settings, const std::string& label);
 
 // A sample at `tau`, checked: a non-finite value is a numerical_failure there, so that no NaN is
@@ -98,21 +100,21 @@ using sample_function = std::function<void(std::size_t index, const vec3<T>& Ome
 // and keeping nothing (only the latest segment): memory beyond the caller's times grows with
 // neither the span nor the samples. A non-finite sample is a numerical_failure at its tau. The
 // wall time includes `on_sample`.
-template <scalar T>
-reference_run integrate_streaming(const euler_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
+template <scalar T, class Torque>
+reference_run integrate_streaming(const euler_problem<T, Torque>& problem, const T& tau_end, const std::vector<T>& taus,
                                   const picard_settings& settings, const std::string& label,
                                   const sample_function<T>& on_sample, const segment_sink<T>& after_segment = {});
 
 // The same, keeping the samples: memory grows with the samples, not with the span.
-template <scalar T>
-sampled_reference<T> integrate_and_sample(const euler_problem<T>& problem, const T& tau_end,
+template <scalar T, class Torque>
+sampled_reference<T> integrate_and_sample(const euler_problem<T, Torque>& problem, const T& tau_end,
                                           const std::vector<T>& taus, const picard_settings& settings,
                                           const std::string& label);
 
 // The same for times in any order: streamed when they do not decrease, else evaluated from the
 // dense output, which keeps every segment (memory grows with the span).
-template <scalar T>
-reference_run integrate_at(const euler_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
+template <scalar T, class Torque>
+reference_run integrate_at(const euler_problem<T, Torque>& problem, const T& tau_end, const std::vector<T>& taus,
                            const picard_settings& settings, const std::string& label,
                            const sample_function<T>& on_sample);
 

@@ -8,6 +8,10 @@
 #include <eulervop/scene/scene.hpp>
 #include <eulervop/scene/scene_problem.hpp>
 
+#include <iostream>
+#include <optional>
+#include <string>
+
 namespace eulervop::app {
 
 using eulervop::scene::decimal;
@@ -25,7 +29,19 @@ using eulervop::scene::scene;
 using eulervop::scene::scene_limits;
 using eulervop::scene::step_spec;
 using eulervop::scene::tau_end_of;
+using eulervop::scene::initial_state_of;
 using eulervop::scene::to_problem;
+using eulervop::scene::torque_kind;
+using eulervop::scene::torque_kind_of;
+using eulervop::scene::with_problem;
 using eulervop::scene::uses_direct_form;
+
+// The scene a command works on: the file, or the embedded default. Its notes (what the user
+// should know but is no error, scene.hpp) go to standard error, one "note:" line each.
+inline scene load_scene(const std::optional<std::string>& path) {
+  scene s = path ? load_scene_file(*path) : load_default_scene();
+  for (const std::string& note : s.notes) std::cerr << "note: scene " << s.name << ": " << note << "\n";
+  return s;
+}
 
 }  // namespace eulervop::app

@@ -13,13 +13,17 @@ namespace eulervop::app {
 fixed_step_choice step_length(const scene& s, const step_spec& spec, const std::string& origin) {
   fixed_step_choice out;
   if (spec.K_divisor) {
+    if (s.is_coefficient_form())
+      throw input_error(fmt::format("{}: K/N needs the modulus of Eq. 5, and this scene is in the coefficient form "
+                                    "([equations]); give the step in t",
+                                    origin));
     if (uses_direct_form(s))
       throw input_error(
           fmt::format("{}: K/N needs the modulus of Eq. 5, and this body is integrated in the direct form "
                       "of Eq. 1 (two moments are equal or nearly so); give the step in seconds",
                       origin));
     const auto N = static_cast<double>(*spec.K_divisor);
-    const vec3<double> Om = to_problem<double>(s).Omega0;
+    const vec3<double> Om = initial_state_of<double>(s);
     const double c1 = std::hypot(Om[0], Om[1]), c2 = std::hypot(Om[1], Om[2]);
     if (!(c1 > 0 || c2 > 0))
       throw input_error(fmt::format("{}: K/N needs a rotating initial state (Omega(0) = 0); give the step as a number",

@@ -45,13 +45,15 @@ verify_result verify_in(const scene& s, const Lo& tau_end, const std::vector<Lo>
   for (const Lo& t : taus) wide_taus.push_back(widen<Hi>(t));
   // Compared as they come: the wide samples are not kept.
   Hi worst = 0;
-  const reference_run run = integrate_streaming<Hi>(
-      to_problem<Hi>(s), widen<Hi>(tau_end), wide_taus, picard_settings{}, "verify",
-      [&](std::size_t i, const vec3<Hi>& ref) {
-        const vec3<Hi> narrow = {widen<Hi>(Omega[i][0]), widen<Hi>(Omega[i][1]), widen<Hi>(Omega[i][2])};
-        const Hi err = eq20_error(ref, narrow);
-        if (err > worst) worst = err;
-      });
+  const reference_run run = with_problem<Hi>(s, [&](const auto& problem) {
+    return integrate_streaming<Hi>(problem, widen<Hi>(tau_end), wide_taus, picard_settings{}, "verify",
+                               [&](std::size_t i, const vec3<Hi>& ref) {
+                                 const vec3<Hi> narrow = {widen<Hi>(Omega[i][0]), widen<Hi>(Omega[i][1]),
+                                                          widen<Hi>(Omega[i][2])};
+                                 const Hi err = eq20_error(ref, narrow);
+                                 if (err > worst) worst = err;
+                               });
+  });
   return {decimal{three_digits(worst), static_cast<double>(worst)}, wide, method_text(picard_settings{}, run.stats),
           run.wall_seconds};
 }

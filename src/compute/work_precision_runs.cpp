@@ -19,7 +19,8 @@ namespace eulervop::app {
 
 namespace {
 
-wp_result run_case(const wp_grid& g, const wp_case& c, const euler_problem<double>& problem, int repeat) {
+template <class Problem>
+wp_result run_case(const wp_grid& g, const wp_case& c, const Problem& problem, int repeat) {
   wp_result out;
   for (int k = 0; k < repeat; ++k) {
     run_result r;
@@ -42,6 +43,12 @@ wp_result run_case(const wp_grid& g, const wp_case& c, const euler_problem<doubl
     }
   }
   return out;
+}
+
+// The case's runs on the grid's problem, which each task builds for itself (a torque given by
+// formulas keeps scratch space for its evaluation: tasks run on several threads).
+wp_result run_case(const wp_grid& g, const wp_case& c, int repeat) {
+  return with_problem<double>(g.scn, [&](const auto& problem) { return run_case(g, c, problem, repeat); });
 }
 
 // Work for the scheduler's order only (longest first keeps the workers evenly loaded).
@@ -80,23 +87,17 @@ void measure(const wp_grid& g, const wp_case& c, const dense_trajectory<T>& ref,
 // The reference of one grid, to the end of its longest run.
 template <scalar T>
 dense_reference<T> grid_reference(const wp_grid& g, const picard_settings& settings, wp_outcome& out) {
-  const euler_problem<T> problem = to_problem<T>(g.scn);
   T tau_end = tau_end_of<T>(g.scn);
   for (const ladder_step& st : g.steps) {  // within the 1e-9 h slack of n_steps
     const T last = tau_of_step<T>(st.choice.n_steps, st.choice.h);
     if (last > tau_end) tau_end = last;
   }
-  dense_reference<T> ref = integrate_dense<T>(problem, tau_end, settings, "");
+  dense_reference<T> ref = with_problem<T>(
+      g.scn, [&](const auto& problem) { return integrate_dense<T>(problem, tau_end, settings, ""); });
   out.reference_seconds = ref.wall_seconds;
   out.reference_segments = ref.stats.segments;
   out.reference_tau_end = static_cast<double>(tau_end);
   return ref;
-}
-
-std::vector<euler_problem<double>> problems_of(const std::vector<wp_grid>& grids) {
-  std::vector<euler_problem<double>> problems;
-  for (const wp_grid& g : grids) problems.push_back(to_problem<double>(g.scn));
-  return problems;
 }
 
 std::vector<wp_outcome> outcomes_for(const std::vector<wp_grid>& grids) {
@@ -111,7 +112,6 @@ std::vector<wp_outcome> run_all(const std::vector<wp_grid>& grids, const eulervo
                                 const picard_settings& settings, const wp_run_options& o) {
   std::vector<wp_outcome> out = outcomes_for(grids);
   std::vector<dense_reference<T>> refs(grids.size());
-  const std::vector<euler_problem<double>> problems = problems_of(grids);
 
   // The references first (they are the longest), then every case, longest first.
   std::vector<std::function<void()>> tasks;
@@ -128,7 +128,7 @@ std::vector<wp_outcome> run_all(const std::vector<wp_grid>& grids, const eulervo
   });
   for (const auto& [gi, ci] : order)
     tasks.emplace_back([&, gi = gi, ci = ci] {
-      out[gi].results[ci] = run_case(grids[gi], grids[gi].cases[ci], problems[gi], o.repeat);
+      out[gi].results[ci] = run_case(grids[gi], grids[gi].cases[ci], o.repeat);
     });
   run_tasks(tasks, o.jobs, o.progress_label);
 
@@ -170,8 +170,7 @@ std::vector<ladder> ladders_of(const std::vector<wp_grid>& grids) {
 // Runs a ladder's rungs from loose to tight, measuring each at once, and stops at the first
 // that reaches o.stop_below: the rest are marked skipped.
 template <scalar T>
-void run_ladder(const wp_grid& g, const ladder& l, const euler_problem<double>& problem,
-                const dense_trajectory<T>& ref, const eulervop::precision& p, const wp_run_options& o,
+void run_ladder(const wp_grid& g, const ladder& l, const dense_trajectory<T>& ref, const eulervop::precision& p, const wp_run_options& o,
                 wp_outcome& out) {
   bool reached = false;
   for (std::size_t ci : l.cases) {
@@ -182,7 +181,7 @@ void run_ladder(const wp_grid& g, const ladder& l, const euler_problem<double>& 
       r.run.method = g.cases[ci].method;
       continue;
     }
-    r = run_case(g, g.cases[ci], problem, o.repeat);
+    r = run_case(g, g.cases[ci], o.repeat);
     mpfr_scope_on_this_thread(p, [&] { measure<T>(g, g.cases[ci], ref, r); });
     reached = r.max_error && *r.max_error <= *o.stop_below;
   }
@@ -233,7 +232,6 @@ std::vector<wp_outcome> run_ladders(const std::vector<wp_grid>& grids, const eul
                                     const picard_settings& settings, const wp_run_options& o) {
   std::vector<wp_outcome> out = outcomes_for(grids);
   std::vector<dense_reference<T>> refs(grids.size());
-  const std::vector<euler_problem<double>> problems = problems_of(grids);
   reference_gate gate(grids.size());
   std::vector<std::function<void()>> tasks;
   for (std::size_t gi = 0; gi < grids.size(); ++gi)
@@ -245,7 +243,7 @@ std::vector<wp_outcome> run_ladders(const std::vector<wp_grid>& grids, const eul
   for (const ladder& l : ladders_of(grids))
     tasks.emplace_back([&, l] {
       gate.wait(l.grid);
-      run_ladder<T>(grids[l.grid], l, problems[l.grid], refs[l.grid].trajectory, p, o, out[l.grid]);
+      run_ladder<T>(grids[l.grid], l, refs[l.grid].trajectory, p, o, out[l.grid]);
     });
   run_tasks(tasks, o.jobs, o.progress_label);
   gate.rethrow();

@@ -69,6 +69,8 @@ reference_metadata metadata_of(const csv_rows& rows) {
       m.certified_max_error_omega = non_negative("certified_max_error_omega", *co);
     } else if (auto cm = value("certify_method")) {
       m.certify_method = *cm;
+    } else if (auto note = value("note")) {
+      m.notes.push_back(*note);
     } else if (l.starts_with("# scene_text:")) {
       std::string_view text = std::string_view(l).substr(13);
       if (text.starts_with(" ")) text.remove_prefix(1);
@@ -91,6 +93,7 @@ std::string precision_text(const eulervop::precision& p) {
 }
 
 reference_layout reference_layout_of(const scene& s) {
+  if (s.is_coefficient_form()) return reference_layout::coefficient;
   if (uses_direct_form(s)) return reference_layout::direct;
   return s.is_physical() ? reference_layout::physical : reference_layout::normalized;
 }
@@ -120,6 +123,7 @@ std::string reference_csv_header(const reference_metadata& m, reference_layout l
     if (m.certified_max_error_omega) line("# certified_max_error_omega: {}", m.certified_max_error_omega->text);
     line("# certify_method: {}", m.certify_method);
   }
+  for (const std::string& note : m.notes) line("# note: {}", note);
   std::istringstream scene_lines(m.scene_text);
   for (std::string l; std::getline(scene_lines, l);) {
     if (!l.empty() && l.back() == '\r') l.pop_back();
@@ -133,6 +137,7 @@ std::string reference_csv_header(const reference_metadata& m, reference_layout l
       line("tau,Omega1,Omega2,Omega3,t,omega1,omega2,omega3{}", m.certified_max_error ? ",radius,radius_omega" : "");
       break;
     case reference_layout::direct: line("t,omega1,omega2,omega3"); break;
+    case reference_layout::coefficient: line("t,y1,y2,y3"); break;
   }
   return fmt::to_string(out);
 }
@@ -150,7 +155,7 @@ void reference_csv_row_writer::flush() {
 
 reference_csv_reader::reference_csv_reader(std::istream& in, std::string where)
     : rows_(in, std::move(where)), meta_(metadata_of(rows_)) {
-  const char* state = rows_.column("Omega1") || !rows_.column("omega1") ? "Omega" : "omega";
+  const char* state = rows_.column("Omega1") ? "Omega" : rows_.column("omega1") ? "omega" : rows_.column("y1") ? "y" : "Omega";
   for (int k = 0; k < 3; ++k) Omega_[k] = column(fmt::format("{}{}", state, k + 1));
 }
 

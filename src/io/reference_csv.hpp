@@ -23,6 +23,7 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 namespace eulervop::app {
 
@@ -42,6 +43,7 @@ struct reference_metadata {
   std::optional<decimal> certified_max_error;    // # certified_max_error (--certify; rows then carry `radius`)
   std::optional<decimal> certified_max_error_omega;  // # certified_max_error_omega (physical scenes, rad/s)
   std::string certify_method;                    // # certify_method (with --certify)
+  std::vector<std::string> notes;                // # note lines (the scene's notes)
   std::string scene_text;                        // # scene_text lines, each ending in '\n'
 
   // The precision to read the rows in: double values are exact in quad, MPFR at its bits.
@@ -51,9 +53,10 @@ struct reference_metadata {
 // "mpfr:256 (effective_bits=257)": the precision as the metadata states it.
 std::string precision_text(const eulervop::precision& p);
 
-// The columns of a reference file: tau and Omega; then t and omega for a physical scene; or t and
-// omega alone for a body integrated in the direct form of Eq. 1, which has no tau or Omega.
-enum class reference_layout { normalized, physical, direct };
+// The columns of a reference file: tau and Omega; then t and omega for a physical scene; t and
+// omega alone for a body integrated in the direct form of Eq. 1, which has no tau or Omega; t and
+// y for a scene in the coefficient form.
+enum class reference_layout { normalized, physical, direct, coefficient };
 
 // The layout of the scene's reference file: the one place that decides it.
 reference_layout reference_layout_of(const scene& s);

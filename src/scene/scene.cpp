@@ -1,5 +1,7 @@
 #include <eulervop/scene/scene.hpp>
 
+#include "scene_reader.hpp"
+
 #include <default_scene.hpp>
 
 #include <fmt/format.h>
@@ -7,190 +9,15 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <charconv>
-#include <cmath>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
-#include <initializer_list>
-#include <limits>
 #include <sstream>
 
 namespace eulervop::scene {
 
-namespace {
-
-// Longest value text quoted in a message before it is shortened.
-constexpr std::size_t max_quoted_chars = 60;
-
-std::string shorten(std::string text) {
-  for (char& c : text)
-    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
-  if (text.size() > max_quoted_chars) text = text.substr(0, max_quoted_chars - 3) + "...";
-  return text;
-}
-
-// Reads one parsed TOML document into a scene, remembering the source text so numbers keep
-// their exact decimal spelling (toml++ gives us only the double).
-class scene_reader {
- public:
-  scene_reader(std::string_view text, std::string origin) : text_(text), origin_(std::move(origin)) {
-    line_starts_.push_back(0);
-    for (std::size_t i = 0; i < text_.size(); ++i)
-      if (text_[i] == '\n') line_starts_.push_back(i + 1);
-  }
-
-  scene read();
-
- private:
-  // ---- messages ----------------------------------------------------------------------------
-  [[noreturn]] void fail(std::string_view what) const {
-    throw input_error(fmt::format("scene {}: {}", origin_, what));
-  }
-  // "scene x.toml:12:11: [span] tau_end = -1: must be positive"
-  [[noreturn]] void fail_value(const toml::node& node, std::string_view field, std::string_view why) const {
-    throw input_error(fmt::format("scene {}{}: {} = {}: {}", origin_, where(node), field, quoted(node), why));
-  }
-  [[noreturn]] void fail_at(const toml::node& node, std::string_view what) const {
-    throw input_error(fmt::format("scene {}{}: {}", origin_, where(node), what));
-  }
-
-  std::string where(const toml::node& node) const {
-    const auto& b = node.source().begin;
-    if (b.line == 0) return {};
-    return fmt::format(":{}:{}", b.line, b.column);
-  }
-
-  // The value as the user wrote it (numbers and other one-line values), else as toml++ formats it.
-  std::string quoted(const toml::node& node) const {
-    if (node.is_number()) {
-      if (auto token = token_at(node); !token.empty()) return shorten(std::string(token));
-    }
-    std::ostringstream out;
-    if (auto s = node.as_string()) {
-      return shorten(fmt::format("{:?}", s->get()));  // double-quoted, escaped as in TOML
-    } else if (auto a = node.as_array()) {
-      out << toml::toml_formatter(*a);
-    } else if (node.is_table()) {
-      return "(a table)";
-    } else {
-      node.visit([&](const auto& v) { out << v; });
-    }
-    return shorten(out.str());
-  }
-
-  // ---- exact decimal text ----------------------------------------------------------------
-  // The number token starting at the node's source position. toml++ counts columns in code
-  // points, so the byte offset is found by walking the line's UTF-8.
-  std::string_view token_at(const toml::node& node) const {
-    const auto& b = node.source().begin;
-    if (b.line == 0 || b.line > line_starts_.size()) return {};
-    std::size_t i = line_starts_[b.line - 1];
-    for (std::size_t col = 1; col < b.column && i < text_.size() && text_[i] != '\n'; ++col) {
-      ++i;
-      while (i < text_.size() && (static_cast<unsigned char>(text_[i]) & 0xC0) == 0x80) ++i;
-    }
-    std::size_t j = i;
-    while (j < text_.size() && (std::isalnum(static_cast<unsigned char>(text_[j])) || text_[j] == '_' ||
-                                text_[j] == '+' || text_[j] == '-' || text_[j] == '.'))
-      ++j;
-    return text_.substr(i, j - i);
-  }
-
-  // A finite number (TOML float or integer) as exact decimal text.
-  decimal number(const toml::node& node, std::string_view field) const {
-    if (auto i = node.as_integer()) return decimal_from_integer(i->get());
-    auto f = node.as_floating_point();
-    if (!f) fail_value(node, field, "must be a number");
-    const double v = f->get();
-    if (!std::isfinite(v)) fail_value(node, field, "must be finite");
-    // Prefer the source token; if it cannot be found or does not denote this double (which
-    // would mean the position mapping went wrong), fall back to the shortest round-trip text,
-    // which is what the user typed whenever that had at most 15 significant digits.
-    const auto parsed = parse_decimal(token_at(node), /*allow_underscores=*/true);
-    if (parsed.number && parsed.number->value == v) return *parsed.number;
-    return decimal_from_double(v);
-  }
-
-  decimal positive_number(const toml::node& node, std::string_view field) const {
-    decimal d = number(node, field);
-    if (!(d.value > 0)) fail_value(node, field, "must be positive");
-    return d;
-  }
-
-  decimal3 number3(const toml::node& node, std::string_view field) const {
-    auto a = node.as_array();
-    if (!a || a->size() != 3) fail_value(node, field, "must be an array of 3 numbers");
-    return {number((*a)[0], field), number((*a)[1], field), number((*a)[2], field)};
-  }
-
-  std::int64_t integer(const toml::node& node, std::string_view field) const {
-    auto i = node.as_integer();
-    if (!i) fail_value(node, field, "must be an integer");
-    return i->get();
-  }
-
-  std::string string(const toml::node& node, std::string_view field) const {
-    auto s = node.as_string();
-    if (!s) fail_value(node, field, "must be a string");
-    return s->get();
-  }
-
-  // A list of names drawn from `allowed`, without repeats.
-  template <std::size_t N>
-  std::vector<std::string> name_list(const toml::node& node, std::string_view field,
-                                     const std::array<std::string_view, N>& allowed) const {
-    auto a = node.as_array();
-    if (!a) fail_value(node, field, "must be an array of strings");
-    if (a->empty()) fail_value(node, field, "must not be empty");
-    std::vector<std::string> names;
-    for (const auto& item : *a) {
-      std::string name = string(item, field);
-      if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
-        fail_value(item, field, fmt::format("unknown name (expected one of: {})", fmt::join(allowed, ", ")));
-      if (std::find(names.begin(), names.end(), name) != names.end())
-        fail_value(item, field, "listed twice");
-      names.push_back(std::move(name));
-    }
-    return names;
-  }
-
-  // ---- structure ---------------------------------------------------------------------------
-  // Rejects keys other than `allowed` in `table`: a misspelt key must not be silently ignored.
-  void only_keys(const toml::table& table, std::string_view table_name,
-                 std::initializer_list<std::string_view> allowed) const {
-    for (const auto& [key, node] : table) {
-      if (std::find(allowed.begin(), allowed.end(), key.str()) != allowed.end()) continue;
-      const std::string where_text = table_name.empty() ? "at top level" : fmt::format("in {}", table_name);
-      const auto& at = key.source().begin;
-      const std::string key_where = at.line ? fmt::format(":{}:{}", at.line, at.column) : where(node);
-      throw input_error(fmt::format("scene {}{}: unknown key `{}` {} (expected one of: {})", origin_,
-                                    key_where, shorten(std::string(key.str())), where_text,
-                                    fmt::join(allowed, ", ")));
-    }
-  }
-
-  // An optional sub-table; a key holding anything but a table is a type error.
-  const toml::table* table(const toml::table& root, std::string_view key) const {
-    const toml::node* node = root.get(key);
-    if (!node) return nullptr;
-    auto t = node->as_table();
-    if (!t) fail_value(*node, fmt::format("[{}]", key), "must be a table");
-    return t;
-  }
-
-  void read_body(const toml::table& root, scene& s) const;
-  void read_torque(const toml::table& root, scene& s) const;
-  void read_initial(const toml::table& root, scene& s) const;
-  void read_span(const toml::table& root, scene& s) const;
-  void read_run(const toml::table& root, scene& s) const;
-  void read_reference(const toml::table& root, scene& s) const;
-
-  std::string_view text_;
-  std::string origin_;
-  std::vector<std::size_t> line_starts_;
-};
+namespace detail {
 
 scene scene_reader::read() {
   toml::table root;
@@ -202,7 +29,7 @@ scene scene_reader::read() {
                                   e.description()));
   }
   if (root.empty()) fail("empty scene (required field `name` is missing)");
-  only_keys(root, "", {"name", "description", "body", "torque", "initial", "span", "run", "reference"});
+  only_keys(root, "", {"name", "description", "body", "equations", "torque", "initial", "span", "run", "reference"});
 
   scene s;
   s.origin = origin_;
@@ -217,6 +44,7 @@ scene scene_reader::read() {
   if (const toml::node* d = root.get("description")) s.description = string(*d, "description");
 
   read_body(root, s);
+  read_equations(root, s);
   read_torque(root, s);
   read_initial(root, s);
   read_span(root, s);
@@ -227,64 +55,61 @@ scene scene_reader::read() {
 
 // [body] inertia = [I1, I2, I3]: positive, in any order (the axes are mapped onto the principal
 // order, principal_axes.hpp), equal or not (equal and nearly equal moments are integrated in the
-// direct form, scene_problem.hpp), and a rigid body's: the two smaller moments sum to at least
-// the largest.
+// direct form, scene_problem.hpp). Moments whose two smaller sum to less than the largest belong
+// to no rigid body, but Euler's equations are well defined for them (published test problems use
+// such moments): they are integrated, with a note.
 void scene_reader::read_body(const toml::table& root, scene& s) const {
   const toml::table* body = table(root, "body");
   if (!body) return;
   only_keys(*body, "[body]", {"inertia"});
   const toml::node* inertia = body->get("inertia");
   if (!inertia) fail_at(*body, "[body]: required field `inertia` is missing");
-  decimal3 I = number3(*inertia, "[body] inertia");
+  decimal3 I = constants3(*inertia, "[body] inertia");
   for (int i = 0; i < 3; ++i)
     if (!(I[i].value > 0)) fail_value(*inertia, "[body] inertia", fmt::format("I{} must be positive", i + 1));
   std::array<double, 3> sorted = {I[0].value, I[1].value, I[2].value};
   std::sort(sorted.begin(), sorted.end());
   if (sorted[0] + sorted[1] < sorted[2])
-    fail_value(*inertia, "[body] inertia",
-               "the two smaller moments sum to less than the largest, which no rigid body has");
+    s.notes.push_back(fmt::format("[body] inertia = [{}, {}, {}]: no rigid body has these moments (the two smaller sum "
+                                  "to less than the largest); Euler's equations are integrated all the same",
+                                  I[0].text, I[1].text, I[2].text));
   s.units = scene_units::physical;
   s.inertia = I;
-}
-
-void scene_reader::read_torque(const toml::table& root, scene& s) const {
-  const toml::table* torque = table(root, "torque");
-  if (!torque) return;  // torque-free
-  only_keys(*torque, "[torque]", {"G", "M"});
-  const toml::node* G = torque->get("G");
-  const toml::node* M = torque->get("M");
-  if (G && M) fail_at(*M, "[torque]: give G (normalized) or M (physical), not both");
-  if (s.is_physical() && G)
-    fail_at(*G, "[torque] G: a physical scene (one with [body]) takes its torque as M in N m");
-  if (!s.is_physical() && M)
-    fail_at(*M, "[torque] M: a physical torque needs [body] inertia (or give the normalized G)");
-  if (!G && !M) fail_at(*torque, "[torque]: give G or M, or omit the table for a torque-free scene");
-  s.torque = s.is_physical() ? number3(*M, "[torque] M") : number3(*G, "[torque] G");
 }
 
 void scene_reader::read_initial(const toml::table& root, scene& s) const {
   const toml::table* initial = table(root, "initial");
   if (!initial) fail("required table [initial] is missing");
-  only_keys(*initial, "[initial]", {"Omega", "c1", "c2", "u", "omega"});
+  only_keys(*initial, "[initial]", {"Omega", "c1", "c2", "u", "omega", "y"});
   const toml::node* Omega = initial->get("Omega");
   const toml::node* omega = initial->get("omega");
+  const toml::node* y = initial->get("y");
   const toml::node* c1 = initial->get("c1");
   const toml::node* c2 = initial->get("c2");
   const toml::node* u = initial->get("u");
   const bool any_elements = c1 || c2 || u;
 
+  if (s.is_coefficient_form()) {
+    if (Omega || omega || any_elements)
+      fail_at(Omega ? *Omega : omega ? *omega : c1 ? *c1 : c2 ? *c2 : *u,
+              "[initial]: a scene in the coefficient form ([equations]) gives its state as y = [y1, y2, y3]");
+    if (!y) fail_at(*initial, "[initial]: required field `y` is missing (coefficient form)");
+    s.initial = initial_rates{constants3(*y, "[initial] y")};
+    return;
+  }
+  if (y) fail_at(*y, "[initial] y: the state y belongs to the coefficient form, which needs [equations] a");
   if (s.is_physical()) {
     if (Omega) fail_at(*Omega, "[initial] Omega: a physical scene (one with [body]) gives omega in rad/s");
     if (any_elements)
       fail_at(c1 ? *c1 : c2 ? *c2 : *u, "[initial] c1, c2, u: a physical scene gives omega in rad/s");
     if (!omega) fail_at(*initial, "[initial]: required field `omega` is missing (physical scene)");
-    s.initial = initial_rates{number3(*omega, "[initial] omega")};
+    s.initial = initial_rates{constants3(*omega, "[initial] omega")};
     return;
   }
   if (omega) fail_at(*omega, "[initial] omega: physical rates need [body] inertia (or give the normalized Omega)");
   if (Omega && any_elements) fail_at(*Omega, "[initial]: give either Omega or c1, c2, u, not both");
   if (Omega) {
-    s.initial = initial_rates{number3(*Omega, "[initial] Omega")};
+    s.initial = initial_rates{constants3(*Omega, "[initial] Omega")};
     return;
   }
   if (!any_elements) fail_at(*initial, "[initial]: give Omega = [...] or c1, c2, u");
@@ -309,9 +134,11 @@ void scene_reader::read_span(const toml::table& root, scene& s) const {
   const toml::node* t_end = span->get("t_end");
   if (s.is_physical() && tau_end)
     fail_at(*tau_end, "[span] tau_end: a physical scene (one with [body]) gives t_end in s");
-  if (!s.is_physical() && t_end)
+  if (s.is_coefficient_form() && tau_end)
+    fail_at(*tau_end, "[span] tau_end: a scene in the coefficient form ([equations]) gives t_end");
+  if (s.units == scene_units::normalized && t_end)
     fail_at(*t_end, "[span] t_end: physical time needs [body] inertia (or give the normalized tau_end)");
-  const toml::node* end = s.is_physical() ? t_end : tau_end;
+  const toml::node* end = s.units == scene_units::normalized ? tau_end : t_end;
   const std::string end_field = fmt::format("[span] {}", s.span_key());
   if (!end) fail_at(*span, fmt::format("[span]: required field `{}` is missing", s.span_key()));
   s.span_end = positive_number(*end, end_field);
@@ -391,10 +218,10 @@ void scene_reader::read_reference(const toml::table& root, scene& s) const {
   }
 }
 
-}  // namespace
+}  // namespace detail
 
 scene parse_scene(std::string_view toml_text, std::string origin) {
-  return scene_reader(toml_text, std::move(origin)).read();
+  return detail::scene_reader(toml_text, std::move(origin)).read();
 }
 
 scene load_scene_file(const std::filesystem::path& path) {

@@ -12,11 +12,13 @@
 
 namespace eulervop {
 
-// what() is "numerical failure at tau=X: " and the outcome's text.
+// what() is "numerical failure at tau=X: " and the outcome's text, then ": " and `detail` when
+// one is given (what a formula torque evaluated to, and where: model/expression_torque.hpp).
 class numerical_failure : public std::runtime_error {
  public:
-  explicit numerical_failure(const outcome& status)
-      : std::runtime_error("numerical failure at tau=" + format_tau(status.tau) + ": " + describe(status)),
+  explicit numerical_failure(const outcome& status, const std::string& detail = {})
+      : std::runtime_error("numerical failure at tau=" + format_tau(status.tau) + ": " + describe(status) +
+                           (detail.empty() ? "" : ": " + detail)),
         status_(status) {}
   double tau() const { return status_.tau.value_or(std::numeric_limits<double>::quiet_NaN()); }
   const outcome& status() const { return status_; }

@@ -14,9 +14,16 @@
 //   add_jacobian(t, y, J): J[i][k] += d g_i / d y_k (only when it depends on the state);
 //   convert_torque<U>(torque), found by argument-dependent lookup: the same torque over U (the
 //   reference integrator evaluates its first residual in double).
+// A torque with breakpoints (piecewise_torque, expression_torque.hpp) also gives
+//   breakpoints() -> the increasing times where its formulas change;
+//   interval_at(t), pin(interval) const, unpin() const: the integrators end every segment and step
+//   at a breakpoint, and pin the interval they work in, so that a segment ending on a
+//   breakpoint sees the formulas of its own side there.
 #pragma once
 
 #include <eulervop/core/vec3.hpp>
+
+#include <cstddef>
 
 namespace eulervop {
 
@@ -30,6 +37,15 @@ struct torque_traits {
 // True when the torque is one vector for the whole run.
 template <class Torque>
 inline constexpr bool is_constant_torque_v = torque_traits<Torque>::is_constant;
+
+// A torque whose formulas change at breakpoints (see above).
+template <class Torque>
+concept piecewise_torque = requires(const Torque& g, std::size_t i) {
+  g.breakpoints();
+  g.interval_at(g.breakpoints().front());
+  g.pin(i);
+  g.unpin();
+};
 
 // A constant torque: the paper's case (Eq. 5 with constant G).
 template <class T>

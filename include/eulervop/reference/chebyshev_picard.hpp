@@ -92,6 +92,7 @@ class chebyshev_picard {
     st.tolerance = std::exp(tol_log_);
     work_.field = detail::euler_field<P>(problem);
     if (!(tau_end > problem.tau0)) throw std::invalid_argument("integrate_reference: tau_end must exceed tau0");
+    set_breakpoints(problem, tau_end);
     origin at{problem.Omega0, {}, problem.tau0};
     at.x_lo.fill(T(0));
     for (std::size_t i = 0; i < D; ++i)
@@ -150,9 +151,14 @@ class chebyshev_picard {
   // One attempt at the segment of the current length from `at`: true when it was accepted (and
   // `at` moved to its end), false when it was refused and the length shortened. Throws
   // numerical_failure when the length cannot shorten any more.
+  // A segment ends at the next breakpoint of the torque, if it would pass one, or at tau_end.
   bool next_segment(origin& at, const T& tau_end, detail::segment_length_control& length, bool have_previous,
                     bool& last, picard_stats& st) {
-    const T tau_b = segment_end(at.tau, tau_end, length.length(), last);
+    const bool to_break = next_break_ < breaks_.size();
+    bool reached = false;
+    const T tau_b = segment_end(at.tau, to_break ? breaks_[next_break_] : tau_end, length.length(), reached);
+    last = reached && !to_break;
+    work_.field.pin_at(at.tau);
     const T hl = (tau_b - at.tau) / 2;
     warm_start_(matrices_, have_previous ? &segment_ : nullptr, hl, work_.warm);
     outcome verdict = attempt_segment(at, hl, to_d(tau_b - at.tau), length, st);
@@ -163,15 +169,27 @@ class chebyshev_picard {
       return false;
     }
     accept_segment(at, tau_b, hl);
+    if (reached && to_break) ++next_break_;
     return true;
   }
 
-  // The end of the segment of length L from tau, in T; the last segment (`last`) ends exactly at
-  // tau_end, also when it would leave a sliver of less than L / 1000.
-  static T segment_end(const T& tau, const T& tau_end, double L, bool& last) {
+  // The end of the segment of length L from tau, in T; a segment that would reach `stop` (the end
+  // of the span or a breakpoint) ends exactly there (`reached`), also when it would leave a
+  // sliver of less than L / 1000.
+  static T segment_end(const T& tau, const T& stop, double L, bool& reached) {
     const T tau_b = tau + T(L);
-    last = !(tau_b < tau_end) || to_d(tau_end - tau_b) < 1e-3 * L;
-    return last ? tau_end : tau_b;
+    reached = !(tau_b < stop) || to_d(stop - tau_b) < 1e-3 * L;
+    return reached ? stop : tau_b;
+  }
+
+  // The torque's breakpoints inside (tau0, tau_end): every segment ends on the ones it meets, so
+  // that no segment interpolates across a change of formula (docs/design.md, "Breakpoints").
+  void set_breakpoints(const P& problem, const T& tau_end) {
+    breaks_.clear();
+    next_break_ = 0;
+    if constexpr (piecewise_torque<typename P::torque_type>)
+      for (const T& b : problem.torque.breakpoints())
+        if (b > problem.tau0 && b < tau_end) breaks_.push_back(b);
   }
 
   // The first segment length: from the settings, or half a turn of the fastest rate in sight
@@ -323,6 +341,8 @@ class chebyshev_picard {
   detail::warm_start<T, D> warm_start_;
   detail::picard_workspace<P> work_;
   segment_type segment_;  // the latest accepted segment (the next one's warm start)
+  std::vector<T> breaks_;       // the torque's breakpoints in the span
+  std::size_t next_break_ = 0;  // the first one not yet reached
 };
 
 }  // namespace eulervop

@@ -11,10 +11,11 @@
 // rtol and a maximum step; the VOP runs measure the error in scaled elements
 // (detail/vop_adaptive_run.hpp).
 //
-// The problem is Euler's equations in double (model/euler_problem.hpp) with a constant torque G:
-// the paper's VOP varies the constants of the torque-free motion under Eq. 5 with constant G
-// (Eqs. 12-16), and the explosion bound of every formulation is taken from |G|
-// (detail/divergence.hpp).
+// The problem is Euler's equations in double (model/euler_problem.hpp) with any torque: the
+// paper's constant G, or one of time and state, evaluated at each stage's time and state in every
+// formulation (the VOP formulations from the Omega of their elements). The runs step onto the
+// torque's breakpoints (detail/euler_runs.hpp), and the explosion bound of every formulation is
+// taken from the torque's size over the span (detail/divergence.hpp, detail/run_torque.hpp).
 #pragma once
 
 #include <eulervop/core/vec3.hpp>
@@ -25,6 +26,7 @@
 #include <eulervop/rk/tableaux.hpp>
 #include <eulervop/runs/detail/divergence.hpp>
 #include <eulervop/runs/detail/euler_runs.hpp>
+#include <eulervop/runs/detail/run_torque.hpp>
 #include <eulervop/runs/detail/vop_adaptive_run.hpp>
 #include <eulervop/runs/detail/vop_fixed_run.hpp>
 #include <eulervop/runs/formulation.hpp>
@@ -38,16 +40,10 @@ namespace eulervop {
 
 namespace detail {
 
-// The constant torque G of a problem of the comparison runs (see the header note).
 template <class Problem>
-vec3<double> comparison_torque(const Problem& p) {
+void require_comparison_problem() {
   static_assert(euler_form_problem<Problem> && std::same_as<typename Problem::value_type, double>,
                 "the comparison runs integrate Euler's equations (model/euler_problem.hpp) in double");
-  static_assert(is_constant_torque_v<typename Problem::torque_type>,
-                "the comparison runs need Eq. 5 with a constant torque: the VOP formulations (Eqs. 12-16) vary "
-                "the constants of the torque-free motion under a constant G, and this problem's torque depends "
-                "on the time or the state");
-  return p.torque.value(p.initial_time(), p.initial_state());
 }
 
 // The paper's VOP (Eqs. 12-16) is built on Eq. 5's elements: no direct form.
@@ -63,22 +59,23 @@ void require_normalized(formulation f, const Problem& p) {
 // Integrates the problem with formulation `f` and method `m` at fixed step in double.
 template <class Problem>
 run_result run_fixed(formulation f, rk::method m, const Problem& p, const fixed_run_settings& s) {
-  const vec3<double> G = detail::comparison_torque(p);
+  detail::require_comparison_problem<Problem>();
   run_result out;
   out.form = f;
   out.method = m;
   detail::require_normalized(f, p);
   const double tau_end = p.initial_time() + s.h * static_cast<double>(s.n_steps);
-  const double bound = detail::explosion_bound(p.initial_state(), G, tau_end, f == formulation::vop);
+  const double bound =
+      detail::explosion_bound(p.initial_state(), detail::torque_size(p, tau_end), tau_end, f == formulation::vop);
   if (f == formulation::euler) {
     detail::run_euler_fixed(out, p, s, bound);
     return out;
   }
   rk::dispatch_method(m, [&](auto tag) {
     if (f == formulation::vop)
-      detail::vop_fixed_run<decltype(tag), false, Problem>(out, p, G, s, bound)();
+      detail::vop_fixed_run<decltype(tag), false, Problem>(out, p, s, bound)();
     else
-      detail::vop_fixed_run<decltype(tag), true, Problem>(out, p, G, s, bound)();
+      detail::vop_fixed_run<decltype(tag), true, Problem>(out, p, s, bound)();
   });
   return out;
 }
@@ -87,19 +84,20 @@ run_result run_fixed(formulation f, rk::method m, const Problem& p, const fixed_
 // (rkf45, dp45 or dop853; std::invalid_argument otherwise), from tau0 to s.tau_end.
 template <class Problem>
 run_result run_adaptive(formulation f, rk::method m, const Problem& p, const adaptive_run_settings& s) {
-  const vec3<double> G = detail::comparison_torque(p);
+  detail::require_comparison_problem<Problem>();
   run_result out;
   out.form = f;
   out.method = m;
   out.adaptive = true;
   detail::require_normalized(f, p);
-  const double bound = detail::explosion_bound(p.initial_state(), G, s.tau_end, f == formulation::vop);
+  const double bound =
+      detail::explosion_bound(p.initial_state(), detail::torque_size(p, s.tau_end), s.tau_end, f == formulation::vop);
   rk::dispatch_pair(m, [&](auto pair) {
     using Pair = decltype(pair);
     switch (f) {
       case formulation::euler: detail::run_euler_adaptive<Pair>(out, p, s, bound); break;
-      case formulation::vop: detail::vop_adaptive_run<Pair, false, Problem>(out, p, G, s, bound)(); break;
-      case formulation::vop_theta: detail::vop_adaptive_run<Pair, true, Problem>(out, p, G, s, bound)(); break;
+      case formulation::vop: detail::vop_adaptive_run<Pair, false, Problem>(out, p, s, bound)(); break;
+      case formulation::vop_theta: detail::vop_adaptive_run<Pair, true, Problem>(out, p, s, bound)(); break;
     }
   });
   return out;

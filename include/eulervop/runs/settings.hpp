@@ -24,7 +24,7 @@ struct fixed_run_settings {
   vop_band_thresholds bands{};
 };
 
-// Error control to tau_end: atol, rtol (rk/error_norm.hpp), steps no longer than h_max.
+// Error control to tau_end: atol, rtol (rk/error_norm.hpp), steps no longer than h_max (0: the span).
 // About `samples` states are kept (every m-th accepted step, m doubling as the run grows), and
 // the last one.
 struct adaptive_run_settings {

@@ -6,7 +6,9 @@
 #pragma once
 
 #include <eulervop/core/scalar.hpp>
+#include <eulervop/model/expression.hpp>
 
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -17,10 +19,15 @@ namespace eulervop::scene {
 struct decimal {
   std::string text;    // canonical decimal text: [-]digits[.digits][e[+-]digits], no '+' or '_'
   double value = 0;    // the nearest double, for validation and messages
+  // A constant formula instead of a decimal ("2/3", "cos(1.1)", where a scene allows one): then
+  // `text` is the formula as written, `value` its double, and to_scalar evaluates it in T.
+  std::shared_ptr<const expression> formula;
 
-  // The number in T, correctly rounded from the decimal text (at T's current precision).
+  // The number in T, correctly rounded from the decimal text (at T's current precision); a
+  // formula evaluated in T.
   template <scalar T>
   T to_scalar() const {
+    if (formula) return compiled_expression<T>(*formula)(T(0), vec3<T>{T(0), T(0), T(0)});
     auto v = eulervop::from_text<T>(text);
     if (!v) throw std::logic_error("decimal text does not convert: " + text);
     return *v;

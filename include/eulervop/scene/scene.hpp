@@ -1,20 +1,25 @@
-// A scene: one problem of Eq. 5 as the user describes it in TOML (format: README, "Scenes").
+// A scene: one problem of Euler's equations as the user describes it in TOML (docs/scenes.md).
 //
-// A scene is either normalized (G, Omega or c1/c2/u, tau) or physical ([body] inertia, M,
-// omega, t; converted by Eqs. 2-4). Numbers are kept as exact decimal text (decimal.hpp) and
-// become values of the scalar type only in scene_problem.hpp. Loading validates everything a
-// later stage would otherwise trip over, and reports the first problem as an input_error whose
-// one-line message names the field and the value.
+// A scene is normalized (G, Omega or c1/c2/u, tau: Eq. 5), physical ([body] inertia, M, omega,
+// t; converted by Eqs. 2-4), or in the coefficient form ([equations] a, f, y, t:
+// y_i' = a_i y_j y_k + f_i). Numbers are kept as exact decimal text (decimal.hpp) and become
+// values of the scalar type only in scene_problem.hpp; a torque component may be a formula of
+// the time and the state (model/expression.hpp), and pieces apply other components on time
+// windows (model/torque_law.hpp). Loading validates everything a later stage would otherwise
+// trip over, and reports the first problem as an input_error whose one-line message names the
+// field and the value.
 #pragma once
 
 #include <eulervop/scene/decimal.hpp>
 #include <eulervop/scene/input_error.hpp>
 
 #include <eulervop/core/scalar.hpp>
+#include <eulervop/model/torque_law.hpp>
 
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -27,11 +32,13 @@ using decimal3 = std::array<decimal, 3>;
 
 // Which variables the scene is written in.
 enum class scene_units {
-  normalized,  // G, Omega, tau (Eq. 5)
-  physical,    // inertia kg m^2, M N m, omega rad/s, t s (Eqs. 1-4)
+  normalized,   // G, Omega, tau (Eq. 5)
+  physical,     // inertia kg m^2, M N m, omega rad/s, t s (Eqs. 1-4)
+  coefficient,  // [equations] a, f, y, t: y_i' = a_i y_j y_k + f_i, (i, j, k) cyclic
 };
 
-// [initial] Omega = [...] (normalized) or omega = [...] (physical, rad/s).
+// [initial] Omega = [...] (normalized), omega = [...] (physical, rad/s) or y = [...]
+// (coefficient form).
 struct initial_rates {
   decimal3 rates;
 };
@@ -56,10 +63,18 @@ struct scene {
   std::string source_text;  // the TOML text, verbatim (copied into every output's metadata)
 
   scene_units units = scene_units::normalized;
-  std::optional<decimal3> inertia;  // [body] inertia = [I1, I2, I3], physical only
+  std::optional<decimal3> inertia;       // [body] inertia = [I1, I2, I3], physical only
+  std::optional<decimal3> coefficients;  // [equations] a = [a1, a2, a3], coefficient form only
 
-  // [torque]: G (normalized) or M (physical). Absent: torque-free.
+  // [torque]: G (normalized), M (physical) or f (coefficient form). A constant torque (every
+  // component a number, no pieces) is `torque`; one with a formula or pieces is `torque_law`
+  // instead. Neither: torque-free.
   std::optional<decimal3> torque;
+  std::shared_ptr<const eulervop::torque_law> torque_law;
+
+  // What the user should know but is no error (e.g. moments that no rigid body has): each is
+  // printed as a "note:" line, and written into the reference's metadata.
+  std::vector<std::string> notes;
 
   std::variant<initial_rates, initial_elements> initial;
 
@@ -80,8 +95,21 @@ struct scene {
   std::optional<decimal> tolerance;   // relative tolerance per segment
 
   bool is_physical() const { return units == scene_units::physical; }
+  bool is_coefficient_form() const { return units == scene_units::coefficient; }
+  // The time variable: tau (normalized) or t.
+  std::string_view time_name() const { return units == scene_units::normalized ? "tau" : "t"; }
   // "tau_end" or "t_end": the span key, for messages.
-  std::string_view span_key() const { return is_physical() ? "t_end" : "tau_end"; }
+  std::string_view span_key() const { return units == scene_units::normalized ? "tau_end" : "t_end"; }
+  // The torque's key: G, M or f.
+  std::string_view torque_key() const {
+    return units == scene_units::normalized ? "G" : units == scene_units::physical ? "M" : "f";
+  }
+  // The state's names without the index: Omega, omega or y.
+  std::string_view state_name() const {
+    return units == scene_units::normalized ? "Omega" : units == scene_units::physical ? "omega" : "y";
+  }
+  // Whether the torque changes with the time or the state (a formula, or pieces).
+  bool has_torque_law() const { return torque_law != nullptr; }
 };
 
 // Accepted names in [run] methods and formulations.

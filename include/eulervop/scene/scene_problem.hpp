@@ -1,5 +1,6 @@
-// A scene turned into numbers of the scalar type T: the normalized problem of Eq. 5, its span
-// and its sample times.
+// A scene turned into numbers of the scalar type T: its problem (Eq. 5, Eq. 1 in the direct form,
+// or the coefficient form; with a constant torque or one given by formulas), its span and its
+// sample times.
 //
 // Every value is converted from the scene's exact decimal text directly into T (so a quad run
 // sees 0.1 to 36 digits), and physical scenes are mapped by Eqs. 2-4 in T as well. For MPFR,
@@ -10,6 +11,7 @@
 #include <eulervop/scene/scene.hpp>
 
 #include <eulervop/model/euler_problem.hpp>
+#include <eulervop/model/expression_torque.hpp>
 #include <eulervop/model/integrals.hpp>
 #include <eulervop/model/physical_scaling.hpp>
 #include <eulervop/core/scalar.hpp>
@@ -19,6 +21,7 @@
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <stdexcept>
 #include <variant>
 #include <vector>
 
@@ -29,9 +32,12 @@ vec3<T> to_vec3(const decimal3& d) {
   return {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
 }
 
-// Whether a physical scene uses the direct form (needs_direct_form); decided from the decimals
-// as doubles, once, so that every precision (and --verify) integrates the same equations.
+// Whether the scene is integrated in the direct form of Eq. 1 (in t, with coefficients a), not in
+// the paper's tau and Omega: a scene in the coefficient form, or a physical scene whose moments
+// need it (needs_direct_form; decided from the decimals as doubles, once, so that every
+// precision and --verify integrate the same equations).
 inline bool uses_direct_form(const scene& s) {
+  if (s.is_coefficient_form()) return true;
   return s.is_physical() &&
          needs_direct_form<double>({(*s.inertia)[0].value, (*s.inertia)[1].value, (*s.inertia)[2].value});
 }
@@ -62,10 +68,13 @@ vec3<T> Omega_of_elements(const initial_elements& e) {
   return {c1 * cn, c1 * sn, c2 * dn};
 }
 
-// The scene's problem: G, Omega(tau0), tau0 = 0, normalized (Eq. 5) or, for a physical scene in
-// the direct form, Eq. 1 in rad/s.
+// The scene's problem with its constant torque: G, Omega(tau0), tau0 = 0, normalized (Eq. 5);
+// for a physical scene in the direct form, Eq. 1 in rad/s; in the coefficient form,
+// y' = a_i y_j y_k + f with the scene's a. A scene whose torque is a formula or has pieces
+// (s.has_torque_law()) needs with_problem: std::logic_error here.
 template <scalar T>
 euler_problem<T> to_problem(const scene& s) {
+  if (s.has_torque_law()) throw std::logic_error("to_problem: the scene's torque is not constant; use with_problem");
   const vec3<T> zero = {T(0), T(0), T(0)};
   if (s.is_physical()) {
     euler_problem<T> p = scaling_of<T>(s).problem(s.torque ? to_vec3<T>(*s.torque) : zero,
@@ -77,6 +86,10 @@ euler_problem<T> to_problem(const scene& s) {
   p.tau0 = T(0);
   p.torque.G = zero;
   if (s.torque) p.torque.G = to_vec3<T>(*s.torque);
+  if (s.is_coefficient_form()) {
+    p.form = equation_form::direct;
+    p.a = to_vec3<T>(*s.coefficients);
+  }
   if (const auto* rates = std::get_if<initial_rates>(&s.initial))
     p.Omega0 = to_vec3<T>(rates->rates);
   else
@@ -84,8 +97,56 @@ euler_problem<T> to_problem(const scene& s) {
   return p;
 }
 
-// The end of the span in tau (physical scenes: tau_end = t_end dtau/dt, Eq. 4; t_end in the
-// direct form).
+// The initial state in the integrator's variables (Omega(0), or omega or y in the direct form).
+template <scalar T>
+vec3<T> initial_state_of(const scene& s) {
+  scene constant = s;
+  constant.torque_law.reset();
+  return to_problem<T>(constant).Omega0;
+}
+
+// What the torque depends on: the paths of the integrators differ (model/torque.hpp).
+enum class torque_kind { constant, of_time, of_state };
+
+inline torque_kind torque_kind_of(const scene& s) {
+  if (!s.has_torque_law()) return torque_kind::constant;
+  return s.torque_law->uses_state() ? torque_kind::of_state : torque_kind::of_time;
+}
+
+// The problem of a scene whose torque is a formula or has pieces (precondition:
+// s.has_torque_law(); OfState as torque_kind_of says): the formulas compiled in T, written in
+// the scene's variables and mapped to the integrator's (model/expression_torque.hpp).
+template <scalar T, bool OfState>
+euler_problem<T, expression_torque<T, OfState>> to_problem_with_law(const scene& s) {
+  scene constant = s;  // the same problem with a zero torque, for its form and initial state
+  constant.torque_law.reset();
+  const euler_problem<T> base = to_problem<T>(constant);
+  euler_problem<T, expression_torque<T, OfState>> p;
+  p.Omega0 = base.Omega0;
+  p.tau0 = base.tau0;
+  p.form = base.form;
+  p.a = base.a;
+  const torque_variables<T> vars =
+      s.is_physical() ? torque_variables<T>::of(scaling_of<T>(s)) : torque_variables<T>{};
+  p.torque = expression_torque<T, OfState>(s.torque_law, vars);
+  return p;
+}
+
+// Calls f with the scene's problem in T, of the type its torque needs: euler_problem<T> for a
+// constant torque (every fast path of the reference), or one with an expression_torque of time,
+// or of time and state. Returns what f returns.
+template <scalar T, class F>
+decltype(auto) with_problem(const scene& s, F&& f) {
+  switch (torque_kind_of(s)) {
+    case torque_kind::of_time: return f(to_problem_with_law<T, false>(s));
+    case torque_kind::of_state: return f(to_problem_with_law<T, true>(s));
+    case torque_kind::constant: break;
+  }
+  return f(to_problem<T>(s));
+}
+
+// The end of the span in the integrator's time (physical scenes: tau_end = t_end dtau/dt, Eq. 4;
+// t_end in the direct form and in the coefficient form).
 template <scalar T>
 T tau_end_of(const scene& s) {
   const T end = s.span_end.template to_scalar<T>();

@@ -6,6 +6,7 @@
 #include <eulervop/core/vec3.hpp>
 #include <eulervop/special/elliptic.hpp>
 #include <eulervop/vop/detail/vop_equations.hpp>
+#include <eulervop/vop/frame.hpp>
 
 #include <utility>
 
@@ -23,12 +24,47 @@ namespace eulervop {
 // Outside 0 < k < 1 the equations are singular. The system then returns NaN derivatives, which
 // stops the fixed-step driver, and records the first tau where it happened and why. Without
 // torque, c1 = 0 is allowed (u' = c2 exactly).
-template <scalar T>
-class vop_system : public detail::vop_equations<T> {
+//
+// Torque = void: the constant G (given in the vop_frame). Torque a torque type of time or state
+// (model/torque.hpp): G(tau, Omega) at each stage, Omega by Eq. 12 from the stage's elements
+// (detail/vop_equations.hpp); the system holds its frame and its own copy of the torque.
+template <scalar T, class Torque = void>
+class vop_system : public detail::vop_equations<T, Torque> {
+  using base = detail::vop_equations<T, Torque>;
+
  public:
-  explicit vop_system(const vec3<T>& G) : detail::vop_equations<T>(G) {}
+  explicit vop_system(const vec3<T>& G)
+    requires(!base::varying)
+      : base(G) {}
+  vop_system(const vop_frame<T>& frame, typename base::torque_type torque)
+    requires base::varying
+      : base(frame, std::move(torque)) {}
 
   [[gnu::always_inline]] void operator()(const vec3<T>& y, vec3<T>& dy, const T& tau) {
+    if constexpr (base::varying) varying_rates(y, dy, tau);
+    else constant_rates(y, dy, tau);
+  }
+
+ private:
+  // Eqs. 13 and 16 with G(tau, Omega) of the stage (never torque-free).
+  [[gnu::always_inline]] void varying_rates(const vec3<T>& y, vec3<T>& dy, const T& tau) {
+    const T& c1 = y[0];
+    const T& c2 = y[1];
+    if (this->outside(c1, c2, tau, false, dy)) return;
+    const T k = c1 / c2;
+    const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
+    const T inv_c1_kc2 = 1 / (c1 * kc2);
+    this->template with_functions<false>(k, kc2, y[2], [&](const jacobi_values<T>& j, const T&) __attribute__((always_inline)) {
+      this->stage_torque(j, c1, c2, tau);
+      const T secular = j.E - kc2 * y[2];  // E(u) - kc^2 u
+      T du = c2 + this->torque_bracket(j, k, kc2, secular) * inv_c1_kc2;
+      this->element_rates(j, k, dy);
+      dy[2] = std::move(du);
+    });
+  }
+
+  // The constant G (the paper's case).
+  [[gnu::always_inline]] void constant_rates(const vec3<T>& y, vec3<T>& dy, const T& tau) {
     const T& c1 = y[0];
     const T& c2 = y[1];
     if (this->outside(c1, c2, tau, this->torque_free_, dy)) return;

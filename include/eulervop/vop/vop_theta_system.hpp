@@ -6,6 +6,7 @@
 #include <eulervop/core/vec3.hpp>
 #include <eulervop/special/elliptic.hpp>
 #include <eulervop/vop/detail/vop_equations.hpp>
+#include <eulervop/vop/frame.hpp>
 #include <eulervop/vop/phase.hpp>
 
 #include <utility>
@@ -22,12 +23,47 @@ namespace eulervop {
 // Every term has period 2 pi in theta (sn, cn: 4K in u; dn, Z: 2K), so the run keeps theta in
 // [-pi, pi) and counts whole turns apart (reduce_phase). pi/(2K) is a_N, the AGM mean, and
 // torque-free motion advances theta by exactly a_N c2 per unit tau (c2 in Eq. 16, times a_N).
-template <scalar T>
-class vop_theta_system : public detail::vop_equations<T> {
+//
+// Torque = void: the constant G (given in the vop_frame). Torque a torque type of time or state
+// (model/torque.hpp): G(tau, Omega) at each stage, Omega by Eq. 12 at u = theta / a_N from the
+// stage's elements (detail/vop_equations.hpp); the derivation above holds at every instant, so
+// only G changes.
+template <scalar T, class Torque = void>
+class vop_theta_system : public detail::vop_equations<T, Torque> {
+  using base = detail::vop_equations<T, Torque>;
+
  public:
-  explicit vop_theta_system(const vec3<T>& G) : detail::vop_equations<T>(G) {}
+  explicit vop_theta_system(const vec3<T>& G)
+    requires(!base::varying)
+      : base(G) {}
+  vop_theta_system(const vop_frame<T>& frame, typename base::torque_type torque)
+    requires base::varying
+      : base(frame, std::move(torque)) {}
 
   [[gnu::always_inline]] void operator()(const vec3<T>& y, vec3<T>& dy, const T& tau) {
+    if constexpr (base::varying) varying_rates(y, dy, tau);
+    else constant_rates(y, dy, tau);
+  }
+
+ private:
+  // theta' and Eq. 13 with G(tau, Omega) of the stage (never torque-free).
+  [[gnu::always_inline]] void varying_rates(const vec3<T>& y, vec3<T>& dy, const T& tau) {
+    const T& c1 = y[0];
+    const T& c2 = y[1];
+    if (this->outside(c1, c2, tau, false, dy)) return;
+    const T k = c1 / c2;
+    const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
+    const T inv_c1_kc2 = 1 / (c1 * kc2);
+    this->template with_functions<true>(k, kc2, y[2], [&](const jacobi_values<T>& j, const T& rate) __attribute__((always_inline)) {
+      this->stage_torque(j, c1, c2, tau);
+      T dtheta = rate * c2 + rate * (this->torque_bracket(j, k, kc2, j.Z) * inv_c1_kc2);
+      this->element_rates(j, k, dy);
+      dy[2] = std::move(dtheta);
+    });
+  }
+
+  // The constant G (the paper's case).
+  [[gnu::always_inline]] void constant_rates(const vec3<T>& y, vec3<T>& dy, const T& tau) {
     const T& c1 = y[0];
     const T& c2 = y[1];
     if (this->outside(c1, c2, tau, this->torque_free_, dy)) return;

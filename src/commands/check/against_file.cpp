@@ -102,8 +102,10 @@ void describe_reference_file(const check_job& job, const reference_metadata& met
       {"estimated_max_error", number_or_null(error ? std::optional<double>(error->value) : std::nullopt)}};
 }
 
-template <scalar T>
-check_result check_in(const check_job& job, reference_csv_reader& ref) {
+// The rows of the trajectory against the reference file's, with the equations `problem` (a
+// pointer to the scene text's problem, or to nothing) for the direction of motion.
+template <scalar T, class P>
+check_result check_rows(const check_job& job, reference_csv_reader& ref, const P* problem) {
   std::ifstream in = open_input_file("trajectory", job.trajectory_path);
   csv_rows rows(in, "trajectory " + job.trajectory_path);
   const trajectory_columns cols = find_columns(job, rows);
@@ -112,11 +114,9 @@ check_result check_in(const check_job& job, reference_csv_reader& ref) {
       cols.physical ? ref.column("t", " (the trajectory has physical times; the reference is normalized)")
                     : ref.column("tau");
   std::optional<physical_scaling<T>> scale;
-  if (cols.physical) scale.emplace(scaling_of_reference<T>(ref));
-  // The equations, for the direction of motion: from the reference's scene text, if it has one.
-  std::optional<euler_problem<T>> problem;
-  if (!ref.metadata().scene_text.empty())
-    problem = to_problem<T>(parse_scene(ref.metadata().scene_text, ref.rows().where() + " (scene_text)"));
+  if (cols.physical && cols.state == "omega" && !ref.rows().column("omega1").has_value())
+    throw input_error(fmt::format("{}: the trajectory has omega1..3, the reference has not", rows.where()));
+  if (cols.physical && ref.rows().column("tau")) scale.emplace(scaling_of_reference<T>(ref));
 
   check_result r;
   r.time_name = cols.time_name;
@@ -132,10 +132,14 @@ check_result check_in(const check_job& job, reference_csv_reader& ref) {
     const std::array<decimal, 3> d = reader.values();
     cursor.seek(time, rows, cols.time_name);
     vec3<T> Om = {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
-    if (scale) Om = scale->Omega_of_omega(Om);
+    T tau = time.template to_scalar<T>();
+    if (scale) {
+      Om = scale->Omega_of_omega(Om);
+      tau = scale->tau_of_t(tau);
+    }
     std::optional<decimal> radius;
     if (radius_column) radius = ref.rows().number(*radius_column);
-    record<T>(job, r.t, out, rows.line(), time, ref.template Omega<T>(), Om, problem ? &*problem : nullptr, radius);
+    record<T>(job, r.t, out, rows.line(), time, ref.template Omega<T>(), Om, problem, tau, radius);
   }
   if (!r.t.rows) throw input_error(fmt::format("{}: no data rows", rows.where()));
   out.commit();
@@ -143,6 +147,13 @@ check_result check_in(const check_job& job, reference_csv_reader& ref) {
   return r;
 }
 
+// The equations, for the direction of motion: from the reference's scene text, if it has one.
+template <scalar T>
+check_result check_in(const check_job& job, reference_csv_reader& ref) {
+  if (ref.metadata().scene_text.empty()) return check_rows<T>(job, ref, static_cast<const euler_problem<T>*>(nullptr));
+  const scene s = parse_scene(ref.metadata().scene_text, ref.rows().where() + " (scene_text)");
+  return with_problem<T>(s, [&](const auto& problem) { return check_rows<T>(job, ref, &problem); });
+}
 
 }  // namespace
 

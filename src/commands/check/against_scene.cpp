@@ -22,7 +22,8 @@ namespace {
 template <scalar T>
 class scene_variables {
  public:
-  scene_variables(const scene& s, bool physical) : physical_(physical) {
+  // `physical`: the columns are t and omega (or t and y, which are the coefficient form's own).
+  scene_variables(const scene& s, bool physical) : physical_(physical && s.is_physical()) {
     if (s.is_physical()) scale_.emplace(scaling_of<T>(s));
   }
   T tau(const decimal& x) const {
@@ -44,14 +45,21 @@ class scene_variables {
 trajectory_columns scene_columns(const check_job& job, const csv_rows& rows) {
   const scene& s = job.scn;
   const trajectory_columns cols = find_columns(job, rows);
-  if (cols.physical && !s.is_physical())
+  if (cols.physical && s.units == eulervop::scene::scene_units::normalized)
     throw input_error(fmt::format("{}: line {}: column `{}` is a physical time, but scene {} is normalized (give "
                                   "tau,Omega1,Omega2,Omega3)",
                                   rows.where(), rows.line(), cols.time_name, s.name));
+  if (!cols.physical && s.is_coefficient_form())
+    throw input_error(fmt::format("{}: line {}: scene {} is in the coefficient form ([equations]), which has no tau or "
+                                  "Omega: give t,y1,y2,y3",
+                                  rows.where(), rows.line(), s.name));
   if (!cols.physical && uses_direct_form(s))
     throw input_error(fmt::format("{}: line {}: scene {} is integrated in the direct form of Eq. 1 (two moments are "
                                   "equal or nearly so), which has no tau or Omega: give t,omega1,omega2,omega3",
                                   rows.where(), rows.line(), s.name));
+  if (cols.physical && (cols.state == "y") != s.is_coefficient_form())
+    throw input_error(fmt::format("{}: line {}: columns {}1..3 do not fit scene {}, whose state is {}1..3",
+                                  rows.where(), rows.line(), cols.state, s.name, s.state_name()));
   return cols;
 }
 
@@ -102,7 +110,6 @@ check_result check_in(const check_job& job) {
   T tau_end = taus.back();
   if (!(tau_end > 0)) tau_end = T(1);  // a trajectory at tau = 0 only
   errors_writer out(job.errors_out);    // an unwritable path fails before the integration
-  const euler_problem<T> problem = to_problem<T>(job.scn);
   const scene_variables<T> vars(job.scn, cols.physical);
 
   check_result r;
@@ -112,14 +119,16 @@ check_result check_in(const check_job& job) {
   csv_rows rows(in, "trajectory " + job.trajectory_path);
   row_reader reader{rows, cols};
   const auto changed = [&] { return input_error(fmt::format("{}: the file changed while it was read", rows.where())); };
-  const reference_run ref = integrate_at<T>(problem, tau_end, taus, job.settings, "reference",
-                                            [&](std::size_t i, const vec3<T>& Omega_ref) {
-                                              if (!rows.next()) throw changed();
-                                              const decimal time = reader.time();
-                                              if (vars.tau(time) != taus[i]) throw changed();
-                                              record<T>(job, r.t, out, rows.line(), time, Omega_ref,
-                                                        vars.Omega(reader.values()), &problem);
-                                            });
+  const reference_run ref = with_problem<T>(job.scn, [&](const auto& problem) {
+    // The direction of motion is evaluated on a copy: the integrator's own evaluates the torque.
+    const auto motion = problem;
+    return integrate_at<T>(problem, tau_end, taus, job.settings, "reference", [&](std::size_t i, const vec3<T>& Omega_ref) {
+      if (!rows.next()) throw changed();
+      const decimal time = reader.time();
+      if (vars.tau(time) != taus[i]) throw changed();
+      record<T>(job, r.t, out, rows.line(), time, Omega_ref, vars.Omega(reader.values()), &motion, taus[i]);
+    });
+  });
   if (rows.next()) throw changed();
   out.commit();
   describe_scene_reference(job, static_cast<double>(tau_end), ref, r);

@@ -43,7 +43,7 @@ check_job check_job_of(const check_options& o) {
 
   job.from_scene = looks_like_scene(o.reference);
   if (job.from_scene) {
-    job.scn = load_scene_file(o.reference);
+    job.scn = load_scene(o.reference);
     scene_override_flags flags;
     flags.precision = o.precision;
     const applied_overrides applied = apply_scene_overrides(job.scn, flags);

@@ -67,10 +67,10 @@ struct check_result {
 };
 
 // The oracle metrics of one row (tally's second half). `problem`: the equations, for the
-// reference's direction of motion, when known.
-template <scalar T>
-void record_metrics(const check_job& job, tally& t, const vec3<T>& ref, const vec3<T>& Om,
-                    const euler_problem<T>* problem) {
+// reference's direction of motion at `tau` (its time in the integrator's variables), when known.
+template <scalar T, class P>
+void record_metrics(const check_job& job, tally& t, const vec3<T>& ref, const vec3<T>& Om, const P* problem,
+                    const T& tau) {
   using std::abs;
   using std::sqrt;
   vec3<T> d;
@@ -91,7 +91,7 @@ void record_metrics(const check_job& job, tally& t, const vec3<T>& ref, const ve
   if (!problem) return;
   t.has_invariants = problem->normalized();
   vec3<T> v;
-  problem->rhs(problem->tau0, ref, v);
+  problem->rhs(tau, ref, v);
   const T speed = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   if (!(speed > 0)) return;  // at rest: no direction of motion (the row is left out of the split)
   t.has_direction = true;
@@ -101,14 +101,15 @@ void record_metrics(const check_job& job, tally& t, const vec3<T>& ref, const ve
   t.max_across = std::max(t.max_across, static_cast<double>(across2 > 0 ? sqrt(across2) : T(0)));
 }
 
-// `radius`: the reference row's certified radius, if it has one.
-template <scalar T>
+// `radius`: the reference row's certified radius, if it has one. `tau`: the row's time in the
+// integrator's variables (for a torque of time, the direction of motion depends on it).
+template <scalar T, class P>
 void record(const check_job& job, tally& t, errors_writer& out, std::size_t line, const decimal& time,
-            const vec3<T>& ref, const vec3<T>& Om, const euler_problem<T>* problem,
+            const vec3<T>& ref, const vec3<T>& Om, const P* problem, const T& tau,
             const std::optional<decimal>& radius = std::nullopt) {
   const double e = static_cast<double>(eq20_error(ref, Om));
   if (!std::isfinite(e)) throw numerical_failure({outcome_kind::error_non_finite, time.value});
-  record_metrics(job, t, ref, Om, problem);
+  record_metrics(job, t, ref, Om, problem, tau);
   const double r = radius ? radius->value : 0.0;
   if (radius) t.max_radius = std::max(t.max_radius, r);
   std::optional<double> bar;

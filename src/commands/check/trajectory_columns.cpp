@@ -23,12 +23,14 @@ trajectory_columns find_columns(const check_job& job, const csv_rows& rows) {
     c.physical = true;
     c.time = *t;
   } else {
-    throw input_error(fmt::format("{}: the header has no column {} (nor {} for a physical scene)", where,
+    throw input_error(fmt::format("{}: the header has no column {} (nor {} for a physical or coefficient-form scene)", where,
                                   column_label(job, "tau"), column_label(job, "t")));
   }
   c.time_name = rows.header()[c.time];
+  if (c.physical)
+    c.state = !rows.column(job.columns.file.at("omega1")) && rows.column(job.columns.file.at("y1")) ? "y" : "omega";
   for (int k = 0; k < 3; ++k) {
-    const std::string canonical = fmt::format("{}{}", c.physical ? "omega" : "Omega", k + 1);
+    const std::string canonical = fmt::format("{}{}", c.state, k + 1);
     const auto col = rows.column(job.columns.file.at(canonical));
     if (!col) throw input_error(fmt::format("{}: the header has no column {}", where, column_label(job, canonical)));
     c.value[k] = *col;

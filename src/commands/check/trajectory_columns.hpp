@@ -1,5 +1,6 @@
-// The trajectory `check` reads: its columns, found by name (tau and Omega1..3, or t and
-// omega1..3; --columns renames), and its rows, each checked as it is read.
+// The trajectory `check` reads: its columns, found by name (tau and Omega1..3, t and omega1..3,
+// or t and y1..3 for the coefficient form; --columns renames), and its rows, each checked as it
+// is read.
 #pragma once
 
 #include "commands/check/check_job.hpp"
@@ -14,7 +15,8 @@
 namespace eulervop::app {
 
 struct trajectory_columns {
-  bool physical = false;  // t, omega1..3
+  bool physical = false;        // the time is t (omega1..3, or y1..3)
+  std::string state = "Omega";  // the state's name: Omega, omega or y
   std::size_t time = 0;
   std::array<std::size_t, 3> value{};
   std::string time_name;  // as in the file

@@ -25,6 +25,11 @@ std::vector<wp_grid> scaled_grids(const scene& base, const map_job& job, const m
   std::vector<wp_grid> grids;
   for (const decimal& scale : job.scales) {
     scene scaled = base;
+    if (base.has_torque_law()) {  // formulas: each is multiplied by the scale's decimal text
+      scaled.torque_law = std::make_shared<const torque_law>(scaled_law(*base.torque_law, scale.text));
+      grids.push_back(grid_of(scaled, static_cast<std::size_t>(*base.samples), o.grid, map_grid_defaults));
+      continue;
+    }
     for (decimal& gi : *scaled.torque) {
       const auto product = decimal_product(gi, scale);
       if (!product)
@@ -46,8 +51,8 @@ map_job map_job_of(const map_options& o) {
 
   job.scales = flag_ladder("--torque-scales", o.torque_scales.value_or(default_torque_scales));
   job.levels = level_ladder(o.levels.value_or(default_map_levels));
-  if (!base.torque ||
-      std::all_of(base.torque->begin(), base.torque->end(), [](const decimal& g) { return g.value == 0; }))
+  if (!base.has_torque_law() && (!base.torque ||
+      std::all_of(base.torque->begin(), base.torque->end(), [](const decimal& g) { return g.value == 0; })))
     throw input_error(fmt::format("scene `{}` has no torque to scale (give a scene with [torque] G or M)", base.name));
   job.run = run_options_of(o.grid, map_grid_defaults, "map");
   job.run.stop_below = *std::min_element(job.levels.begin(), job.levels.end());

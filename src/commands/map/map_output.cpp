@@ -17,6 +17,7 @@ namespace {
 using json = nlohmann::ordered_json;
 
 std::string torque_text(const wp_grid& g) {
+  if (g.scn.has_torque_law()) return law_text(*g.scn.torque_law);
   const auto& G = *g.scn.torque;
   return fmt::format("({}, {}, {})", G[0].text, G[1].text, G[2].text);
 }

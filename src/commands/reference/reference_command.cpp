@@ -52,7 +52,7 @@ struct reference_job {
 // before any computation.
 reference_job make_job(const reference_options& o) {
   reference_job job;
-  job.scn = o.scene_path ? load_scene_file(*o.scene_path) : load_default_scene();
+  job.scn = load_scene(o.scene_path);
   const applied_overrides applied = apply_scene_overrides(job.scn, o.overrides);
   job.precision = applied.precision;
   job.settings = applied.settings;
@@ -81,34 +81,35 @@ reference_run stream_rows(const reference_job& job, const T& tau_end, const samp
     certify_segment = [&](const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
       certificate->add_segment(seg, nodes);
     };
-  const reference_run run = integrate_streaming<T>(
-      to_problem<T>(job.scn), tau_end, times.tau, job.settings, "reference",
-      [&](std::size_t i, const vec3<T>& Om) {
-        switch (job.layout) {
-          case reference_layout::normalized:
-            if (certificate) {
-              const std::array<std::string, 3> cells = {to_text(Om[0]), to_text(Om[1]), to_text(Om[2])};
-              rows.certified_row(times.tau[i], cells, certificate->radius(times.tau[i], cells));
-            } else {
-              rows.row(times.tau[i], Om);
-            }
-            break;
-          case reference_layout::physical:
-            if (certificate) {
-              const vec3<T> om = scale->omega_of_Omega(Om);
-              const std::array<std::string, 3> Omega_cells = {to_text(Om[0]), to_text(Om[1]), to_text(Om[2])};
-              const std::array<std::string, 3> omega_cells = {to_text(om[0]), to_text(om[1]), to_text(om[2])};
-              rows.certified_row(times.tau[i], Omega_cells, times.t[i], omega_cells,
-                                 certificate->physical_radii(times.tau[i], times.t[i], Omega_cells, omega_cells));
-            } else {
-              rows.row(times.tau[i], Om, times.t[i], scale->omega_of_Omega(Om));
-            }
-            break;
-          case reference_layout::direct: rows.row(times.t[i], Om); break;  // the state is omega, and tau is t
+  const auto on_sample = [&](std::size_t i, const vec3<T>& Om) {
+    switch (job.layout) {
+      case reference_layout::normalized:
+        if (certificate) {
+          const std::array<std::string, 3> cells = {to_text(Om[0]), to_text(Om[1]), to_text(Om[2])};
+          rows.certified_row(times.tau[i], cells, certificate->radius(times.tau[i], cells));
+        } else {
+          rows.row(times.tau[i], Om);
         }
-        if (kept) kept->push_back(Om);
-      },
-      certify_segment);
+        break;
+      case reference_layout::physical:
+        if (certificate) {
+          const vec3<T> om = scale->omega_of_Omega(Om);
+          const std::array<std::string, 3> Omega_cells = {to_text(Om[0]), to_text(Om[1]), to_text(Om[2])};
+          const std::array<std::string, 3> omega_cells = {to_text(om[0]), to_text(om[1]), to_text(om[2])};
+          rows.certified_row(times.tau[i], Omega_cells, times.t[i], omega_cells,
+                             certificate->physical_radii(times.tau[i], times.t[i], Omega_cells, omega_cells));
+        } else {
+          rows.row(times.tau[i], Om, times.t[i], scale->omega_of_Omega(Om));
+        }
+        break;
+      case reference_layout::direct: rows.row(times.t[i], Om); break;  // the state is omega, and tau is t
+      case reference_layout::coefficient: rows.row(times.tau[i], Om); break;  // the time is t, the state y
+    }
+    if (kept) kept->push_back(Om);
+  };
+  const reference_run run = with_problem<T>(job.scn, [&](const auto& problem) {
+    return integrate_streaming<T>(problem, tau_end, times.tau, job.settings, "reference", on_sample, certify_segment);
+  });
   rows.flush();
   return run;
 }
@@ -123,6 +124,7 @@ reference_metadata metadata_of(const reference_job& job, const reference_run& ru
   m.precision = job.precision;
   m.method = method_text(job.settings, run.stats);
   if (!job.omit_timing) m.wall_seconds = run.wall_seconds;
+  m.notes = job.scn.notes;
   m.scene_text = job.scn.source_text;
   return m;
 }

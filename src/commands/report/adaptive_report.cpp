@@ -55,12 +55,13 @@ template <scalar T>
 computed_reference_info measure_adaptive(const report_job& job, const T& tau_end, std::vector<run_errors>& runs) {
   for (run_errors& a : runs) a.error.resize(a.run.Omega.size());
   const merged_sample_times<T> times = merge_sample_times<T>(runs);
-  const reference_run ref = integrate_at<T>(
-      to_problem<T>(job.scn), tau_end, times.tau, job.settings, "reference", [&](std::size_t j, const vec3<T>& Om) {
-        const auto [i, k] = times.owner[j];
-        const double e = static_cast<double>(eq20_error(Om, runs[i].run.Omega[k]));
-        if (std::isfinite(e)) runs[i].error[k] = e;  // never a NaN as an error value
-      });
+  const reference_run ref = with_problem<T>(job.scn, [&](const auto& problem) {
+    return integrate_at<T>(problem, tau_end, times.tau, job.settings, "reference", [&](std::size_t j, const vec3<T>& Om) {
+      const auto [i, k] = times.owner[j];
+      const double e = static_cast<double>(eq20_error(Om, runs[i].run.Omega[k]));
+      if (std::isfinite(e)) runs[i].error[k] = e;  // never a NaN as an error value
+    });
+  });
   for (run_errors& a : runs) {
     for (std::size_t k = 0; k < a.error.size(); ++k) {
       if (!a.error[k]) continue;
@@ -74,18 +75,19 @@ computed_reference_info measure_adaptive(const report_job& job, const T& tau_end
 
 // Every formulation x method x tolerance, to the span end.
 std::vector<run_errors> adaptive_runs(const report_job& job, double tau_end) {
-  const euler_problem<double> problem = to_problem<double>(job.scn);
   std::vector<run_errors> runs;
-  for (const run_spec& spec : job.runs) {
-    adaptive_run_settings s;
-    s.tau_end = tau_end;
-    s.atol = s.rtol = job.tols[*spec.tol].value;
-    s.h_max = job.max_step.h;
-    s.samples = job.samples;
-    run_errors a;
-    a.run = run_adaptive(spec.form, spec.method, problem, s);
-    runs.push_back(std::move(a));
-  }
+  with_problem<double>(job.scn, [&](const auto& problem) {
+    for (const run_spec& spec : job.runs) {
+      adaptive_run_settings s;
+      s.tau_end = tau_end;
+      s.atol = s.rtol = job.tols[*spec.tol].value;
+      s.h_max = job.max_step.h;
+      s.samples = job.samples;
+      run_errors a;
+      a.run = run_adaptive(spec.form, spec.method, problem, s);
+      runs.push_back(std::move(a));
+    }
+  });
   return runs;
 }
 

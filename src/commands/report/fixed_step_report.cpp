@@ -67,7 +67,8 @@ reference_samples<T> load_reference_file(const report_job& job) {
 
   std::ifstream in = open_input_file("--reference", file.path);
   reference_csv_reader reader(in, where);
-  // A body in the direct form has t and omega, which are its tau and Omega here.
+  // A body in the direct form has t and omega (the coefficient form t and y), which are its tau
+  // and Omega here.
   const std::size_t col_tau = reader.column(uses_direct_form(job.scn) ? "t" : "tau");
   csv_rows& rows = reader.rows();
   while (rows.next()) {
@@ -102,8 +103,9 @@ reference_samples<T> compute_reference(const report_job& job) {
 
   T tau_end = tau_end_of<T>(job.scn);
   if (out.tau.back() > tau_end) tau_end = out.tau.back();  // within the 1e-9 h slack of n_steps
-  sampled_reference<T> ref =
-      integrate_and_sample<T>(to_problem<T>(job.scn), tau_end, out.tau, job.settings, "reference");
+  sampled_reference<T> ref = with_problem<T>(job.scn, [&](const auto& problem) {
+    return integrate_and_sample<T>(problem, tau_end, out.tau, job.settings, "reference");
+  });
   out.Omega = std::move(ref.Omega);
   out.info.seconds = ref.wall_seconds;
   out.info.segments = ref.stats.segments;
@@ -116,9 +118,8 @@ reference_samples<T> compute_reference(const report_job& job) {
 
 // One run at the report's step and its errors at the reference's samples (nullopt: not reached,
 // or after divergence).
-template <scalar T>
-run_errors measure(const run_spec& spec, const euler_problem<double>& problem, const reference_samples<T>& ref,
-                   double h) {
+template <scalar T, class Problem>
+run_errors measure(const run_spec& spec, const Problem& problem, const reference_samples<T>& ref, double h) {
   run_errors out;
   out.run = run_fixed(spec.form, spec.method, problem, fixed_run_settings{h, ref.n_steps, ref.info.sample_every});
   const run_result& r = out.run;
@@ -149,9 +150,10 @@ void report_in(const report_job& job, std::ostream& standard_output) {
 
   reference_samples<T> ref = from_file ? std::move(*from_file) : compute_reference<T>(job);
   for (const T& tau : ref.tau) ref.info.tau.push_back(static_cast<double>(tau));
-  const euler_problem<double> problem = to_problem<double>(job.scn);
   std::vector<run_errors> runs;
-  for (const run_spec& spec : job.runs) runs.push_back(measure<T>(spec, problem, ref, job.step.h));
+  with_problem<double>(job.scn, [&](const auto& problem) {
+    for (const run_spec& spec : job.runs) runs.push_back(measure<T>(spec, problem, ref, job.step.h));
+  });
 
   const std::string summary = fixed_summary_json(job, ref.info, runs).dump(2) + "\n";
   write_report(job, dir, fixed_errors_csv(job, ref.info, runs), summary,

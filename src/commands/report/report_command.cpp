@@ -70,6 +70,9 @@ void use_error_samples(scene& s) {
 // the summary note; empty otherwise.
 std::string direct_form_note(const scene& s) {
   if (!uses_direct_form(s)) return "";
+  if (s.is_coefficient_form())
+    return "the paper's VOP does not apply to the coefficient form (its elements live in the normalized Eq. 5), so "
+           "only euler runs: tau is t and Omega is y";
   return fmt::format("the paper's VOP does not apply to this body (two moments are equal or within {} of each other), "
                      "so only euler runs, on Eq. 1 itself: tau is t in s and Omega is omega in rad/s",
                      direct_form_gap);
@@ -77,7 +80,7 @@ std::string direct_form_note(const scene& s) {
 
 report_job make_job(const report_options& o) {
   report_job job;
-  job.scn = o.scene_path ? load_scene_file(*o.scene_path) : load_default_scene();
+  job.scn = load_scene(o.scene_path);
   scene& s = job.scn;
   use_error_samples(s);
   check_reference_flags(o);
@@ -109,7 +112,7 @@ report_job make_job(const report_options& o) {
       if (!adaptive) job.runs.push_back({f, m});
       for (std::size_t t = 0; t < job.tols.size(); ++t) job.runs.push_back({f, m, t});
     }
-  probe_formulations(forms, to_problem<double>(s),
+  probe_formulations(forms, s,
                      adaptive ? std::min(job.max_step.h, tau_end_of<double>(s)) : job.step.h);
 
   if (o.reference_file) {

@@ -70,6 +70,16 @@ class euler_field {
     return g;
   }
 
+  // Pins the torque's interval of breakpoints that contains t (a segment's start: no segment
+  // crosses a breakpoint), in T and in double; nothing for a torque without breakpoints.
+  void pin_at(const T& t) const {
+    if constexpr (piecewise_torque<typename P::torque_type>) {
+      const std::size_t i = problem_.torque.interval_at(t);
+      problem_.torque.pin(i);
+      torque_d_.pin(i);
+    }
+  }
+
   // d g / d x of a torque of the state, at (t, x), in double.
   void torque_jacobian(double t, const vec3<double>& x, std::array<vec3<double>, 3>& J) const {
     for (auto& row : J) row = {0.0, 0.0, 0.0};

@@ -10,10 +10,18 @@
 // stretches use Hairer's norm of the Omega estimate, as the euler formulation does.
 // Without torque every VOP stage agrees, the estimate is exactly zero, and the run takes its
 // maximum step everywhere, exactly as the fixed-step runs stay exact to rounding.
+//
+// Breakpoints of a piecewise torque (model/torque.hpp), as in the euler formulation
+// (euler_runs.hpp): the run integrates interval by interval, stepping exactly onto each breakpoint
+// (the step that would pass it is shortened to end there), and restarts there: the run's own
+// copies of the torque (the element system's and the direct system's) pinned to the interval
+// that starts at the breakpoint, the derivative re-evaluated, the controller reset and the step
+// estimated afresh (a formula that changes there changes the solution's smoothness too).
 #pragma once
 
 #include <eulervop/core/outcome.hpp>
 #include <eulervop/core/vec3.hpp>
+#include <eulervop/model/torque.hpp>
 #include <eulervop/rk/detail/compensated_sum.hpp>
 #include <eulervop/rk/embedded_rk.hpp>
 #include <eulervop/rk/error_norm.hpp>
@@ -21,6 +29,7 @@
 #include <eulervop/rk/pi_controller.hpp>
 #include <eulervop/rk/problem_system.hpp>
 #include <eulervop/runs/detail/divergence.hpp>
+#include <eulervop/runs/detail/run_torque.hpp>
 #include <eulervop/runs/detail/sample_thinner.hpp>
 #include <eulervop/runs/detail/vop_run_state.hpp>
 #include <eulervop/runs/run_result.hpp>
@@ -31,15 +40,16 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <vector>
 
 namespace eulervop::detail {
 
 // The error scale of the element steps: the scaled elements of the header note.
-template <bool Theta>
+template <bool Theta, class Torque>
 struct element_scale {
   using V = vec3<double>;
   double atol, rtol;
-  const vop_run_state<Theta>* run;
+  const vop_run_state<Theta, Torque>* run;
   void operator()(const V& y0, const V& y1, V& sc) const {
     const double c1 = std::max(std::abs(y0[0]), std::abs(y1[0]));
     sc[0] = atol + rtol * c1;
@@ -51,19 +61,25 @@ struct element_scale {
 
 // The VOP formulations under error control: vop_run_state's representations stepped with one
 // embedded pair, whose PI controller carries over between them (the derivative is re-evaluated
-// after a change).
+// after a change; it restarts at a breakpoint, see the header note).
 template <class Pair, bool Theta, class Problem>
 class vop_adaptive_run {
  public:
   using V = vec3<double>;
+  using Torque = typename Problem::torque_type;
+  // Breakpoints matter only to a torque that varies (a constant one has none to honour).
+  static constexpr bool piecewise = piecewise_torque<Torque> && !is_constant_torque_v<Torque>;
 
-  // G: the problem's constant torque.
-  vop_adaptive_run(run_result& out, const Problem& p, const V& G, const adaptive_run_settings& s, double bound)
+  vop_adaptive_run(run_result& out, const Problem& p, const adaptive_run_settings& s, double bound)
       : out_(out), s_(s), tau0_(p.initial_time()), bound_(bound), span_(s.tau_end - p.initial_time()),
         h_max_(s.h_max > 0 ? std::min(s.h_max, span_) : span_),
-        run_(out, p.initial_state(), p.initial_time(), G, s.bands, first_),
-        euler_{p}, omega_scale_{s.atol, s.rtol}, element_scale_{s.atol, s.rtol, &run_},
-        samples_(out, s.samples) {}
+        run_(out, p.initial_state(), p.initial_time(), p.torque, s.bands, first_), euler_{p},
+        omega_scale_{s.atol, s.rtol}, element_scale_{s.atol, s.rtol, &run_}, samples_(out, s.samples) {
+    if constexpr (piecewise) {
+      breaks_ = breakpoints_between(p, tau0_, s.tau_end);
+      pin_at(tau0_);
+    }
+  }
 
   void operator()() {
     V state = first_, comp{0, 0, 0};
@@ -72,12 +88,27 @@ class vop_adaptive_run {
     const auto start = std::chrono::steady_clock::now();
     prime(state, at.t);
     double h = first_step(state, at.t);
+    // The end of the current interval: the next breakpoint, or tau_end.
+    double end = s_.tau_end;
+    if constexpr (piecewise)
+      if (!breaks_.empty()) end = breaks_[0];
     while (span_ > 0) {
-      const double left = (s_.tau_end - at.t) - at.t_lo;
+      const double left = (end - at.t) - at.t_lo;
       if (!(left > 0)) break;
       const bool last = h >= left;
-      const attempt_result r = advance(state, comp, at, h, last ? left : h, last);
-      if (r == attempt_result::stopped || (r == attempt_result::accepted && last)) break;
+      const attempt_result r = advance(state, comp, at, h, last ? left : h, last, end);
+      if (r == attempt_result::stopped) break;
+      if (r == attempt_result::accepted && last) {
+        if constexpr (piecewise) {
+          if (next_break_ < breaks_.size()) {  // on a breakpoint: restart in the next interval
+            while (next_break_ < breaks_.size() && !(breaks_[next_break_] > at.t)) ++next_break_;
+            end = next_break_ < breaks_.size() ? breaks_[next_break_] : s_.tau_end;
+            restart(state, at.t, h);
+            continue;
+          }
+        }
+        break;
+      }
     }
     out_.steps = at.n;
     out_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -98,8 +129,10 @@ class vop_adaptive_run {
 
   // One attempt of a step of h_try (the last one if `last`): accepted (state and clock advanced,
   // h the next step), retry (h shorter, or the representation changed) or stopped (out_.status).
+  // `end` is the end of the current interval (tau_end, or a breakpoint), which a last step reaches
+  // exactly.
   [[gnu::always_inline]] attempt_result advance(V& state, V& comp, step_clock& at, double& h, double h_try,
-                                                bool last) {
+                                                bool last, double end) {
     if (!(h_try > 16 * std::numeric_limits<double>::epsilon() * std::abs(at.t)) || !std::isfinite(h_try)) {
       out_.status = {std::isfinite(h_try) ? outcome_kind::step_underflow : outcome_kind::non_finite, at.t};
       return attempt_result::stopped;
@@ -123,7 +156,7 @@ class vop_adaptive_run {
     state = next;
     comp = comp_next;
     if (last) {
-      at.t = s_.tau_end;
+      at.t = end;
       at.t_lo = 0;
     } else {
       rk::detail::advance_time(at.t, at.t_lo, h_try);
@@ -167,6 +200,21 @@ class vop_adaptive_run {
     controller_.reset();
     prime(state, t);
   }
+  // On the breakpoint t: the next interval's formulas, the derivative, controller and step afresh.
+  [[gnu::noinline]] void restart(const V& state, double t, double& h) {
+    pin_at(t);
+    controller_.reset();
+    prime(state, t);
+    h = first_step(state, t);
+  }
+  // Pins the run's own copies of the torque (element and direct systems) to the interval of t.
+  void pin_at(double t) {
+    if constexpr (piecewise) {
+      const auto i = run_.torque().interval_at(t);
+      run_.torque().pin(i);
+      euler_.problem.torque.pin(i);
+    }
+  }
   void prime(const V& state, double t) {
     if (run_.in_elements()) stepper_.prime(run_.system(), state, t);
     else stepper_.prime(euler_, state, t);
@@ -183,14 +231,16 @@ class vop_adaptive_run {
   double tau0_, bound_;
   double span_, h_max_;  // tau_end - tau0; the largest step
   V first_{};            // the starting state, in the representation vop_run_state chose
-  vop_run_state<Theta> run_;
+  vop_run_state<Theta, Torque> run_;
   rk::embedded_rk<Pair, V> stepper_;
   rk::pi_controller controller_{Pair::estimate_order + 1};
   rk::problem_system<Problem> euler_;
   rk::hairer_scale<double> omega_scale_;
-  element_scale<Theta> element_scale_;
+  element_scale<Theta, Torque> element_scale_;
   sample_thinner samples_;
-  std::size_t extra_evals_ = 0;  // those of the starting-step estimate
+  std::size_t extra_evals_ = 0;  // those of the starting-step estimates
+  std::vector<double> breaks_;   // the torque's breakpoints inside the span (piecewise only)
+  std::size_t next_break_ = 0;   // the breakpoint that ends the current interval
 };
 
 }  // namespace eulervop::detail

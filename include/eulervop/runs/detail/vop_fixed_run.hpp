@@ -1,10 +1,21 @@
 // The VOP formulations of the comparison runs (comparison_run.hpp) at a fixed step.
+//
+// Breakpoints of a piecewise torque (model/torque.hpp), as in the euler formulation
+// (euler_runs.hpp): the grid step that crosses one is done as sub-steps, to each breakpoint inside
+// it and on to the grid point t0 + n h, so the samples stay on the grid. Every sub-step is an
+// accepted step of the current representation (band entry and exit, phase reduction); the
+// observer sees grid points only, and the sub-steps count in rhs_evals. The run's own copies of
+// the torque (the element system's and the direct system's) are pinned to the interval of each
+// step's start, so no stage evaluates a formula of the far side of a breakpoint (a step ending on
+// one sees the formulas of its own side there).
 #pragma once
 
 #include <eulervop/core/vec3.hpp>
+#include <eulervop/model/torque.hpp>
 #include <eulervop/rk/explicit_rk.hpp>
 #include <eulervop/rk/problem_system.hpp>
 #include <eulervop/runs/detail/divergence.hpp>
+#include <eulervop/runs/detail/run_torque.hpp>
 #include <eulervop/runs/detail/vop_run_state.hpp>
 #include <eulervop/runs/run_result.hpp>
 #include <eulervop/runs/settings.hpp>
@@ -12,21 +23,29 @@
 #include <algorithm>
 #include <chrono>
 #include <cstddef>
+#include <vector>
 
 namespace eulervop::detail {
 
 // The VOP formulations at a fixed step: vop_run_state's representations stepped with one
 // explicit_rk stepper (the same tableau and compensated summation as rk::integrate_fixed), so
-// the method and step never change.
+// the method and step never change (a step across a breakpoint is split, see the header note).
 template <class Tableau, bool Theta, class Problem>
 class vop_fixed_run {
  public:
   using V = vec3<double>;
+  using Torque = typename Problem::torque_type;
+  // Breakpoints matter only to a torque that varies (a constant one has none to honour).
+  static constexpr bool piecewise = piecewise_torque<Torque> && !is_constant_torque_v<Torque>;
 
-  // G: the problem's constant torque.
-  vop_fixed_run(run_result& out, const Problem& p, const V& G, const fixed_run_settings& s, double bound)
+  vop_fixed_run(run_result& out, const Problem& p, const fixed_run_settings& s, double bound)
       : out_(out), s_(s), tau0_(p.initial_time()), bound_(bound), every_(std::max<std::size_t>(s.sample_every, 1)),
-        run_(out, p.initial_state(), p.initial_time(), G, s.bands, first_), euler_{p} {}
+        run_(out, p.initial_state(), p.initial_time(), p.torque, s.bands, first_), euler_{p} {
+    if constexpr (piecewise) {
+      breaks_ = breakpoints_between(p, tau0_, tau0_ + s.h * static_cast<double>(s.n_steps));
+      pin_at(tau0_);
+    }
+  }
 
   void operator()() {
     out_.sample_steps.reserve(s_.n_steps / every_ + 2);
@@ -42,6 +61,16 @@ class vop_fixed_run {
     V next{}, comp_next{};
     while (n < n_steps) {
       const double t_next = tau0 + h * static_cast<double>(n + 1);
+      if constexpr (piecewise) {
+        // A breakpoint inside the step or at its end: sub-steps, pinned per sub-step.
+        if (next_break_ < breaks_.size() && !(breaks_[next_break_] > t_next)) [[unlikely]] {
+          if (!steps_across(state, comp, t, t_next)) break;
+          ++n;
+          t = t_next;
+          if (n % every == 0 || n == n_steps) sample(n, state);
+          continue;
+        }
+      }
       comp_next = comp;
       if (!step(state, t, h, next, comp_next)) [[unlikely]] {
         state = run_.leave_elements(t, state);
@@ -82,14 +111,58 @@ class vop_fixed_run {
     out_.Omega.push_back(run_.Omega(state));
   }
 
+  // The grid step from t to the grid point t_end that holds breakpoints (inside it, or at its
+  // end): one sub-step to each breakpoint, re-pinning after it, then one on to t_end. False when
+  // the run stopped (out_.status set).
+  [[gnu::noinline]] bool steps_across(V& state, V& comp, double t, double t_end) {
+    while (next_break_ < breaks_.size() && !(breaks_[next_break_] > t_end)) {
+      const double b = breaks_[next_break_];
+      if (b > t) {  // a repeated breakpoint gives no step
+        if (!sub_step(state, comp, t, b)) return false;
+        t = b;
+      }
+      ++next_break_;
+      pin_at(b);  // the interval that starts at b
+    }
+    return !(t_end > t) || sub_step(state, comp, t, t_end);
+  }
+  // One accepted step from a to b (redone with Eq. 5 if the elements left their domain).
+  bool sub_step(V& state, V& comp, double a, double b) {
+    V next{}, comp_next{};
+    for (;;) {
+      comp_next = comp;
+      if (step(state, a, b - a, next, comp_next)) break;
+      state = run_.leave_elements(a, state);
+      comp = V{0, 0, 0};
+    }
+    if (!finite_within(next, bound_)) {
+      out_.status = {divergence_kind(next), b};
+      return false;
+    }
+    state = next;
+    comp = comp_next;
+    run_.after_step(b, state, comp);
+    return true;
+  }
+  // Pins the run's own copies of the torque (element and direct systems) to the interval of t.
+  void pin_at(double t) {
+    if constexpr (piecewise) {
+      const auto i = run_.torque().interval_at(t);
+      run_.torque().pin(i);
+      euler_.problem.torque.pin(i);
+    }
+  }
+
   run_result& out_;
   const fixed_run_settings& s_;
   double tau0_, bound_;
   std::size_t every_;  // sample_every, at least 1
   V first_{};          // the starting state, in the representation vop_run_state chose
-  vop_run_state<Theta> run_;
+  vop_run_state<Theta, Torque> run_;
   rk::explicit_rk<Tableau, V> stepper_;
   rk::problem_system<Problem> euler_;
+  std::vector<double> breaks_;  // the torque's breakpoints inside the span (piecewise only)
+  std::size_t next_break_ = 0;  // the first breakpoint after the current time
 };
 
 }  // namespace eulervop::detail

@@ -16,9 +16,20 @@
 // other regime if the separatrix was crossed. A VOP step whose stages leave the domain (a stage
 // crossed k = 1 or c1 = 0 within the step) is redone as a direct step from the step's start,
 // opening a band there. Each stretch of direct steps is recorded as (tau entered, tau left).
+//
+// A torque of time or state (model/torque.hpp) is never "without torque": the bands are always
+// armed, and |G| in the thresholds is the torque's norm near the current state, updated after
+// every accepted step: after a direct step |G(tau, Omega)| at the step's end (one evaluation of
+// the torque); after an element step |G| of the step's last stage, which the element system
+// evaluated anyway (vop/detail/vop_equations.hpp) at a time within the step and a state within
+// its truncation error of the step's result (for an FSAL pair, the end itself). The thresholds
+// are scales, not sharp limits (docs/vop-strategies.md, section 4): a |G| one step old moves
+// them by O(h |dG/dtau|). The element system holds its own copy of the torque, which the run
+// pins (vop_fixed_run.hpp, vop_adaptive_run.hpp).
 #pragma once
 
 #include <eulervop/core/vec3.hpp>
+#include <eulervop/model/torque.hpp>
 #include <eulervop/runs/run_result.hpp>
 #include <eulervop/runs/settings.hpp>
 #include <eulervop/vop/frame.hpp>
@@ -40,17 +51,31 @@ namespace eulervop::detail {
 // this class owns the representation, the frame and the records. The state passes by value into
 // the functions that change the representation (out of line; they run once per band): a local
 // whose address escaped would live in memory, and every step would reload it.
-template <bool Theta>
+//
+// Torque: the problem's torque type. A constant one gives the paper's G to the element system
+// once per frame; any other is copied into the element system, which evaluates it at each stage.
+template <bool Theta, class Torque = constant_torque<double>>
 class vop_run_state {
  public:
   using V = vec3<double>;
-  using System = std::conditional_t<Theta, vop_theta_system<double>, vop_system<double>>;
+  // True for a torque of time or state (evaluated at each stage).
+  static constexpr bool varying = !is_constant_torque_v<Torque>;
+  using Source = std::conditional_t<varying, Torque, void>;
+  using System = std::conditional_t<Theta, vop_theta_system<double, Source>, vop_system<double, Source>>;
 
-  // Starts at Omega0 (at tau0), under the constant torque G of Eq. 5: `state` becomes its
-  // elements, or Omega0 inside a band.
-  vop_run_state(run_result& out, const V& Omega0, double tau0, const V& G, const vop_band_thresholds& b, V& state)
-      : out_(out), b_(b), G_(G), sys_(zero_) {
-    torque_ = G_[0] != 0 || G_[1] != 0 || G_[2] != 0;
+  // Starts at Omega0 (at tau0), under the problem's torque (Eq. 5): `state` becomes its
+  // elements, or Omega0 inside a band. A torque of time or state is copied, never evaluated here
+  // through the caller's object (a run evaluates only its own copy).
+  vop_run_state(run_result& out, const V& Omega0, double tau0, const Torque& torque, const vop_band_thresholds& b,
+                V& state)
+      : out_(out), b_(b), G_(initial_G(torque, tau0, Omega0)), sys_(first_system(torque)) {
+    if constexpr (varying) {
+      // G at the start, from the system's own copy (its interval the one of tau0).
+      G_ = sys_.torque().value(tau0, Omega0);
+      torque_ = true;
+    } else {
+      torque_ = G_[0] != 0 || G_[1] != 0 || G_[2] != 0;
+    }
     gnorm_ = std::sqrt(G_[0] * G_[0] + G_[1] * G_[1] + G_[2] * G_[2]);
     if (const auto y = try_elements(Omega0, 1.0)) {
       state = *y;
@@ -62,6 +87,12 @@ class vop_run_state {
 
   bool in_elements() const { return elements_; }
   System& system() { return sys_; }
+  // The element system's own copy of a varying torque (the drivers pin its interval).
+  const Torque& torque() const
+    requires varying
+  {
+    return sys_.torque();
+  }
 
   // Omega of the state (for vop: converted by Eq. 12).
   [[gnu::noinline]] V Omega(V state) const {
@@ -90,6 +121,7 @@ class vop_run_state {
   [[gnu::always_inline]] bool after_step(double tau, V& state, V& comp) {
     if (elements_) {
       if constexpr (Theta) reduce_phase(state[2], turns_);
+      if constexpr (varying) gnorm_ = norm(sys_.last_torque());  // the step's last stage (header note)
       if (!in_band(state[0], state[1], 1.0)) [[likely]]
         return false;
       state = to_direct(tau, state);
@@ -97,6 +129,7 @@ class vop_run_state {
       return true;
     }
     ++out_.direct_steps;
+    if constexpr (varying) gnorm_ = norm(sys_.torque().value(tau, state));  // at the step's end
     if (const auto y = try_elements_at(tau, state)) {
       state = *y;
       comp = zero_;
@@ -119,6 +152,17 @@ class vop_run_state {
   }
 
  private:
+  static double norm(const V& g) { return std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]); }
+  // The constant G, or for a varying torque a placeholder until the system's copy gives G(tau0).
+  static V initial_G(const Torque& torque, double tau0, const V& Omega0) {
+    if constexpr (varying) return V{0, 0, 0};
+    else return torque.value(tau0, Omega0);
+  }
+  // The element system before the first frame: without torque (constant), or holding the copy.
+  static System first_system(const Torque& torque) {
+    if constexpr (varying) return System(vop_frame<double>{}, torque);
+    else return System(V{0, 0, 0});
+  }
   static double ratio(double a, double b) {  // min(k, 1/k) from c1, c2 (or d1, d2)
     const double lo = std::min(a, b), hi = std::max(a, b);
     return hi > 0 ? lo / hi : 0.0;
@@ -146,7 +190,8 @@ class vop_run_state {
     if (have_frame_ && f.minor_axis() != frame_.minor_axis()) ++out_.regime_changes;
     have_frame_ = true;
     frame_ = f;
-    sys_ = System(frame_.rotate(G_));
+    if constexpr (varying) sys_.set_frame(frame_);  // keeps the torque's copy and its pinned interval
+    else sys_ = System(frame_.rotate(G_));
     elements_ = true;
     if constexpr (Theta) return frame_.theta_elements_of(Om);
     else return frame_.elements_of(Om);
@@ -183,10 +228,10 @@ class vop_run_state {
 
   run_result& out_;
   vop_band_thresholds b_;
-  V G_;
+  V G_;  // the constant torque; a varying one's value at the start
   V zero_{0, 0, 0};
   bool torque_ = false;
-  double gnorm_ = 0;
+  double gnorm_ = 0;  // |G| of the band thresholds (header note)
   bool elements_ = false;
   vop_frame<double> frame_;
   bool have_frame_ = false;

@@ -1,0 +1,405 @@
+// An arithmetic expression of the time and the state, such as a torque component "0.25*sin(t)^2"
+// or "-0.1*omega1", as a program independent of the number type, and that program compiled for
+// one number type T.
+//
+// The core parses no text (docs/design.md section 5.3): the scene library turns a string into an
+// `expression` (scene/expression_parser.hpp); this header only evaluates it. The program is
+// postfix (reverse Polish) code over a stack, so evaluating is one loop over the steps with no
+// recursion and no allocation per step. Numbers are kept as their exact decimal texts and
+// converted once, in T, when the expression is compiled: "0.1" is 0.1 correctly rounded to every
+// digit of a quad or MPFR run, not the double nearest 0.1 (the same rule as the scene's numbers,
+// scene/decimal.hpp).
+#pragma once
+
+#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/vec3.hpp>
+
+#include <bit>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace eulervop {
+
+enum class expression_op : std::uint8_t {
+  constant,  // push constants[arg]
+  pi,        // push pi
+  variable,  // push variable slot arg (0 = time, 1..3 = y1..y3)
+  add,       // a b -> a + b
+  sub,       // a b -> a - b
+  mul,       // a b -> a * b
+  div,       // a b -> a / b
+  neg,       // a -> -a
+  pow,       // a -> a^arg, arg an integer
+  sin,
+  cos,
+  exp,
+  log,
+  sqrt,
+};
+
+struct expression_step {
+  expression_op op;
+  std::int32_t arg = 0;  // constant: index into constants; variable: the slot; pow: the exponent
+};
+
+// A parsed expression: postfix code over a stack, independent of the number type.
+struct expression {
+  // The variable slots a step of kind `variable` reads.
+  static constexpr int time_slot = 0;   // t (or tau)
+  static constexpr int state_slots = 3;  // slots 1, 2, 3: y1, y2, y3
+
+  std::string text;                    // the source as written, for messages
+  std::vector<expression_step> code;   // postfix program; leaves one value on the stack
+  std::vector<std::string> constants;  // exact canonical decimal texts (scene::parse_decimal)
+  unsigned uses = 0;                   // bit s set when variable slot s is read
+  std::size_t stack_depth = 0;         // the most values the program holds at once
+
+  bool uses_time() const { return (uses & 1u) != 0; }
+  bool uses_state() const { return (uses & 0b1110u) != 0; }
+  bool is_constant() const { return uses == 0; }
+};
+
+namespace detail {
+
+// Checks that the code is a well-formed program (every index in range, no step reads an empty
+// stack, one value left) and returns the stack depth it needs. An expression can be built by
+// hand, so the compiled form does not trust the parser's stack_depth.
+inline std::size_t checked_stack_depth(const expression& e) {
+  auto bad = [&](const std::string& why) {
+    return std::invalid_argument("malformed expression program for `" + e.text + "`: " + why);
+  };
+  std::size_t depth = 0, most = 0;
+  for (const expression_step& s : e.code) {
+    switch (s.op) {
+      case expression_op::constant:
+        if (s.arg < 0 || static_cast<std::size_t>(s.arg) >= e.constants.size())
+          throw bad("constant index out of range");
+        ++depth;
+        break;
+      case expression_op::variable:
+        if (s.arg < 0 || s.arg > expression::state_slots) throw bad("variable slot out of range");
+        ++depth;
+        break;
+      case expression_op::pi: ++depth; break;
+      case expression_op::add:
+      case expression_op::sub:
+      case expression_op::mul:
+      case expression_op::div:
+        if (depth < 2) throw bad("an operator lacks an operand");
+        --depth;
+        break;
+      case expression_op::neg:
+      case expression_op::pow:
+      case expression_op::sin:
+      case expression_op::cos:
+      case expression_op::exp:
+      case expression_op::log:
+      case expression_op::sqrt:
+        if (depth < 1) throw bad("a function lacks its argument");
+        break;
+      default: throw bad("unknown step");
+    }
+    if (depth > most) most = depth;
+  }
+  if (depth != 1) throw bad("the program does not leave exactly one value");
+  return most;
+}
+
+// pi correctly rounded in T, at T's current precision.
+template <scalar T>
+T pi_in() {
+  if constexpr (std::is_same_v<T, double>) {
+    return std::numbers::pi_v<double>;
+  } else if constexpr (std::is_same_v<T, quad>) {
+    // libquadmath's M_PIq, a __float128 literal of 37 significant digits: within 1e-37 of pi,
+    // far below half an ulp of binary128 at pi (2e-34), so it rounds as pi itself does
+    // (tests/test_expression.cpp compares it with pi from 100 digits).
+    return quad(M_PIq);
+  } else {
+    // MPFR's own constant, correctly rounded at the value's precision (the thread's default
+    // precision, set by mpfr_precision_scope): any precision, never a double or a fixed string.
+    T pi;
+    mpfr_const_pi(pi.backend().data(), MPFR_RNDN);
+    return pi;
+  }
+}
+
+// x = -x, in place (the negation of a Boost number without a temporary).
+template <scalar T>
+void negate_in_place(T& x) {
+  if constexpr (std::is_same_v<T, double>)
+    x = -x;
+  else
+    x.backend().negate();
+}
+
+}  // namespace detail
+
+// An expression compiled for the number type T (double, quad or mpfr_real).
+//
+// Constants and pi are converted once, at construction, at T's precision then current (for
+// mpfr_real: the thread's default precision; construct and evaluate under the same
+// mpfr_precision_scope). Evaluation uses a stack allocated at construction (mutable members), so
+// it allocates nothing per step beyond what the elementary functions do internally and the value
+// returned; it also means one object must not be evaluated by two threads at once (copy it per
+// thread). Evaluation never throws: a non-finite result (log of a negative number, division by
+// zero) is returned as it is, and the caller checks it.
+template <scalar T>
+class compiled_expression {
+ public:
+  explicit compiled_expression(expression e) : source_(std::move(e)) {
+    const std::size_t depth = detail::checked_stack_depth(source_);
+    constants_.reserve(source_.constants.size());
+    for (const std::string& c : source_.constants) {
+      auto v = eulervop::from_text<T>(c);
+      if (!v) throw std::invalid_argument("expression constant does not convert: " + c);
+      constants_.push_back(std::move(*v));
+    }
+    pi_ = detail::pi_in<T>();
+    // Every slot is created now, at the current precision, and only assigned to afterwards.
+    values_.assign(depth, T(0));
+    partials_.assign(depth, vec3<T>{T(0), T(0), T(0)});
+    s1_ = T(0);
+    s2_ = T(0);
+    s3_ = T(0);
+  }
+
+  const expression& source() const { return source_; }
+
+  // The value at time t and state y.
+  T operator()(const T& t, const vec3<T>& y) const {
+    using std::cos;
+    using std::exp;
+    using std::log;
+    using std::sin;
+    using std::sqrt;
+    using std::swap;
+    std::size_t sp = 0;  // values_[0, sp) is the stack
+    for (const expression_step& s : source_.code) {
+      switch (s.op) {
+        case expression_op::constant: values_[sp++] = constants_[static_cast<std::size_t>(s.arg)]; break;
+        case expression_op::pi: values_[sp++] = pi_; break;
+        case expression_op::variable:
+          values_[sp++] = s.arg == expression::time_slot ? t : y[static_cast<std::size_t>(s.arg - 1)];
+          break;
+        case expression_op::add: --sp; values_[sp - 1] += values_[sp]; break;
+        case expression_op::sub: --sp; values_[sp - 1] -= values_[sp]; break;
+        case expression_op::mul: --sp; values_[sp - 1] *= values_[sp]; break;
+        case expression_op::div: --sp; values_[sp - 1] /= values_[sp]; break;
+        case expression_op::neg: detail::negate_in_place(values_[sp - 1]); break;
+        case expression_op::pow: integer_power(values_[sp - 1], s.arg); break;
+        // f(x) goes to a scratch value, then trades places with x: no temporary for MPFR.
+        case expression_op::sin: s1_ = sin(values_[sp - 1]); swap(values_[sp - 1], s1_); break;
+        case expression_op::cos: s1_ = cos(values_[sp - 1]); swap(values_[sp - 1], s1_); break;
+        case expression_op::exp: s1_ = exp(values_[sp - 1]); swap(values_[sp - 1], s1_); break;
+        case expression_op::log: s1_ = log(values_[sp - 1]); swap(values_[sp - 1], s1_); break;
+        case expression_op::sqrt: s1_ = sqrt(values_[sp - 1]); swap(values_[sp - 1], s1_); break;
+      }
+    }
+    return values_[0];
+  }
+
+  // The value, and in dy its partial derivatives d/dy_k (k = 0, 1, 2) at (t, y).
+  //
+  // Forward mode: each stack entry carries its value and its three partials, and each step
+  // applies the derivative rule of its operation exactly (sum, product and quotient rules, the
+  // chain rule for the functions). The value is computed by the same operations in the same
+  // order as operator(), so the two agree to the last bit.
+  T value_and_gradient(const T& t, const vec3<T>& y, vec3<T>& dy) const {
+    using std::cos;
+    using std::exp;
+    using std::log;
+    using std::sin;
+    using std::sqrt;
+    using std::swap;
+    std::size_t sp = 0;
+    for (const expression_step& s : source_.code) {
+      switch (s.op) {
+        case expression_op::constant:
+          values_[sp] = constants_[static_cast<std::size_t>(s.arg)];
+          zero(partials_[sp]);
+          ++sp;
+          break;
+        case expression_op::pi:
+          values_[sp] = pi_;
+          zero(partials_[sp]);
+          ++sp;
+          break;
+        case expression_op::variable: {
+          zero(partials_[sp]);
+          if (s.arg == expression::time_slot) {
+            values_[sp] = t;
+          } else {
+            const auto k = static_cast<std::size_t>(s.arg - 1);
+            values_[sp] = y[k];
+            partials_[sp][k] = 1;
+          }
+          ++sp;
+          break;
+        }
+        case expression_op::add:
+          --sp;
+          values_[sp - 1] += values_[sp];
+          for (int k = 0; k < 3; ++k) partials_[sp - 1][k] += partials_[sp][k];
+          break;
+        case expression_op::sub:
+          --sp;
+          values_[sp - 1] -= values_[sp];
+          for (int k = 0; k < 3; ++k) partials_[sp - 1][k] -= partials_[sp][k];
+          break;
+        case expression_op::mul: {
+          // (a b)' = a' b + a b'
+          --sp;
+          T& a = values_[sp - 1];
+          const T& b = values_[sp];
+          for (int k = 0; k < 3; ++k) {
+            partials_[sp - 1][k] *= b;
+            s2_ = a;
+            s2_ *= partials_[sp][k];
+            partials_[sp - 1][k] += s2_;
+          }
+          a *= b;
+          break;
+        }
+        case expression_op::div: {
+          // (a / b)' = (a' - q b') / b with q = a / b
+          --sp;
+          T& a = values_[sp - 1];
+          const T& b = values_[sp];
+          s1_ = a;
+          s1_ /= b;
+          for (int k = 0; k < 3; ++k) {
+            s2_ = s1_;
+            s2_ *= partials_[sp][k];
+            partials_[sp - 1][k] -= s2_;
+            partials_[sp - 1][k] /= b;
+          }
+          swap(a, s1_);
+          break;
+        }
+        case expression_op::neg:
+          detail::negate_in_place(values_[sp - 1]);
+          for (int k = 0; k < 3; ++k) detail::negate_in_place(partials_[sp - 1][k]);
+          break;
+        case expression_op::pow: power_with_partials(values_[sp - 1], partials_[sp - 1], s.arg); break;
+        case expression_op::sin:
+          // sin' = cos
+          s1_ = sin(values_[sp - 1]);
+          s2_ = cos(values_[sp - 1]);
+          for (int k = 0; k < 3; ++k) partials_[sp - 1][k] *= s2_;
+          swap(values_[sp - 1], s1_);
+          break;
+        case expression_op::cos:
+          // cos' = -sin
+          s1_ = cos(values_[sp - 1]);
+          s2_ = sin(values_[sp - 1]);
+          detail::negate_in_place(s2_);
+          for (int k = 0; k < 3; ++k) partials_[sp - 1][k] *= s2_;
+          swap(values_[sp - 1], s1_);
+          break;
+        case expression_op::exp:
+          // exp' = exp
+          s1_ = exp(values_[sp - 1]);
+          for (int k = 0; k < 3; ++k) partials_[sp - 1][k] *= s1_;
+          swap(values_[sp - 1], s1_);
+          break;
+        case expression_op::log:
+          // log' x = 1 / x
+          for (int k = 0; k < 3; ++k) partials_[sp - 1][k] /= values_[sp - 1];
+          s1_ = log(values_[sp - 1]);
+          swap(values_[sp - 1], s1_);
+          break;
+        case expression_op::sqrt:
+          // sqrt' x = 1 / (2 sqrt x); the division by 2 is exact
+          s1_ = sqrt(values_[sp - 1]);
+          for (int k = 0; k < 3; ++k) {
+            partials_[sp - 1][k] /= s1_;
+            partials_[sp - 1][k] /= 2;
+          }
+          swap(values_[sp - 1], s1_);
+          break;
+      }
+    }
+    for (std::size_t k = 0; k < 3; ++k) dy[k] = partials_[0][k];
+    return values_[0];
+  }
+
+ private:
+  static void zero(vec3<T>& v) {
+    for (T& x : v) x = 0;
+  }
+
+  // x = x^m for m >= 1, in place, by left-to-right binary powering (square, and multiply by the
+  // base at each set bit): m = 2 is the single product x x, correctly rounded, and m = 3 is
+  // (x x) x, as written by hand. At most 2 log2(m) products. `base` is scratch.
+  static void raise(T& x, unsigned m, T& base) {
+    if (m <= 1) return;
+    base = x;
+    for (int b = static_cast<int>(std::bit_width(m)) - 2; b >= 0; --b) {
+      x *= x;
+      if (((m >> b) & 1u) != 0) x *= base;
+    }
+  }
+
+  // x = x^n for an integer n: n = 0 gives 1 (also for x = 0, as pow does), n < 0 gives
+  // 1 / x^|n| (one rounding more than x^|n|; infinite at x = 0, which the caller sees).
+  void integer_power(T& x, std::int32_t n) const {
+    using std::swap;
+    if (n == 0) {
+      x = 1;
+      return;
+    }
+    const unsigned m = n < 0 ? 0u - static_cast<unsigned>(n) : static_cast<unsigned>(n);
+    raise(x, m, s2_);
+    if (n < 0) {
+      s1_ = 1;
+      s1_ /= x;
+      swap(x, s1_);
+    }
+  }
+
+  // x = x^n and its partials: (x^n)' = n x^(n-1) x' for n > 0; for n = -m < 0,
+  // (1 / x^m)' = -m x^(m-1) x' / x^(2m) = -m x^(m-1) v^2 x' with v = 1 / x^m.
+  void power_with_partials(T& x, vec3<T>& d, std::int32_t n) const {
+    if (n == 0) {
+      x = 1;
+      zero(d);
+      return;
+    }
+    const unsigned m = n < 0 ? 0u - static_cast<unsigned>(n) : static_cast<unsigned>(n);
+    // s3_ = x^(m-1)
+    if (m == 1) {
+      s3_ = 1;
+    } else {
+      s3_ = x;
+      raise(s3_, m - 1, s2_);
+    }
+    integer_power(x, n);  // the same operations as operator()
+    if (n > 0) {
+      s3_ *= m;
+    } else {
+      s3_ *= x;
+      s3_ *= x;
+      s3_ *= m;
+      detail::negate_in_place(s3_);
+    }
+    for (int k = 0; k < 3; ++k) d[k] *= s3_;
+  }
+
+  expression source_;
+  std::vector<T> constants_;
+  T pi_;
+  // The evaluation stack and scratch values: allocated at construction, reused by every call.
+  mutable std::vector<T> values_;
+  mutable std::vector<vec3<T>> partials_;
+  mutable T s1_, s2_, s3_;
+};
+
+}  // namespace eulervop

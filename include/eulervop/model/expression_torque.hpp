@@ -1,0 +1,248 @@
+// A torque of time, or of time and state, given by formulas (torque_law.hpp), as a torque type of
+// euler_problem (torque.hpp): g(t, y) in the integrator's variables.
+//
+// The formulas are written in the scene's variables; the torque maps them:
+//   - a normalized scene (tau, Omega, G) and the coefficient form (t, y, f) are integrated in
+//     their own variables;
+//   - a physical scene writes M(t, omega) in N m, s and rad/s in the body's axes. The integrator
+//     runs in tau and Omega (Eqs. 2-4, physical_scaling.hpp), or in t and omega in the direct
+//     form, so t = tau / (dtau/dt), omega = P^T (sqrt(A) Omega) and G = (P M) / (I sqrt(A)
+//     dtau/dt), P the axis permutation (principal_axes.hpp).
+//
+// Pieces make the torque piecewise: each bound is a breakpoint, and the integrators end a segment
+// or a step exactly there (docs/design.md, "Breakpoints"). Between two breakpoints one set of
+// formulas applies. A caller that knows on which side of a breakpoint it works (a segment ending
+// there evaluates the torque at its end) pins the interval; otherwise the torque is
+// right-continuous: at a breakpoint the interval that starts there applies.
+//
+// A formula that is not finite where it is evaluated (log of a negative, a division by zero)
+// throws numerical_failure naming the component, the formula and the time: no NaN is integrated.
+#pragma once
+
+#include <eulervop/core/numerical_failure.hpp>
+#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/vec3.hpp>
+#include <eulervop/model/expression.hpp>
+#include <eulervop/model/physical_scaling.hpp>
+#include <eulervop/model/principal_axes.hpp>
+#include <eulervop/model/torque_law.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace eulervop {
+
+// The change of variables from the integrator's (t, y, g) to the scene's (time, state, torque):
+// time = t / rate, state = P^T (state_scale y), g = (P torque) / torque_divisor, P = axes; for a
+// physical body the same operations as physical_scaling's, so a constant formula gives exactly
+// the G of a constant torque.
+template <class T>
+struct torque_variables {
+  bool identity = true;  // normalized and coefficient-form scenes: no change at all
+  axis_permutation axes;
+  vec3<T> state_scale{T(1), T(1), T(1)};
+  vec3<T> torque_divisor{T(1), T(1), T(1)};
+  T rate = T(1);
+
+  // The map of a physical body (Eqs. 2-4, or the direct form's G = M / I).
+  static torque_variables of(const physical_scaling<T>& s) {
+    torque_variables v;
+    v.identity = false;
+    v.axes = s.axes();
+    v.rate = s.tau_rate();
+    const T I[3] = {s.moments().I1, s.moments().I2, s.moments().I3};
+    for (int i = 0; i < 3; ++i) {
+      v.state_scale[i] = s.sqrt_A()[i];
+      v.torque_divisor[i] = I[i] * s.sqrt_A()[i] * s.tau_rate();
+    }
+    return v;
+  }
+
+  template <class U>
+  torque_variables<U> to() const {
+    torque_variables<U> v;
+    v.identity = identity;
+    v.axes = axes;
+    v.rate = static_cast<U>(rate);
+    for (int i = 0; i < 3; ++i) {
+      v.state_scale[i] = static_cast<U>(state_scale[i]);
+      v.torque_divisor[i] = static_cast<U>(torque_divisor[i]);
+    }
+    return v;
+  }
+};
+
+template <class T, bool OfState>
+class expression_torque {
+ public:
+  static constexpr bool depends_on_time = true;
+  static constexpr bool depends_on_state = OfState;
+
+  expression_torque() = default;
+  // Compiles the law in T (constants and piece bounds converted at the current precision).
+  expression_torque(std::shared_ptr<const torque_law> law, const torque_variables<T>& vars)
+      : law_(std::move(law)), vars_(vars) {
+    sets_.push_back(compile(law_->base));
+    for (const torque_piece& p : law_->pieces) sets_.push_back(compile(p.terms));
+    build_intervals();
+  }
+
+  const std::shared_ptr<const torque_law>& law() const { return law_; }
+  const torque_variables<T>& variables() const { return vars_; }
+
+  // The breakpoints in the integrator's time, increasing: every piece's bounds.
+  const std::vector<T>& breakpoints() const { return breaks_; }
+  // The interval of t: 0 before the first breakpoint, i in [breakpoint i-1, breakpoint i).
+  std::size_t interval_at(const T& t) const {
+    return static_cast<std::size_t>(std::upper_bound(breaks_.begin(), breaks_.end(), t) - breaks_.begin());
+  }
+  // Evaluate in `interval` whatever the time (a segment or step that ends on its right bound);
+  // unpin() returns to the interval of each time. The integrator's copy of the problem holds it.
+  void pin(std::size_t interval) const { pinned_ = interval; }
+  void unpin() const { pinned_.reset(); }
+
+  vec3<T> value(const T& t, const vec3<T>& y) const {
+    const compiled_set& set = set_at(t);
+    const T ts = scene_time(t);
+    const vec3<T> ys = scene_state(y);
+    vec3<T> m;
+    for (int i = 0; i < 3; ++i) m[i] = checked(set[i], set[i].constant ? set[i].value : (*set[i].program)(ts, ys), i, ts, t);
+    return integrator_torque(m);
+  }
+
+  // J[i][k] += d g_i / d y_k (the chain rule through the change of variables).
+  void add_jacobian(const T& t, const vec3<T>& y, std::array<vec3<T>, 3>& J) const
+    requires OfState
+  {
+    const compiled_set& set = set_at(t);
+    const T ts = scene_time(t);
+    const vec3<T> ys = scene_state(y);
+    std::array<vec3<T>, 3> Js;  // d M_a / d state_b in the scene's variables
+    for (int a = 0; a < 3; ++a) {
+      if (set[a].constant || !set[a].source->uses_state()) {
+        Js[a] = {T(0), T(0), T(0)};
+        continue;
+      }
+      checked(set[a], set[a].program->value_and_gradient(ts, ys, Js[a]), a, ts, t);
+    }
+    for (int i = 0; i < 3; ++i) {
+      const int a = vars_.identity ? i : vars_.axes.axis(i);
+      for (int k = 0; k < 3; ++k) {
+        const int b = vars_.identity ? k : vars_.axes.axis(k);
+        T d = Js[a][b];
+        if (!vars_.identity) {
+          d *= vars_.state_scale[k];
+          d /= vars_.torque_divisor[i];
+          if (vars_.axes.sign(i) * vars_.axes.sign(k) < 0) d = -d;
+        }
+        J[i][k] += d;
+      }
+    }
+  }
+
+ private:
+  struct term {
+    bool constant = false;
+    T value{};                                    // a constant formula, evaluated once
+    std::optional<compiled_expression<T>> program;  // otherwise
+    const expression* source = nullptr;
+  };
+  using compiled_set = std::array<term, 3>;
+
+  static compiled_set compile(const std::array<expression, 3>& formulas) {
+    compiled_set set;
+    for (int i = 0; i < 3; ++i) {
+      set[i].source = &formulas[i];
+      const compiled_expression<T> program(formulas[i]);
+      if (formulas[i].is_constant()) {
+        set[i].constant = true;
+        set[i].value = program(T(0), vec3<T>{T(0), T(0), T(0)});
+      } else {
+        set[i].program.emplace(program);
+      }
+    }
+    return set;
+  }
+
+  // Breakpoints from the pieces' bounds (evaluated in T), and the formulas of each interval.
+  void build_intervals() {
+    std::vector<std::pair<T, T>> windows;  // in the integrator's time
+    for (const torque_piece& p : law_->pieces)
+      windows.emplace_back(integrator_time(bound(p.from)), integrator_time(bound(p.to)));
+    for (const auto& [a, b] : windows) {
+      breaks_.push_back(a);
+      breaks_.push_back(b);
+    }
+    std::sort(breaks_.begin(), breaks_.end());
+    breaks_.erase(std::unique(breaks_.begin(), breaks_.end()), breaks_.end());
+    set_of_interval_.assign(breaks_.size() + 1, 0);
+    for (std::size_t i = 1; i <= breaks_.size(); ++i)
+      for (std::size_t p = 0; p < windows.size(); ++p)
+        if (!(breaks_[i - 1] < windows[p].first) && breaks_[i - 1] < windows[p].second) set_of_interval_[i] = p + 1;
+  }
+
+  static T bound(const expression& e) { return compiled_expression<T>(e)(T(0), vec3<T>{T(0), T(0), T(0)}); }
+
+  const compiled_set& set_at(const T& t) const {
+    if (sets_.size() == 1) return sets_[0];
+    return sets_[set_of_interval_[pinned_ ? *pinned_ : interval_at(t)]];
+  }
+
+  T scene_time(const T& t) const { return vars_.identity ? t : T(t / vars_.rate); }
+  T integrator_time(const T& ts) const { return vars_.identity ? ts : T(ts * vars_.rate); }
+  vec3<T> scene_state(const vec3<T>& y) const {
+    if (vars_.identity) return y;
+    const vec3<T> s = {y[0] * vars_.state_scale[0], y[1] * vars_.state_scale[1], y[2] * vars_.state_scale[2]};
+    return vars_.axes.to_user(s);
+  }
+  vec3<T> integrator_torque(const vec3<T>& m) const {
+    if (vars_.identity) return m;
+    vec3<T> g = vars_.axes.to_principal(m);
+    for (int i = 0; i < 3; ++i) g[i] /= vars_.torque_divisor[i];
+    return g;
+  }
+
+  // The value of component i, or numerical_failure when it is not finite.
+  T checked(const term& c, T v, int i, const T& ts, const T& t) const {
+    using std::isfinite;
+    using boost::multiprecision::isfinite;
+    if (isfinite(v)) [[likely]]
+      return v;
+    char at[96];
+    std::snprintf(at, sizeof at, " at %s = %.17g", law_->time_name.c_str(), static_cast<double>(ts));
+    const std::string value = v != v ? "nan" : (v > 0 ? "inf" : "-inf");
+    throw numerical_failure({.kind = outcome_kind::torque_non_finite, .tau = static_cast<double>(t)},
+                            law_->name + std::to_string(i + 1) + " = " + c.source->text + " is " + value + at);
+  }
+
+  std::shared_ptr<const torque_law> law_;
+  torque_variables<T> vars_;
+  std::vector<compiled_set> sets_;              // 0: the base formulas; 1 + p: piece p's
+  std::vector<T> breaks_;
+  std::vector<std::size_t> set_of_interval_;    // the set of each interval
+  mutable std::optional<std::size_t> pinned_;
+};
+
+// The two kinds, as the program names them: of time alone, and of time and state.
+template <class T>
+using time_torque = expression_torque<T, false>;
+template <class T>
+using state_torque = expression_torque<T, true>;
+
+// The same torque in U (the reference's double passes): the formulas compiled again from their
+// decimals, the change of variables rounded to U.
+template <class U, class T, bool OfState>
+expression_torque<U, OfState> convert_torque(const expression_torque<T, OfState>& g) {
+  expression_torque<U, OfState> out(g.law(), g.variables().template to<U>());
+  return out;
+}
+
+}  // namespace eulervop
