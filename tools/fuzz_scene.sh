@@ -39,8 +39,9 @@ for h in quadmath.h quadmath_weak.h; do
   ln -sf "$gcc_include/$h" "$build/quadmath-include/$h"
 done
 
-sources=("$root/fuzz/fuzz_scene.cpp" "$root/src/scene/scene.cpp" "$root/src/scene/decimal.cpp")
-deps=("${sources[@]}" "$root"/include/eulervop/scene/*.hpp "$root"/include/eulervop/*.hpp "$header" "$0")
+sources=("$root/fuzz/fuzz_scene.cpp" "$root"/src/scene/*.cpp)
+deps=("${sources[@]}" "$root"/src/scene/*.hpp "$root"/include/eulervop/scene/*.hpp "$root"/include/eulervop/model/*.hpp
+      "$root"/include/eulervop/*.hpp "$header" "$0")
 rebuild=0
 [[ -x "$bin" ]] || rebuild=1
 toml_mode=${FUZZ_TOML:-shared}
