@@ -380,4 +380,19 @@ TEST(Reference, CertifyRefusesATorqueOfTime) {
   EXPECT_EQ(leftovers(dir.path()), std::vector<std::string>{});
 }
 
+// `check` takes a coefficient-form trajectory by the scene's names, t and y1..3, and names the
+// columns it needs when given others.
+TEST(Check, CoefficientFormTrajectoryByTAndY) {
+  temp_dir dir;
+  write_file(dir.path() / "scene.toml", coefficient_scene);
+  ASSERT_EQ(run(dir.path(), {"reference", "scene.toml", "--precision", "double", "--out", "ref.csv"}).exit_code, 0);
+  std::string traj;
+  for (const auto& row : data_rows(read_file(dir.path() / "ref.csv"))) traj += row + "\n";
+  write_file(dir.path() / "traj.csv", traj);
+  const run_result ok = run(dir.path(), {"check", "scene.toml", "traj.csv", "--tol", "1e-12"});
+  EXPECT_EQ(ok.exit_code, 0) << ok.err << ok.out;
+  write_file(dir.path() / "omega.csv", with(traj, "t,y1,y2,y3", "t,omega1,omega2,omega3"));
+  expect_one_line_error(run(dir.path(), {"check", "scene.toml", "omega.csv"}), "y1..3");
+}
+
 }  // namespace

@@ -13,6 +13,7 @@
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/model/expression_torque.hpp>
 #include <eulervop/model/physical_scaling.hpp>
+#include <eulervop/oracle.hpp>
 #include <eulervop/scene/input_error.hpp>
 #include <eulervop/scene/scene.hpp>
 #include <eulervop/scene/scene_problem.hpp>
@@ -145,6 +146,16 @@ TEST(Pieces, BreakpointsAndWindows) {
   p.torque.pin(0);
   EXPECT_EQ(p.torque.value(b, y), (vec3<quad>{0, 0, 0}));
   p.torque.unpin();
+}
+
+// The oracle API takes a scene's problem of any torque type: the SciML rigid body's reference at
+// t = 10 equals the one the integrator gives directly (the same computation).
+TEST(Oracle, ReferenceOfATorqueOfTime) {
+  const scene s = parse(sciml);
+  const auto ref = with_problem<quad>(s, [&](const auto& p) { return eulervop::oracle::reference<quad>(p, quad(10)); });
+  const auto direct = with_problem<quad>(s, [&](const auto& p) { return eulervop::integrate_reference(p, quad(10)); });
+  EXPECT_EQ(ref(quad(10)), direct(quad(10)));
+  EXPECT_EQ(ref(quad(0)), (vec3<quad>{1, 0, quad("0.9")}));
 }
 
 }  // namespace

@@ -31,6 +31,15 @@
 //   const quad tau_end = eulervop::scene::tau_end_of<quad>(s);
 //   eulervop::oracle::reference<quad> ref(p, tau_end);
 // load_scene_file throws eulervop::scene::input_error (a std::runtime_error) naming the bad field.
+// A scene whose torque is a formula of time or state, or has pieces, or a scene in the
+// coefficient form (the published test problems, data/scenes/problems/), has a problem of its own
+// type: with_problem calls a function with it.
+//   const auto s = eulervop::scene::load_scene_file("data/scenes/problems/sciml-rigid-body.toml");
+//   const auto ref = eulervop::scene::with_problem<quad>(s, [&](const auto& p) {
+//     return eulervop::oracle::reference<quad>(p, eulervop::scene::tau_end_of<quad>(s));
+//   });
+// From values, any torque type (model/torque.hpp) and the coefficients of y_i' = a_i y_j y_k + g_i:
+//   eulervop::oracle::problem<quad>(a, my_torque, y0)
 #pragma once
 
 #if defined(__GNUC__) && !defined(__clang__) && defined(__STRICT_ANSI__)
@@ -56,6 +65,19 @@ euler_problem<T> problem(const vec3<T>& G, const vec3<T>& Omega0) {
   euler_problem<T> p;
   p.torque.G = G;
   p.Omega0 = Omega0;
+  p.tau0 = T(0);
+  return p;
+}
+
+// y_i' = a_i y_j y_k + g_i(t, y), (i, j, k) cyclic, from values: the coefficient form (Eq. 1 with
+// any a), with a torque of any type (model/torque.hpp, e.g. one of time), y(0) = y0, t0 = 0.
+template <scalar T, class Torque>
+euler_problem<T, Torque> problem(const vec3<T>& a, const Torque& g, const vec3<T>& y0) {
+  euler_problem<T, Torque> p;
+  p.form = equation_form::direct;
+  p.a = a;
+  p.torque = g;
+  p.Omega0 = y0;
   p.tau0 = T(0);
   return p;
 }
@@ -86,8 +108,10 @@ struct physical_problem {
 template <scalar T>
 class reference {
  public:
-  reference(const euler_problem<T>& p, const T& tau_end, const picard_settings& settings = {})
-      : trajectory_(integrate_reference<T>(p, tau_end, settings, {}, &stats_)) {}
+  // Any problem of Euler's equations in T: a constant torque, or one of time and state.
+  template <class Torque>
+  reference(const euler_problem<T, Torque>& p, const T& tau_end, const picard_settings& settings = {})
+      : trajectory_(integrate_reference(p, tau_end, settings, {}, &stats_)) {}
 
   // Omega(tau) for tau in [0, tau_end] (std::out_of_range outside).
   vec3<T> operator()(const T& tau) const { return trajectory_(tau); }
