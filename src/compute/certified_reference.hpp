@@ -51,6 +51,10 @@ inline void require_certifiable(const scene& s, const eulervop::precision& p) {
         "--certify: scene {} gives a number as a formula ([body] inertia or [initial]), which is not enclosed; "
         "give decimals",
         s.name));
+  if (s.has_attitude())
+    throw input_error(fmt::format(
+        "--certify: scene {} has an attitude ([initial] q), which is not certified yet; its rates are (leave q out)",
+        s.name));
   if (s.is_coefficient_form())
     throw input_error(fmt::format(
         "--certify: scene {} is in the coefficient form ([equations] a), which is not certified; only Eq. 5 is",

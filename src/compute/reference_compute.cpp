@@ -60,6 +60,25 @@ reference_run integrate_at(const euler_problem<T, Torque>& problem, const T& tau
   return {ref.stats, ref.wall_seconds};
 }
 
+template <scalar T, class Torque>
+reference_run integrate_attitude_streaming(const euler_problem<T, Torque>& problem, const body_rates<T>& rates,
+                                           const quaternion<T>& q0, const T& tau_end, const std::vector<T>& taus,
+                                           const picard_settings& settings, const std::string& label,
+                                           const attitude_sample_function<T>& on_sample) {
+  reference_run out;
+  out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
+    integrate_attitude_samples(
+        problem, rates, q0, tau_end, taus,
+        [&](std::size_t index, const T& tau, const std::array<T, 7>& v) {
+          const vec3<T> y = {v[0], v[1], v[2]};
+          const quaternion<T> q{v[3], v[4], v[5], v[6]};
+          on_sample(index, require_finite(y, tau), require_finite(q, tau));
+        },
+        settings, progress, &out.stats);
+  });
+  return out;
+}
+
 #define EULERVOP_REFERENCE_COMPUTE(T, G)                                                                         \
   template dense_reference<T> integrate_dense(const euler_problem<T, G>&, const T&, const picard_settings&,         \
                                               const std::string&);                                               \
@@ -69,7 +88,11 @@ reference_run integrate_at(const euler_problem<T, Torque>& problem, const T& tau
   template sampled_reference<T> integrate_and_sample(const euler_problem<T, G>&, const T&, const std::vector<T>&,  \
                                                      const picard_settings&, const std::string&);                 \
   template reference_run integrate_at(const euler_problem<T, G>&, const T&, const std::vector<T>&,                 \
-                                      const picard_settings&, const std::string&, const sample_function<T>&);
+                                      const picard_settings&, const std::string&, const sample_function<T>&);     \
+  template reference_run integrate_attitude_streaming(const euler_problem<T, G>&, const body_rates<T>&,          \
+                                                      const quaternion<T>&, const T&, const std::vector<T>&,      \
+                                                      const picard_settings&, const std::string&,                 \
+                                                      const attitude_sample_function<T>&);
 #define EULERVOP_REFERENCE_COMPUTE_ALL(T)        \
   EULERVOP_REFERENCE_COMPUTE(T, constant_torque<T>) \
   EULERVOP_REFERENCE_COMPUTE(T, time_torque<T>)     \

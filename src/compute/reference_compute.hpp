@@ -14,6 +14,8 @@
 
 #include <eulervop/core/numerical_failure.hpp>
 #include <eulervop/core/scalar.hpp>
+#include <eulervop/core/quaternion.hpp>
+#include <eulervop/model/body_rates.hpp>
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/model/expression_torque.hpp>
 #include <eulervop/reference/dense_trajectory.hpp>
@@ -79,6 +81,14 @@ const vec3<T>& require_finite(const vec3<T>& Om, const T& tau) {
   return Om;
 }
 
+template <scalar T>
+const quaternion<T>& require_finite(const quaternion<T>& q, const T& tau) {
+  for (const T* x : {&q.w, &q.x, &q.y, &q.z})
+    if (!(boost::math::isfinite)(*x))
+      throw numerical_failure({outcome_kind::dense_output_non_finite, static_cast<double>(tau)});
+  return q;
+}
+
 // The dense output at `tau` (within the integrated span), checked.
 template <scalar T>
 vec3<T> sample_dense(const dense_trajectory<T>& trajectory, const T& tau) {
@@ -117,6 +127,19 @@ template <scalar T, class Torque>
 reference_run integrate_at(const euler_problem<T, Torque>& problem, const T& tau_end, const std::vector<T>& taus,
                            const picard_settings& settings, const std::string& label,
                            const sample_function<T>& on_sample);
+
+// Receives sample `index` and (y, q): the state in the integrator's variables, then the attitude.
+template <scalar T>
+using attitude_sample_function = std::function<void(std::size_t index, const vec3<T>& y, const quaternion<T>& q)>;
+
+// The same with the attitude beside the rates (reference/attitude_cascade.hpp): q from q0 at
+// tau0, turned by the body rates `rates` gives of the state. A non-finite sample is a
+// numerical_failure at its tau.
+template <scalar T, class Torque>
+reference_run integrate_attitude_streaming(const euler_problem<T, Torque>& problem, const body_rates<T>& rates,
+                                           const quaternion<T>& q0, const T& tau_end, const std::vector<T>& taus,
+                                           const picard_settings& settings, const std::string& label,
+                                           const attitude_sample_function<T>& on_sample);
 
 // The settings the integrator actually used (it derives degree and tolerance from the
 // precision when they are left at 0).

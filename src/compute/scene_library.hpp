@@ -29,6 +29,8 @@ using eulervop::scene::scene;
 using eulervop::scene::scene_limits;
 using eulervop::scene::step_spec;
 using eulervop::scene::tau_end_of;
+using eulervop::scene::attitude_of;
+using eulervop::scene::body_rates_of;
 using eulervop::scene::initial_state_of;
 using eulervop::scene::to_problem;
 using eulervop::scene::torque_kind;

@@ -39,23 +39,35 @@ std::string three_digits(const T& x) {
 
 template <scalar Hi, scalar Lo>
 verify_result verify_in(const scene& s, const Lo& tau_end, const std::vector<Lo>& taus,
-                        const std::vector<vec3<Lo>>& Omega, const eulervop::precision& wide) {
+                        const std::vector<vec3<Lo>>& Omega, const eulervop::precision& wide,
+                        const std::vector<quaternion<Lo>>* attitude) {
   std::vector<Hi> wide_taus;
   wide_taus.reserve(taus.size());
   for (const Lo& t : taus) wide_taus.push_back(widen<Hi>(t));
   // Compared as they come: the wide samples are not kept.
-  Hi worst = 0;
+  Hi worst = 0, worst_angle = 0;
+  const auto compare = [&](std::size_t i, const vec3<Hi>& ref) {
+    const vec3<Hi> narrow = {widen<Hi>(Omega[i][0]), widen<Hi>(Omega[i][1]), widen<Hi>(Omega[i][2])};
+    const Hi err = eq20_error(ref, narrow);
+    if (err > worst) worst = err;
+  };
   const reference_run run = with_problem<Hi>(s, [&](const auto& problem) {
-    return integrate_streaming<Hi>(problem, widen<Hi>(tau_end), wide_taus, picard_settings{}, "verify",
-                               [&](std::size_t i, const vec3<Hi>& ref) {
-                                 const vec3<Hi> narrow = {widen<Hi>(Omega[i][0]), widen<Hi>(Omega[i][1]),
-                                                          widen<Hi>(Omega[i][2])};
-                                 const Hi err = eq20_error(ref, narrow);
-                                 if (err > worst) worst = err;
-                               });
+    if (!attitude)
+      return integrate_streaming<Hi>(problem, widen<Hi>(tau_end), wide_taus, picard_settings{}, "verify", compare);
+    return integrate_attitude_streaming<Hi>(
+        problem, body_rates_of<Hi>(s), attitude_of<Hi>(s), widen<Hi>(tau_end), wide_taus, picard_settings{}, "verify",
+        [&](std::size_t i, const vec3<Hi>& ref, const quaternion<Hi>& q) {
+          compare(i, ref);
+          const quaternion<Lo>& n = (*attitude)[i];
+          const quaternion<Hi> narrow{widen<Hi>(n.w), widen<Hi>(n.x), widen<Hi>(n.y), widen<Hi>(n.z)};
+          const Hi angle = rotation_angle(q, narrow);
+          if (angle > worst_angle) worst_angle = angle;
+        });
   });
-  return {decimal{three_digits(worst), static_cast<double>(worst)}, wide, method_text(picard_settings{}, run.stats),
-          run.wall_seconds};
+  verify_result out{decimal{three_digits(worst), static_cast<double>(worst)}, std::nullopt, wide,
+                    method_text(picard_settings{}, run.stats), run.wall_seconds};
+  if (attitude) out.max_attitude_error = decimal{three_digits(worst_angle), static_cast<double>(worst_angle)};
+  return out;
 }
 
 }  // namespace
@@ -64,7 +76,8 @@ verify_result verify_in(const scene& s, const Lo& tau_end, const std::vector<Lo>
 // precision of Lo (its bits matter for MPFR).
 template <scalar Lo>
 verify_result verify(const scene& s, const Lo& tau_end, const std::vector<Lo>& taus,
-                     const std::vector<vec3<Lo>>& Omega, const eulervop::precision& narrow) {
+                     const std::vector<vec3<Lo>>& Omega, const eulervop::precision& narrow,
+                     const std::vector<quaternion<Lo>>* attitude) {
   constexpr unsigned extra_bits = 64;
   const eulervop::precision wide =
       std::is_same_v<Lo, double>
@@ -75,15 +88,17 @@ verify_result verify(const scene& s, const Lo& tau_end, const std::vector<Lo>& t
     if constexpr (std::is_same_v<Hi, double> || (std::is_same_v<Hi, quad> && !std::is_same_v<Lo, double>))
       throw std::logic_error("verify: the precision is not wider");
     else
-      return verify_in<Hi>(s, tau_end, taus, Omega, wide);
+      return verify_in<Hi>(s, tau_end, taus, Omega, wide, attitude);
   });
 }
 
 template verify_result verify<double>(const scene&, const double&, const std::vector<double>&,
-                                     const std::vector<vec3<double>>&, const eulervop::precision&);
+                                     const std::vector<vec3<double>>&, const eulervop::precision&,
+                                     const std::vector<quaternion<double>>*);
 template verify_result verify<quad>(const scene&, const quad&, const std::vector<quad>&, const std::vector<vec3<quad>>&,
-                                   const eulervop::precision&);
+                                   const eulervop::precision&, const std::vector<quaternion<quad>>*);
 template verify_result verify<mpfr_real>(const scene&, const mpfr_real&, const std::vector<mpfr_real>&,
-                                        const std::vector<vec3<mpfr_real>>&, const eulervop::precision&);
+                                        const std::vector<vec3<mpfr_real>>&, const eulervop::precision&,
+                                        const std::vector<quaternion<mpfr_real>>*);
 
 }  // namespace eulervop::app

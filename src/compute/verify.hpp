@@ -4,8 +4,11 @@
 
 #include "compute/scene_library.hpp"
 
+#include <eulervop/core/quaternion.hpp>
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/core/vec3.hpp>
+
+#include <optional>
 
 #include <string>
 #include <vector>
@@ -18,6 +21,7 @@ namespace eulervop::app {
 // measures the narrow run's error at the rows it prints, input rounding included.
 struct verify_result {
   decimal max_error;  // three significant digits, as the metadata prints it
+  std::optional<decimal> max_attitude_error;  // radians, when the attitude was verified too
   eulervop::precision precision;
   std::string method;
   double wall_seconds = 0;
@@ -25,8 +29,11 @@ struct verify_result {
 
 // One precision up: double -> quad -> mpfr:(113+64) ; mpfr:B -> mpfr:(B+64). `narrow` is the
 // precision of Lo (its bits matter for MPFR).
+// `attitude`, if given, holds the narrow run's attitude at the same samples: it is verified too,
+// as the largest rotation angle between the two (core/quaternion.hpp).
 template <scalar Lo>
 verify_result verify(const scene& s, const Lo& tau_end, const std::vector<Lo>& taus,
-                     const std::vector<vec3<Lo>>& Omega, const eulervop::precision& narrow);
+                     const std::vector<vec3<Lo>>& Omega, const eulervop::precision& narrow,
+                     const std::vector<quaternion<Lo>>* attitude = nullptr);
 
 }  // namespace eulervop::app

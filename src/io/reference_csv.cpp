@@ -71,6 +71,10 @@ reference_metadata metadata_of(const csv_rows& rows) {
       m.certify_method = *cm;
     } else if (auto note = value("note")) {
       m.notes.push_back(*note);
+    } else if (auto att = value("attitude")) {
+      m.attitude = *att;
+    } else if (auto ea = value("estimated_max_attitude_error")) {
+      m.estimated_max_attitude_error = non_negative("estimated_max_attitude_error", *ea);
     } else if (l.starts_with("# scene_text:")) {
       std::string_view text = std::string_view(l).substr(13);
       if (text.starts_with(" ")) text.remove_prefix(1);
@@ -90,6 +94,12 @@ std::string precision_text(const eulervop::precision& p) {
   if (p.type == eulervop::precision::kind::mpfr)
     return fmt::format("{} (effective_bits={})", p.name(), eulervop::mpfr_effective_bits(p.bits));
   return p.name();
+}
+
+std::string attitude_convention(const eulervop::precision& p) {
+  return fmt::format("q0..q3 a Hamilton quaternion, scalar first, body to inertial (v_inertial = q v_body q*, "
+                     "q' = 1/2 q (x) (0, omega), omega in the body's axes as listed); [initial] q normalized in {}",
+                     p.name());
 }
 
 reference_layout reference_layout_of(const scene& s) {
@@ -114,6 +124,8 @@ std::string reference_csv_header(const reference_metadata& m, reference_layout l
   if (m.wall_seconds) line("# wall_seconds: {:.3f}", *m.wall_seconds);
   if (m.estimated_max_error) {
     line("# estimated_max_error: {}", m.estimated_max_error->text);
+    if (m.estimated_max_attitude_error)
+      line("# estimated_max_attitude_error: {}", m.estimated_max_attitude_error->text);
     if (m.verify_precision) line("# verify_precision: {}", precision_text(*m.verify_precision));
     line("# verify_method: {}", m.verify_method);
     if (m.wall_seconds_verify) line("# wall_seconds_verify: {:.3f}", *m.wall_seconds_verify);
@@ -124,19 +136,22 @@ std::string reference_csv_header(const reference_metadata& m, reference_layout l
     line("# certify_method: {}", m.certify_method);
   }
   for (const std::string& note : m.notes) line("# note: {}", note);
+  if (!m.attitude.empty()) line("# attitude: {}", m.attitude);
   std::istringstream scene_lines(m.scene_text);
   for (std::string l; std::getline(scene_lines, l);) {
     if (!l.empty() && l.back() == '\r') l.pop_back();
     line("# scene_text: {}", l);
   }
+  const char* q = m.attitude.empty() ? "" : ",q0,q1,q2,q3";
   switch (layout) {
     case reference_layout::normalized:
       line("tau,Omega1,Omega2,Omega3{}", m.certified_max_error ? ",radius" : "");
       break;
     case reference_layout::physical:
-      line("tau,Omega1,Omega2,Omega3,t,omega1,omega2,omega3{}", m.certified_max_error ? ",radius,radius_omega" : "");
+      line("tau,Omega1,Omega2,Omega3,t,omega1,omega2,omega3{}{}", q,
+           m.certified_max_error ? ",radius,radius_omega" : "");
       break;
-    case reference_layout::direct: line("t,omega1,omega2,omega3"); break;
+    case reference_layout::direct: line("t,omega1,omega2,omega3{}", q); break;
     case reference_layout::coefficient: line("t,y1,y2,y3"); break;
   }
   return fmt::to_string(out);

@@ -10,8 +10,9 @@
 #include "compute/scene_library.hpp"
 #include "io/csv_rows.hpp"
 
-#include <eulervop/model/euler_problem.hpp>
+#include <eulervop/core/quaternion.hpp>
 #include <eulervop/core/scalar.hpp>
+#include <eulervop/model/euler_problem.hpp>
 
 #include <fmt/format.h>
 
@@ -44,11 +45,17 @@ struct reference_metadata {
   std::optional<decimal> certified_max_error_omega;  // # certified_max_error_omega (physical scenes, rad/s)
   std::string certify_method;                    // # certify_method (with --certify)
   std::vector<std::string> notes;                // # note lines (the scene's notes)
+  std::string attitude;                          // # attitude (its convention): rows carry q0..q3
+  std::optional<decimal> estimated_max_attitude_error;  // # estimated_max_attitude_error (rad, --verify)
   std::string scene_text;                        // # scene_text lines, each ending in '\n'
 
   // The precision to read the rows in: double values are exact in quad, MPFR at its bits.
   eulervop::precision reading_precision() const;
 };
+
+// The "# attitude:" line: the convention of the q columns, and the precision [initial] q was
+// normalized in.
+std::string attitude_convention(const eulervop::precision& p);
 
 // "mpfr:256 (effective_bits=257)": the precision as the metadata states it.
 std::string precision_text(const eulervop::precision& p);
@@ -85,6 +92,21 @@ class reference_csv_row_writer {
     cells(t, omega);
     end_row();
   }
+  // A row with the attitude: the row above, then q0..q3.
+  template <scalar T>
+  void row(const T& tau, const vec3<T>& Omega, const quaternion<T>& q) {
+    cells(tau, Omega);
+    quaternion_cells(q);
+    end_row();
+  }
+  template <scalar T>
+  void row(const T& tau, const vec3<T>& Omega, const T& t, const vec3<T>& omega, const quaternion<T>& q) {
+    cells(tau, Omega);
+    buffer_.push_back(',');
+    cells(t, omega);
+    quaternion_cells(q);
+    end_row();
+  }
   // A certified row of the normalized layout: tau, the state as the texts `cells` (already
   // formatted, as the radius was computed for them), then the radius.
   template <scalar T>
@@ -110,6 +132,10 @@ class reference_csv_row_writer {
   void cells(const T& time, const vec3<T>& v) {
     fmt::format_to(std::back_inserter(buffer_), "{},{},{},{}", to_text(time), to_text(v[0]), to_text(v[1]),
                    to_text(v[2]));
+  }
+  template <scalar T>
+  void quaternion_cells(const quaternion<T>& q) {
+    fmt::format_to(std::back_inserter(buffer_), ",{},{},{},{}", to_text(q.w), to_text(q.x), to_text(q.y), to_text(q.z));
   }
   void end_row();
 

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <charconv>
+#include <cmath>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -64,7 +65,7 @@ void scene_reader::read_body(const toml::table& root, scene& s) const {
   only_keys(*body, "[body]", {"inertia"});
   const toml::node* inertia = body->get("inertia");
   if (!inertia) fail_at(*body, "[body]: required field `inertia` is missing");
-  decimal3 I = constants3(*inertia, "[body] inertia");
+  decimal3 I = constants<3>(*inertia, "[body] inertia");
   for (int i = 0; i < 3; ++i)
     if (!(I[i].value > 0)) fail_value(*inertia, "[body] inertia", fmt::format("I{} must be positive", i + 1));
   std::array<double, 3> sorted = {I[0].value, I[1].value, I[2].value};
@@ -80,7 +81,8 @@ void scene_reader::read_body(const toml::table& root, scene& s) const {
 void scene_reader::read_initial(const toml::table& root, scene& s) const {
   const toml::table* initial = table(root, "initial");
   if (!initial) fail("required table [initial] is missing");
-  only_keys(*initial, "[initial]", {"Omega", "c1", "c2", "u", "omega", "y"});
+  only_keys(*initial, "[initial]", {"Omega", "c1", "c2", "u", "omega", "y", "q"});
+  read_attitude(*initial, s);
   const toml::node* Omega = initial->get("Omega");
   const toml::node* omega = initial->get("omega");
   const toml::node* y = initial->get("y");
@@ -94,7 +96,7 @@ void scene_reader::read_initial(const toml::table& root, scene& s) const {
       fail_at(Omega ? *Omega : omega ? *omega : c1 ? *c1 : c2 ? *c2 : *u,
               "[initial]: a scene in the coefficient form ([equations]) gives its state as y = [y1, y2, y3]");
     if (!y) fail_at(*initial, "[initial]: required field `y` is missing (coefficient form)");
-    s.initial = initial_rates{constants3(*y, "[initial] y")};
+    s.initial = initial_rates{constants<3>(*y, "[initial] y")};
     return;
   }
   if (y) fail_at(*y, "[initial] y: the state y belongs to the coefficient form, which needs [equations] a");
@@ -103,13 +105,13 @@ void scene_reader::read_initial(const toml::table& root, scene& s) const {
     if (any_elements)
       fail_at(c1 ? *c1 : c2 ? *c2 : *u, "[initial] c1, c2, u: a physical scene gives omega in rad/s");
     if (!omega) fail_at(*initial, "[initial]: required field `omega` is missing (physical scene)");
-    s.initial = initial_rates{constants3(*omega, "[initial] omega")};
+    s.initial = initial_rates{constants<3>(*omega, "[initial] omega")};
     return;
   }
   if (omega) fail_at(*omega, "[initial] omega: physical rates need [body] inertia (or give the normalized Omega)");
   if (Omega && any_elements) fail_at(*Omega, "[initial]: give either Omega or c1, c2, u, not both");
   if (Omega) {
-    s.initial = initial_rates{constants3(*Omega, "[initial] Omega")};
+    s.initial = initial_rates{constants<3>(*Omega, "[initial] Omega")};
     return;
   }
   if (!any_elements) fail_at(*initial, "[initial]: give Omega = [...] or c1, c2, u");
@@ -124,6 +126,23 @@ void scene_reader::read_initial(const toml::table& root, scene& s) const {
     fail_value(*c1, "[initial] c1",
                fmt::format("modulus k = c1/c2 must be < 1 (c2 = {}); give Omega directly for k >= 1", e.c2.text));
   s.initial = e;
+}
+
+// [initial] q = [q0, q1, q2, q3]: the attitude, a Hamilton quaternion, scalar first, mapping the
+// body's axes (as the scene lists them) to inertial ones (docs/attitude.md). Only a body has an
+// attitude. Its norm must be 1 to 1e-9; it is normalized in the run's precision.
+void scene_reader::read_attitude(const toml::table& initial, scene& s) const {
+  const toml::node* q = initial.get("q");
+  if (!q) return;
+  if (!s.is_physical())
+    fail_at(*q, fmt::format("[initial] q: an attitude needs a body ([body] inertia); {} has none",
+                            s.is_coefficient_form() ? "a scene in the coefficient form" : "a normalized scene"));
+  const std::array<decimal, 4> v = constants<4>(*q, "[initial] q");
+  double n2 = 0;
+  for (const decimal& d : v) n2 += d.value * d.value;
+  if (!(std::abs(std::sqrt(n2) - 1) <= 1e-9))
+    fail_value(*q, "[initial] q", fmt::format("its norm is {:.17g}, not 1 (to 1e-9)", std::sqrt(n2)));
+  s.attitude = v;
 }
 
 void scene_reader::read_span(const toml::table& root, scene& s) const {

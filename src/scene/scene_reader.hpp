@@ -186,9 +186,17 @@ class scene_reader {
   void read_torque(const toml::table& root, scene& s) const;
   void read_initial(const toml::table& root, scene& s) const;
   void read_span(const toml::table& root, scene& s) const;
-  // Three numbers, each of which may also be a constant formula ("2/3", "cos(1.1)"), evaluated in
-  // the run's precision (scene_torque.cpp).
-  decimal3 constants3(const toml::node& node, std::string_view field) const;
+  void read_attitude(const toml::table& initial, scene& s) const;
+  // N numbers, each of which may also be a constant formula ("2/3", "cos(1.1)"), evaluated in
+  // the run's precision (scene_torque.cpp; N = 3 or 4). A formula's message names the component
+  // (field1..3, or field0..3 for a quaternion).
+  template <std::size_t N>
+  std::array<decimal, N> constants(const toml::node& node, std::string_view field) const {
+    std::array<decimal, N> out;
+    constants_into(node, field, out.data(), N);
+    return out;
+  }
+  void constants_into(const toml::node& node, std::string_view field, decimal* out, std::size_t n) const;
   // [torque]'s parts (scene_torque.cpp).
   expression torque_term(const toml::node& node, const std::string& field, const scene& s,
                          std::optional<decimal>& numeric) const;

@@ -53,29 +53,28 @@ std::string formula_problem(const expression_error& e, scene_units units) {
 
 }  // namespace
 
-decimal3 scene_reader::constants3(const toml::node& node, std::string_view field) const {
+void scene_reader::constants_into(const toml::node& node, std::string_view field, decimal* out, std::size_t n) const {
   auto a = node.as_array();
-  if (!a || a->size() != 3) fail_value(node, field, "must be an array of 3 numbers");
-  decimal3 out;
-  for (std::size_t i = 0; i < 3; ++i) {
+  if (!a || a->size() != n) fail_value(node, field, fmt::format("must be an array of {} numbers", n));
+  for (std::size_t i = 0; i < n; ++i) {
     const toml::node& item = (*a)[i];
     const auto* text = item.as_string();
     if (!text) {
       out[i] = number(item, field);
       continue;
     }
-    const std::string name = fmt::format("{}{}", field, i + 1);
+    const std::string name = fmt::format("{}{}", field, i + (n == 4 ? 0 : 1));
+    std::shared_ptr<const expression> e;
     try {
-      auto e = std::make_shared<const expression>(parse_expression(text->get(), expression_variables{}));
-      const double v = compiled_expression<double>(*e)(0.0, {0.0, 0.0, 0.0});
-      if (!std::isfinite(v)) fail_value(item, name, "must be finite");
-      out[i] = decimal{e->text, v, e};
-    } catch (const expression_error& e) {
+      e = std::make_shared<const expression>(parse_expression(text->get(), expression_variables{}));
+    } catch (const expression_error& x) {
       fail_value(item, name, fmt::format("{} (a constant formula here: numbers, pi, + - * / ^ and sin cos exp log sqrt)",
-                                         e.what()));
+                                         x.what()));
     }
+    const double v = compiled_expression<double>(*e)(0.0, {0.0, 0.0, 0.0});
+    if (!std::isfinite(v)) fail_value(item, name, "must be finite");
+    out[i] = decimal{e->text, v, e};
   }
-  return out;
 }
 
 // [equations] a = [a1, a2, a3]: the coefficient form y_i' = a_i y_j y_k + f_i, any finite a.
@@ -87,7 +86,7 @@ void scene_reader::read_equations(const toml::table& root, scene& s) const {
   only_keys(*eq, "[equations]", {"a"});
   const toml::node* a = eq->get("a");
   if (!a) fail_at(*eq, "[equations]: required field `a` is missing (y_i' = a_i y_j y_k + f_i, (i, j, k) cyclic)");
-  s.coefficients = constants3(*a, "[equations] a");
+  s.coefficients = constants<3>(*a, "[equations] a");
   s.units = scene_units::coefficient;
 }
 

@@ -63,5 +63,6 @@ inline double_double add(const double_double& x, const double_double& y) {
   const double_double s = two_sum(x.hi, y.hi);
   return quick_two_sum(s.hi, s.lo + (x.lo + y.lo));
 }
+inline double_double negated(const double_double& x) { return {-x.hi, -x.lo}; }
 
 }  // namespace eulervop

@@ -83,10 +83,14 @@ class chebyshev_picard {
 
   // Integrates from problem.tau0 to tau_end (> tau0) segment by segment: each solved from the
   // previous one's extrapolation (attempt_segment), shortened and retried until it passes, then
-  // handed to `sink` (accept_segment). Only the latest segment is kept. Throws numerical_failure
-  // when the segments cannot pass.
+  // handed to `sink` (accept_segment). Only the latest segment is kept. `check`, if set, sees
+  // each segment that passed before it is accepted, and may refuse it: the segment is then
+  // shortened and solved again (the attitude cascade refuses a segment too long for q). Throws
+  // numerical_failure when the segments cannot pass.
   void run_segments(const P& problem, const T& tau_end, const segment_sink<T, D>& sink,
-                    const progress_callback& progress = {}, picard_stats* stats = nullptr) {
+                    const progress_callback& progress = {}, picard_stats* stats = nullptr,
+                    const segment_check<T, D>& check = {}) {
+    check_ = check ? &check : nullptr;
     picard_stats st;
     st.degree = static_cast<unsigned>(N_);
     st.tolerance = std::exp(tol_log_);
@@ -162,6 +166,13 @@ class chebyshev_picard {
     const T hl = (tau_b - at.tau) / 2;
     warm_start_(matrices_, have_previous ? &segment_ : nullptr, hl, work_.warm);
     outcome verdict = attempt_segment(at, hl, to_d(tau_b - at.tau), length, st);
+    if (verdict.ok() && check_) {
+      fill_segment(candidate_, at, tau_b, hl);
+      if (!(*check_)(candidate_, matrices_.basis.nodes)) {
+        length.failed(to_d(tau_b - at.tau));
+        verdict = {outcome_kind::segment_collapse};
+      }
+    }
     if (!verdict.ok()) {
       ++st.rejected;
       verdict.tau = to_d(at.tau);
@@ -230,18 +241,14 @@ class chebyshev_picard {
       }
   }
 
-  // The solved segment [at.tau, tau_b] (increments in work_.Yn), stored in segment_; `at` moves
-  // to its end, the last increment added with compensated summation (TwoSum).
+  // The solved segment [at.tau, tau_b] (increments in work_.Yn), stored in segment_ (already
+  // filled in candidate_ when a check saw it); `at` moves to its end, the last increment added
+  // with compensated summation (TwoSum).
   void accept_segment(origin& at, const T& tau_b, const T& hl) {
-    segment_type& seg = segment_;
-    seg.tau_begin = at.tau;
-    seg.tau_end = tau_b;
-    seg.half_length = hl;
-    seg.base = at.x;
-    seg.base_lo = at.x_lo;
-    seg.values.resize(n1_);
-    for (std::size_t j = 0; j < n1_; ++j)
-      for (std::size_t i = 0; i < D; ++i) seg.values[j][i] = work_.Yn[i][j];
+    if (check_)
+      std::swap(segment_, candidate_);
+    else
+      fill_segment(segment_, at, tau_b, hl);
     state x1, c1;
     for (std::size_t i = 0; i < D; ++i) {
       const T y = work_.Yn[i][N_] + at.x_lo[i];
@@ -252,6 +259,17 @@ class chebyshev_picard {
     at.x = x1;
     at.x_lo = c1;
     at.tau = tau_b;
+  }
+
+  void fill_segment(segment_type& seg, const origin& at, const T& tau_b, const T& hl) const {
+    seg.tau_begin = at.tau;
+    seg.tau_end = tau_b;
+    seg.half_length = hl;
+    seg.base = at.x;
+    seg.base_lo = at.x_lo;
+    seg.values.resize(n1_);
+    for (std::size_t j = 0; j < n1_; ++j)
+      for (std::size_t i = 0; i < D; ++i) seg.values[j][i] = work_.Yn[i][j];
   }
 
   // Solves the collocation problem on one segment from the warm start. On success work_.Yn holds
@@ -341,6 +359,8 @@ class chebyshev_picard {
   detail::warm_start<T, D> warm_start_;
   detail::picard_workspace<P> work_;
   segment_type segment_;  // the latest accepted segment (the next one's warm start)
+  segment_type candidate_;  // a segment before its check (only with a check)
+  const segment_check<T, D>* check_ = nullptr;
   std::vector<T> breaks_;       // the torque's breakpoints in the span
   std::size_t next_break_ = 0;  // the first one not yet reached
 };

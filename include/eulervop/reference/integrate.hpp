@@ -2,6 +2,8 @@
 // samples at times known in advance in constant memory.
 #pragma once
 
+#include <eulervop/core/quaternion.hpp>
+#include <eulervop/reference/attitude_cascade.hpp>
 #include <eulervop/reference/chebyshev_picard.hpp>
 
 #include <cstddef>
@@ -39,6 +41,54 @@ void integrate_reference_samples(const euler_problem<T, Torque>& problem, const 
       },
       progress, stats);
   sampler.finish();
+}
+
+// The attitude beside the rates (attitude_cascade.hpp), in constant memory: emit(index, tau, v)
+// receives each sample with v = (y1, y2, y3, q0, q1, q2, q3), y the state as above and q the
+// attitude (body to inertial) from q0 at problem.tau0. `rates` maps the state to the body rates
+// per unit of the problem's time. Returns the attitude's statistics. Throws numerical_failure.
+template <scalar T, class Torque>
+attitude_stats integrate_attitude_samples(const euler_problem<T, Torque>& problem, const body_rates<T>& rates,
+                                          const quaternion<T>& q0, const T& tau_end, const std::vector<T>& taus,
+                                          const typename segment_sampler<T, 7>::emit_function& emit,
+                                          const picard_settings& settings = {}, const progress_callback& progress = {},
+                                          picard_stats* stats = nullptr) {
+  attitude_cascade<T> cascade(q0, rates, settings);
+  segment_sampler<T, 7> sampler(taus, emit);
+  chebyshev_picard<euler_problem<T, Torque>> integrator(settings);
+  const segment_check<T> check = [&](const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
+    return cascade.try_segment(seg, nodes);
+  };
+  integrator.run_segments(
+      problem, tau_end,
+      [&](const chebyshev_segment<T>& seg, const std::vector<T>& nodes) { sampler(cascade.commit(seg), nodes); },
+      progress, stats, check);
+  sampler.finish();
+  return cascade.stats();
+}
+
+// The same, keeping every segment: the dense (y, q) on the whole span.
+template <scalar T, class Torque>
+dense_trajectory<T, 7> integrate_attitude(const euler_problem<T, Torque>& problem, const body_rates<T>& rates,
+                                          const quaternion<T>& q0, const T& tau_end,
+                                          const picard_settings& settings = {}, picard_stats* stats = nullptr,
+                                          attitude_stats* attitude = nullptr) {
+  attitude_cascade<T> cascade(q0, rates, settings);
+  std::vector<chebyshev_segment<T, 7>> segs;
+  chebyshev_picard<euler_problem<T, Torque>> integrator(settings);
+  std::vector<T> nodes_kept;
+  const segment_check<T> check = [&](const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
+    return cascade.try_segment(seg, nodes);
+  };
+  integrator.run_segments(
+      problem, tau_end,
+      [&](const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
+        segs.push_back(cascade.commit(seg));
+        if (nodes_kept.empty()) nodes_kept = nodes;
+      },
+      {}, stats, check);
+  if (attitude) *attitude = cascade.stats();
+  return dense_trajectory<T, 7>(std::move(segs), nodes_kept);
 }
 
 }  // namespace eulervop

@@ -17,6 +17,11 @@ namespace eulervop {
 template <scalar T, std::size_t D = 3>
 using segment_sink = std::function<void(const chebyshev_segment<T, D>& segment, const std::vector<T>& nodes)>;
 
+// Sees a segment before the integrator accepts it; false refuses it (it is shortened and solved
+// again).
+template <scalar T, std::size_t D = 3>
+using segment_check = std::function<bool(const chebyshev_segment<T, D>& segment, const std::vector<T>& nodes)>;
+
 // Sample times in non-decreasing order. Each sample comes from the same segment
 // dense_trajectory would use (the last one starting at or before it), so the values are
 // identical. `emit(index, tau, y)` receives them in order.

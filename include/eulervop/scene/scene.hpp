@@ -77,6 +77,9 @@ struct scene {
   std::vector<std::string> notes;
 
   std::variant<initial_rates, initial_elements> initial;
+  // [initial] q: the attitude (physical scenes only), a Hamilton quaternion, scalar first, body
+  // to inertial; its norm is 1 to 1e-9 (normalized in the run's precision).
+  std::optional<std::array<decimal, 4>> attitude;
 
   // [span]: tau_end (normalized) or t_end (physical) > 0; sample count (>= 2, equally spaced,
   // endpoints included) or explicit sample times (strictly increasing, in [0, span_end]).
@@ -110,6 +113,7 @@ struct scene {
   }
   // Whether the torque changes with the time or the state (a formula, or pieces).
   bool has_torque_law() const { return torque_law != nullptr; }
+  bool has_attitude() const { return attitude.has_value(); }
 };
 
 // Accepted names in [run] methods and formulations.

@@ -14,7 +14,9 @@
 #include <eulervop/model/expression_torque.hpp>
 #include <eulervop/model/integrals.hpp>
 #include <eulervop/model/physical_scaling.hpp>
+#include <eulervop/core/quaternion.hpp>
 #include <eulervop/core/scalar.hpp>
+#include <eulervop/model/body_rates.hpp>
 
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
 
@@ -143,6 +145,22 @@ decltype(auto) with_problem(const scene& s, F&& f) {
     case torque_kind::constant: break;
   }
   return f(to_problem<T>(s));
+}
+
+// The scene's initial attitude in T (precondition: s.has_attitude()), normalized in T: the
+// decimals are 1 in norm only to 1e-9.
+template <scalar T>
+quaternion<T> attitude_of(const scene& s) {
+  const auto& q = *s.attitude;
+  return normalized(quaternion<T>{q[0].template to_scalar<T>(), q[1].template to_scalar<T>(),
+                                  q[2].template to_scalar<T>(), q[3].template to_scalar<T>()});
+}
+
+// The body rates per unit of the integrator's time, in the scene's axes, from the integrator's
+// state (precondition: s.is_physical()).
+template <scalar T>
+body_rates<T> body_rates_of(const scene& s) {
+  return body_rates<T>::of(scaling_of<T>(s));
 }
 
 // The end of the span in the integrator's time (physical scenes: tau_end = t_end dtau/dt, Eq. 4;

@@ -114,6 +114,30 @@ reference_run stream_rows(const reference_job& job, const T& tau_end, const samp
   return run;
 }
 
+// The same for a scene with an attitude (no --certify): the rates and q0..q3 on every row, q
+// integrated beside the rates (reference/attitude_cascade.hpp).
+template <scalar T>
+reference_run stream_attitude_rows(const reference_job& job, const T& tau_end, const sample_times<T>& times,
+                                   scratch_file& rows_out, std::vector<vec3<T>>* kept,
+                                   std::vector<quaternion<T>>* kept_q) {
+  const physical_scaling<T> scale = scaling_of<T>(job.scn);
+  reference_csv_row_writer rows([&](std::string_view chunk) { rows_out.write(chunk); });
+  const auto on_sample = [&](std::size_t i, const vec3<T>& Om, const quaternion<T>& q) {
+    if (job.layout == reference_layout::physical)
+      rows.row(times.tau[i], Om, times.t[i], scale.omega_of_Omega(Om), q);
+    else
+      rows.row(times.t[i], Om, q);  // the direct form: the state is omega, and tau is t
+    if (kept) kept->push_back(Om);
+    if (kept_q) kept_q->push_back(q);
+  };
+  const reference_run run = with_problem<T>(job.scn, [&](const auto& problem) {
+    return integrate_attitude_streaming<T>(problem, body_rates_of<T>(job.scn), attitude_of<T>(job.scn), tau_end,
+                                           times.tau, job.settings, "reference", on_sample);
+  });
+  rows.flush();
+  return run;
+}
+
 // The metadata block of a finished run (without --verify's and --certify's lines).
 reference_metadata metadata_of(const reference_job& job, const reference_run& run) {
   reference_metadata m;
@@ -125,6 +149,7 @@ reference_metadata metadata_of(const reference_job& job, const reference_run& ru
   m.method = method_text(job.settings, run.stats);
   if (!job.omit_timing) m.wall_seconds = run.wall_seconds;
   m.notes = job.scn.notes;
+  if (job.scn.has_attitude()) m.attitude = attitude_convention(job.precision);
   m.scene_text = job.scn.source_text;
   return m;
 }
@@ -147,15 +172,22 @@ reference_metadata run_in(const reference_job& job, scratch_file& rows_out) {
   // --verify compares the samples with a wider run's, so it keeps them: memory then grows with
   // the number of samples (never with the span). Without it nothing is kept.
   std::vector<vec3<T>> kept;
+  std::vector<quaternion<T>> kept_q;
   std::optional<run_certificate> certificate;
   if (job.certify) certificate.emplace(job.scn, job.precision);
-  const reference_run run = stream_rows<T>(job, tau_end, times, rows_out, job.verify ? &kept : nullptr,
-                                           certificate ? &*certificate : nullptr);
+  const bool attitude = job.scn.has_attitude();
+  const reference_run run =
+      attitude ? stream_attitude_rows<T>(job, tau_end, times, rows_out, job.verify ? &kept : nullptr,
+                                         job.verify ? &kept_q : nullptr)
+               : stream_rows<T>(job, tau_end, times, rows_out, job.verify ? &kept : nullptr,
+                                certificate ? &*certificate : nullptr);
   reference_metadata m = metadata_of(job, run);
   if (certificate) add_certificate(job, *certificate, m);
   if (job.verify) {
-    const verify_result check = verify<T>(job.scn, tau_end, times.tau, kept, job.precision);
+    const verify_result check =
+        verify<T>(job.scn, tau_end, times.tau, kept, job.precision, attitude ? &kept_q : nullptr);
     m.estimated_max_error = check.max_error;
+    m.estimated_max_attitude_error = check.max_attitude_error;
     m.verify_precision = check.precision;
     m.verify_method = check.method;
     if (!job.omit_timing) m.wall_seconds_verify = check.wall_seconds;
