@@ -9,6 +9,7 @@
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/model/integrals.hpp>
 #include <eulervop/model/physical_scaling.hpp>
+#include <eulervop/core/quaternion.hpp>
 #include <eulervop/core/scalar.hpp>
 
 #include <boost/numeric/odeint.hpp>
@@ -398,6 +399,217 @@ TEST(Check, OracleMetricsOnAHandMadeTrajectory) {
       run(dir.path(), {"check", "ref.csv", "traj.csv", "--format", "json", "--scd-atol", "1e-11"});
   ASSERT_EQ(r2.exit_code, 0) << r2.err;
   near(json::parse(r2.out)["mescd"], 3);
+}
+
+// ---- the attitude: q0..q3 against the reference's q --------------------------------------------
+
+// A small physical scene with an attitude (or without: `q` empty), 61 samples over 600 s.
+std::string attitude_scene(const std::string& name, const std::string& q) {
+  return fmt::format(R"(name = "{}"
+[body]
+inertia = [100.0, 150.0, 200.0]
+[torque]
+M = [0.01, -0.02, 0.005]
+[initial]
+omega = [0.02, 0.1, 0.05]
+{}
+[span]
+t_end = 600.0
+samples = 61
+[reference]
+precision = "quad"
+)",
+                     name, q.empty() ? "" : "q = " + q);
+}
+
+// The data rows of a reference file, as cells.
+std::vector<std::vector<std::string>> data_rows(const std::string& csv, std::vector<std::string>* header = nullptr) {
+  std::vector<std::vector<std::string>> rows;
+  bool header_seen = false;
+  for (const std::string& l : lines_of(csv)) {
+    if (l.starts_with("#")) continue;
+    if (!header_seen) {
+      header_seen = true;
+      if (header) *header = cells_of(l);
+      continue;
+    }
+    rows.push_back(cells_of(l));
+  }
+  return rows;
+}
+
+// The rotation every trajectory row gets: 1e-7 rad about (2, 3, 6) / 7, applied in the body's
+// axes (q r, on the right).
+const quad small_angle("1e-7");
+eulervop::quaternion<quad> small_rotation() {
+  const eulervop::vec3<quad> axis = {quad(2) / 7, quad(3) / 7, quad(6) / 7};
+  return eulervop::axis_angle(axis, small_angle);
+}
+
+// dir/att.toml and its reference dir/ref.csv (t,omega1..3 at columns 4..7, q0..q3 at 8..11),
+// and the trajectory dir/traj.csv: t and omega of the reference, and q r for each row's q,
+// with the sign of q turned on every third row (-q is the same attitude).
+void write_rotated_trajectory(const fs::path& dir) {
+  write_file(dir / "att.toml", attitude_scene("attitude-check", "[0.5, 0.5, 0.5, 0.5]"));
+  const run_result ref = run(dir, {"reference", "att.toml", "--out", "ref.csv"});
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+  std::vector<std::string> header;
+  const auto rows = data_rows(read_file(dir / "ref.csv"), &header);
+  ASSERT_EQ(header, (std::vector<std::string>{"tau", "Omega1", "Omega2", "Omega3", "t", "omega1", "omega2",
+                                              "omega3", "q0", "q1", "q2", "q3"}));
+  ASSERT_EQ(rows.size(), 61u);
+  const eulervop::quaternion<quad> r = small_rotation();
+  std::string traj = "t,omega1,omega2,omega3,q0,q1,q2,q3\n";
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& c = rows[i];
+    eulervop::quaternion<quad> q = eulervop::quaternion<quad>{quad(c[8]), quad(c[9]), quad(c[10]), quad(c[11])} * r;
+    if (i % 3 == 0) q = {-q.w, -q.x, -q.y, -q.z};
+    traj += fmt::format("{},{},{},{},{},{},{},{}\n", c[4], c[5], c[6], c[7], eulervop::to_text(q.w),
+                        eulervop::to_text(q.x), eulervop::to_text(q.y), eulervop::to_text(q.z));
+  }
+  write_file(dir / "traj.csv", traj);
+}
+
+// Against the scene (its attitude integrated at the trajectory's times) and against its
+// reference file, every row's attitude error is the angle of the rotation put in, 1e-7, to
+// 1e-20 relative in the column of --errors-out (written in quad), and the max and the RMS are
+// that angle to double rounding. The signs of q do not matter; the rates are untouched.
+TEST(CheckAttitude, ARotationByAKnownAngleIsReportedAsThatAngle) {
+  temp_dir dir;
+  ASSERT_NO_FATAL_FAILURE(write_rotated_trajectory(dir.path()));
+  const double angle = static_cast<double>(small_angle);
+  for (const std::string against : {"att.toml", "ref.csv"}) {
+    const run_result r = run(dir.path(), {"check", against, "traj.csv", "--tol", "1e-30", "--format", "json",
+                                          "--errors-out", "e.csv"});
+    ASSERT_EQ(r.exit_code, 0) << against << ": " << r.err << r.out;
+    const json j = json::parse(r.out);
+    EXPECT_LT(j.at("max_error").get<double>(), 1e-33) << against;
+    EXPECT_NEAR(j.at("max_attitude_error").get<double>(), angle, 4e-16 * angle) << against;
+    EXPECT_NEAR(j.at("rms_attitude_error").get<double>(), angle, 4e-16 * angle) << against;
+    EXPECT_TRUE(j.at("attitude_tol").is_null());
+    EXPECT_EQ(j.at("attitude_exceeding_rows").get<int>(), 0);
+    EXPECT_TRUE(j.at("first_attitude_exceeding_time").is_null());
+    const int line = j.at("max_attitude_error_line").get<int>();
+    EXPECT_GE(line, 2);
+    EXPECT_LE(line, 62);
+    EXPECT_TRUE(j.at("pass").get<bool>());
+    const std::vector<std::string> lines = lines_of(read_file(dir.path() / "e.csv"));
+    ASSERT_EQ(lines.size(), 62u);
+    EXPECT_EQ(lines[0], "line,t,error,bar,attitude_error");
+    quad worst = 0;
+    for (std::size_t i = 1; i < lines.size(); ++i) {
+      const std::vector<std::string> c = cells_of(lines[i]);
+      ASSERT_EQ(c.size(), 5u) << lines[i];
+      EXPECT_EQ(c[0], std::to_string(i + 1));
+      worst = std::max(worst, abs(quad(c[4]) / small_angle - 1));
+    }
+    EXPECT_LT(worst, quad("1e-20")) << against;
+    std::printf("%s: attitude error 1e-7 rad reproduced to %.3g relative (worst row)\n", against.c_str(),
+                static_cast<double>(worst));
+  }
+}
+
+// --attitude-tol: a bar just above the angle passes, just below fails (exit 1) on every row, the
+// rates within theirs; the table says which.
+TEST(CheckAttitude, AttitudeTolDecidesTheExitCode) {
+  temp_dir dir;
+  ASSERT_NO_FATAL_FAILURE(write_rotated_trajectory(dir.path()));
+  const double angle = static_cast<double>(small_angle);
+  const std::string above = fmt::format("{}", angle * (1 + 1e-9)), below = fmt::format("{}", angle * (1 - 1e-9));
+  for (const std::string against : {"att.toml", "ref.csv"}) {
+    const run_result pass = run(dir.path(), {"check", against, "traj.csv", "--tol", "1e-30", "--attitude-tol", above});
+    EXPECT_EQ(pass.exit_code, 0) << against << ": " << pass.err << pass.out;
+    EXPECT_NE(pass.out.find("attitude tolerance: attitude error <= " + above + " rad"), std::string::npos) << pass.out;
+    EXPECT_NE(pass.out.find("result: PASS"), std::string::npos) << pass.out;
+    const run_result fail = run(dir.path(), {"check", against, "traj.csv", "--tol", "1e-30", "--attitude-tol", below});
+    EXPECT_EQ(fail.exit_code, 1) << against << ": " << fail.err << fail.out;
+    EXPECT_NE(fail.out.find("result: FAIL (attitude: 61 of 61 rows exceed; first at t = "), std::string::npos)
+        << fail.out;
+    const run_result j =
+        run(dir.path(), {"check", against, "traj.csv", "--attitude-tol", below, "--format", "json"});
+    EXPECT_EQ(j.exit_code, 1) << j.err;
+    const json out = json::parse(j.out);
+    EXPECT_FALSE(out.at("pass").get<bool>());
+    EXPECT_EQ(out.at("exceeding_rows").get<int>(), 0);
+    EXPECT_EQ(out.at("attitude_exceeding_rows").get<int>(), 61);
+    EXPECT_EQ(out.at("first_attitude_exceeding_line").get<int>(), 2);
+    EXPECT_EQ(out.at("first_attitude_exceeding_time").get<double>(), 0.0);
+    EXPECT_EQ(out.at("attitude_tol").get<double>(), angle * (1 - 1e-9));
+  }
+}
+
+// A trajectory without q0..q3 against a reference with an attitude: the rates only, as before,
+// and the table says the attitude was not checked.
+TEST(CheckAttitude, RatesOnlyTrajectoryAgainstAnAttitudeReference) {
+  temp_dir dir;
+  ASSERT_NO_FATAL_FAILURE(write_rotated_trajectory(dir.path()));
+  std::string rates;
+  for (const std::string& l : lines_of(read_file(dir.path() / "traj.csv"))) {
+    const std::vector<std::string> c = cells_of(l);
+    rates += fmt::format("{},{},{},{}\n", c[0], c[1], c[2], c[3]);
+  }
+  write_file(dir.path() / "rates.csv", rates);
+  for (const std::string against : {"att.toml", "ref.csv"}) {
+    const run_result table = run(dir.path(), {"check", against, "rates.csv", "--errors-out", "e.csv"});
+    EXPECT_EQ(table.exit_code, 0) << against << ": " << table.err;
+    EXPECT_NE(table.out.find("attitude: not checked (the trajectory has no columns q0..q3)"), std::string::npos)
+        << table.out;
+    EXPECT_EQ(lines_of(read_file(dir.path() / "e.csv"))[0], "line,t,error,bar");
+    const run_result r = run(dir.path(), {"check", against, "rates.csv", "--format", "json"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json j = json::parse(r.out);
+    EXPECT_LT(j.at("max_error").get<double>(), 1e-33);
+    for (const char* key : {"max_attitude_error", "max_attitude_error_time", "max_attitude_error_line",
+                            "rms_attitude_error", "attitude_exceeding_rows", "first_attitude_exceeding_time"})
+      EXPECT_TRUE(j.at(key).is_null()) << key;
+  }
+}
+
+// Bad input: q0..q3 with no attitude to compare them with, a bad --attitude-tol, q0..q3 in part,
+// a row whose q is 0. Each one line, exit 2.
+TEST(CheckAttitude, BadAttitudeInput) {
+  temp_dir dir;
+  ASSERT_NO_FATAL_FAILURE(write_rotated_trajectory(dir.path()));
+  write_file(dir.path() / "plain.toml", attitude_scene("no-attitude", ""));
+  const run_result plain_ref = run(dir.path(), {"reference", "plain.toml", "--out", "plain.csv"});
+  ASSERT_EQ(plain_ref.exit_code, 0) << plain_ref.err;
+  expect_one_line_error(run(dir.path(), {"check", "plain.toml", "traj.csv"}),
+                        "trajectory traj.csv: line 1: columns q0..q3: scene no-attitude has no attitude ([initial] q)");
+  expect_one_line_error(run(dir.path(), {"check", "plain.csv", "traj.csv"}),
+                        "columns q0..q3: reference plain.csv has no attitude (no columns q0..q3)");
+  expect_one_line_error(run(dir.path(), {"check", "att.toml", "traj.csv", "--attitude-tol", "-1e-9"}),
+                        "--attitude-tol -1e-9: must be >= 0");
+  expect_one_line_error(run(dir.path(), {"check", "att.toml", "traj.csv", "--attitude-tol", "nan"}),
+                        "--attitude-tol nan: ");
+  expect_one_line_error(run(dir.path(), {"check", "att.toml", "traj.csv", "--attitude-tol", "x"}),
+                        "--attitude-tol x: ");
+  // --attitude-tol with nothing to hold to it.
+  std::string rates;
+  for (const std::string& l : lines_of(read_file(dir.path() / "traj.csv"))) {
+    const std::vector<std::string> c = cells_of(l);
+    rates += fmt::format("{},{},{},{}\n", c[0], c[1], c[2], c[3]);
+  }
+  write_file(dir.path() / "rates.csv", rates);
+  expect_one_line_error(run(dir.path(), {"check", "att.toml", "rates.csv", "--attitude-tol", "1e-6"}),
+                        "--attitude-tol 1e-06: trajectory rates.csv has no columns q0..q3");
+  // q0..q2 without q3.
+  const std::string traj = read_file(dir.path() / "traj.csv");
+  write_file(dir.path() / "partial.csv", replace_line(traj, 0, "t,omega1,omega2,omega3,q0,q1,q2,w"));
+  expect_one_line_error(run(dir.path(), {"check", "att.toml", "partial.csv"}),
+                        "line 1: the header has no column `q3` (column `q0` is there: an attitude needs q0..q3)");
+  // A q of 0 on line 5, and a cell that is not a number on line 7, each against both references.
+  write_file(dir.path() / "zero.csv", replace_line(traj, 4, cells_of(lines_of(traj)[4])[0] + "," +
+                                                               cells_of(lines_of(traj)[4])[1] + "," +
+                                                               cells_of(lines_of(traj)[4])[2] + "," +
+                                                               cells_of(lines_of(traj)[4])[3] + ",0,0,0.0,0"));
+  write_file(dir.path() / "text.csv", replace_cell(traj, 6, 6, "abc"));
+  for (const std::string against : {"att.toml", "ref.csv"}) {
+    expect_one_line_error(run(dir.path(), {"check", against, "zero.csv", "--errors-out", "e.csv"}),
+                          "trajectory zero.csv: line 5: columns q0..q3 are all 0, which is no attitude");
+    expect_one_line_error(run(dir.path(), {"check", against, "text.csv"}),
+                          "trajectory text.csv: line 7: column q2 = `abc` is not a number");
+    EXPECT_FALSE(fs::exists(dir.path() / "e.csv"));
+  }
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -117,6 +118,19 @@ std::vector<bad_input> bad_inputs() {
       {"formula wrong arity", with(g, "G = [1.0, 1.0, 1.0]", "G = [1.0, 1.0, \"sin(tau, 1)\"]"), {}, "sin"},
       {"formula empty", with(g, "G = [1.0, 1.0, 1.0]", "G = [1.0, 1.0, \"  \"]"), {}, "[torque] G3"},
       {"formula not a string", with(g, "G = [1.0, 1.0, 1.0]", "G = [1.0, 1.0, true]"), {}, "[torque] G3 = true"},
+      // the attitude
+      {"q of length 3", with(p, "omega = [0.02, 0.1, 0.05]", "omega = [0.02, 0.1, 0.05]\nq = [1, 0, 0]"), {},
+       "[initial] q"},
+      {"q nan", with(p, "omega = [0.02, 0.1, 0.05]", "omega = [0.02, 0.1, 0.05]\nq = [nan, 0, 0, 1]"), {},
+       "[initial] q = nan"},
+      {"q inf", with(p, "omega = [0.02, 0.1, 0.05]", "omega = [0.02, 0.1, 0.05]\nq = [1, inf, 0, 0]"), {},
+       "[initial] q = inf"},
+      {"q norm not 1", with(p, "omega = [0.02, 0.1, 0.05]", "omega = [0.02, 0.1, 0.05]\nq = [1, 0.001, 0, 0]"), {},
+       "[initial] q"},
+      {"q without a body", with(g, "Omega = [0.5, 0.0, 1.0]", "Omega = [0.5, 0.0, 1.0]\nq = [1, 0, 0, 0]"), {},
+       "[initial] q: an attitude needs a body"},
+      {"q in the coefficient form", with(coefficient_scene, "y = [1.0, 0.0, 0.9]", "y = [1.0, 0.0, 0.9]\nq = [1, 0, 0, 0]"),
+       {}, "[initial] q: an attitude needs a body"},
       // the coefficient form
       {"equations with body", with(p, "[torque]", "[equations]\na = [1, 2, 3]\n[torque]"), {}, "[equations]"},
       {"equations a of length 2", with(coefficient_scene, "a = [-2.0, 1.25, -0.5]", "a = [-2.0, 1.25]"), {},
@@ -393,6 +407,30 @@ TEST(Check, CoefficientFormTrajectoryByTAndY) {
   EXPECT_EQ(ok.exit_code, 0) << ok.err << ok.out;
   write_file(dir.path() / "omega.csv", with(traj, "t,y1,y2,y3", "t,omega1,omega2,omega3"));
   expect_one_line_error(run(dir.path(), {"check", "scene.toml", "omega.csv"}), "y1..3");
+}
+
+// An attitude scene: the q columns after the rates, the convention in the metadata, |q| = 1 on
+// every row to quad rounding (the exact motion keeps the norm), and --certify refused.
+TEST(Reference, AttitudeColumnsAndConvention) {
+  temp_dir dir;
+  write_file(dir.path() / "scene.toml",
+             with(physical_scene, "omega = [0.02, 0.1, 0.05]", "omega = [0.02, 0.1, 0.05]\nq = [0.5, 0.5, 0.5, 0.5]"));
+  const run_result r = run(dir.path(), {"reference", "scene.toml", "--out", "ref.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string csv = read_file(dir.path() / "ref.csv");
+  EXPECT_NE(csv.find("\n# attitude: q0..q3 a Hamilton quaternion, scalar first, body to inertial"), std::string::npos);
+  const auto rows = data_rows(csv);
+  ASSERT_EQ(rows.size(), 4u) << csv;
+  EXPECT_EQ(rows[0], "tau,Omega1,Omega2,Omega3,t,omega1,omega2,omega3,q0,q1,q2,q3");
+  for (std::size_t k = 1; k < rows.size(); ++k) {
+    std::vector<eulervop::quad> cells;
+    std::istringstream in(rows[k]);
+    for (std::string c; std::getline(in, c, ',');) cells.push_back(*eulervop::from_text<eulervop::quad>(c));
+    ASSERT_EQ(cells.size(), 12u);
+    const eulervop::quad n2 = cells[8] * cells[8] + cells[9] * cells[9] + cells[10] * cells[10] + cells[11] * cells[11];
+    EXPECT_LE(abs(n2 - 1), 64 * std::numeric_limits<eulervop::quad>::epsilon()) << rows[k];
+  }
+  expect_one_line_error(run(dir.path(), {"reference", "scene.toml", "--certify", "--out", "c.csv"}), "[initial] q");
 }
 
 }  // namespace

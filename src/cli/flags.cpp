@@ -299,8 +299,9 @@ shard_spec flag_shard(const std::string& text) {
 }
 
 column_names flag_columns(const std::optional<std::string>& text) {
-  static const std::array<std::string, 11> canonical = {"tau", "Omega1", "Omega2", "Omega3", "t", "omega1",
-                                                       "omega2", "omega3", "y1", "y2", "y3"};
+  static const std::array<std::string, 15> canonical = {"tau", "Omega1", "Omega2", "Omega3", "t",  "omega1", "omega2",
+                                                       "omega3", "y1", "y2",     "y3",     "q0", "q1",     "q2",
+                                                       "q3"};
   column_names out;
   for (const std::string& c : canonical) {
     out.file[c] = c;
@@ -315,7 +316,7 @@ column_names flag_columns(const std::optional<std::string>& text) {
       throw input_error(fmt::format("--columns {}: `{}` is not NAME=COLUMN", *text, item));
     if (!out.file.contains(key))
       throw input_error(
-          fmt::format("--columns {}: unknown name `{}` (expected: tau, Omega1..3, t, omega1..3, y1..3)", *text, key));
+          fmt::format("--columns {}: unknown name `{}` (expected: tau, Omega1..3, t, omega1..3, y1..3, q0..3)", *text, key));
     out.file[key] = value;
     out.renamed[key] = true;
   }

@@ -93,7 +93,7 @@ struct shard_spec {
 shard_spec flag_shard(const std::string& text);
 
 // --columns tau=time,Omega1=w1,... of `check`: the trajectory's column for each canonical name
-// (tau, Omega1..3, t, omega1..3, y1..3), and whether --columns renamed it.
+// (tau, Omega1..3, t, omega1..3, y1..3, q0..3), and whether --columns renamed it.
 struct column_names {
   std::map<std::string, std::string> file;  // canonical -> the file's column name
   std::map<std::string, bool> renamed;

@@ -5,8 +5,10 @@
 // segment is accepted, its node values give omega at the nodes, and q on the segment solves the
 // linear problem Q = q_a + hl S (1/2 Q (x) W) at the same Lobatto nodes (W = omega per unit of the
 // integrator's time). It is solved as the rates are (docs/design.md section 3.2): Picard sweeps
-// in double from the previous segment's extrapolation, then residuals in T, each followed by a
-// correction solved in double; only a residual in T declares convergence. The end value is
+// in double from the previous segment's extrapolation, a residual in double-double, then residuals
+// in T, each followed by a correction solved in double; since the problem is linear in q, a
+// residual after a correction is also the previous one moved exactly by the correction's image
+// (formed in double-double, used where its error lies far below the tolerance, as in quad). The end value is
 // carried to the next segment with TwoSum compensation. Where q varies faster than the rates (a
 // body spinning about a nearly symmetric axis turns much faster than its rates change), q's
 // series on the segment is checked like the rates' (tail_estimator): the integrator asks
@@ -35,6 +37,7 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 namespace eulervop {
@@ -149,25 +152,37 @@ class attitude_cascade {
     std::array<double, 4> qa_d;
     for (std::size_t i = 0; i < 4; ++i) qa_d[i] = static_cast<double>(q_[i]) + static_cast<double>(q_lo_[i]);
     if (!sweeps(Zd_, qa_d, hl_d, false)) return false;
-    const double r_dd = double_double_residual(hl);
-    if (!sweeps(R_, {0.0, 0.0, 0.0, 0.0}, hl_d, true)) return false;
-    for (std::size_t i = 0; i < 4; ++i)
-      for (std::size_t j = 0; j < n1_; ++j) {
-        Z_[i][j] = T(Zd_[i][j]);
-        add_double(Z_[i][j], R_[i][j]);
-      }
-    double r_prev_log = log_of(r_dd);
+    double r_prev_log = std::numeric_limits<double>::infinity();
+    if constexpr (std::is_same_v<T, double>) {
+      Z_ = Zd_;  // in double the sweeps' solution is the first iterate
+    } else {
+      r_prev_log = log_of(double_double_residual(hl));
+      if (!sweeps(R_, {0.0, 0.0, 0.0, 0.0}, hl_d, true)) return false;
+      for (std::size_t i = 0; i < 4; ++i)
+        for (std::size_t j = 0; j < n1_; ++j) {
+          Z_[i][j] = T(Zd_[i][j]);
+          add_double(Z_[i][j], R_[i][j]);
+        }
+    }
     const std::size_t max_passes = 4 + significand_bits<T>() / 40;
-    for (std::size_t pass = 1;; ++pass) {
-      ++stats_.wide_residuals;
-      const double r_log = log_of(wide_residual(hl));
-      if (converged(r_log, r_prev_log)) break;
+    ++stats_.wide_residuals;
+    double r_log = log_of(wide_residual(hl));
+    for (std::size_t pass = 1; !converged(r_log, r_prev_log); ++pass) {
       if (pass >= max_passes || r_log > r_prev_log - std::log(2.0)) return false;
       r_prev_log = r_log;
       // The correction must be right to the tolerance, not to its own last digit.
       if (!sweeps(R_, {0.0, 0.0, 0.0, 0.0}, hl_d, true, 0.125 * std::exp(std::max(tol_log_, eps_log_)))) return false;
+      // An update where its error, 2^-100 of this residual, lies 2^-20 below the tolerance
+      // (quad after its first residual); a new residual in T otherwise (deep MPFR).
+      if (!std::is_same_v<T, double> &&
+          r_log - 100 * std::log(2.0) <= std::max(tol_log_, eps_log_) - 20 * std::log(2.0)) {
+        r_log = log_of(updated_residual(hl));
+        continue;
+      }
       for (std::size_t i = 0; i < 4; ++i)
         for (std::size_t j = 1; j < n1_; ++j) add_double(Z_[i][j], R_[i][j]);
+      ++stats_.wide_residuals;
+      r_log = log_of(wide_residual(hl));
     }
     ++stats_.segments;
     return tail_->excess_log(*matrices_, F_, hl, 0.0) <= std::log(8.0);
@@ -247,6 +262,55 @@ class attitude_cascade {
       R_[i][0] = 0;
       for (std::size_t j = 1; j < n1_; ++j) {
         R_[i][j] = (Yhi_[j] - Zd_[i][j]) + Ylo_[j];
+        r_max = std::max(r_max, std::abs(R_[i][j]));
+      }
+    }
+    return r_max;
+  }
+
+  // After a correction delta (in R_) to Z, the new residual without a new one in T: the Picard
+  // map is linear in q, so it moves by exactly U = hl S (delta (x) (0, W/2)), formed in
+  // double-double from delta and W/2 (its error, about 2^-100 |U| with |U| ~ |delta| ~ 1e-16 |Z|
+  // after the first residual in T, lies thirty orders below quad's rounding). Yn += U, Z += delta,
+  // R = Yn - Z in T. Returns max |R|.
+  double updated_residual(const T& hl) {
+    acc_ = hl;
+    const double hl_hi = static_cast<double>(hl);
+    acc_ -= hl_hi;
+    const double_double hl_dd{hl_hi, static_cast<double>(acc_)};
+    for (std::size_t j = 0; j < n1_; ++j) {
+      const double d0 = R_[0][j], d1 = R_[1][j], d2 = R_[2][j], d3 = R_[3][j];
+      const double_double w1{Wd_[0][j], Wl_[0][j]}, w2{Wd_[1][j], Wl_[1][j]}, w3{Wd_[2][j], Wl_[2][j]};
+      const std::array<double_double, 4> u = {
+          negated(add(add(mul(w1, d1), mul(w2, d2)), mul(w3, d3))), add(add(mul(w1, d0), mul(w3, d2)), negated(mul(w2, d3))),
+          add(add(mul(w2, d0), negated(mul(w3, d1))), mul(w1, d3)), add(add(mul(w3, d0), mul(w2, d1)), negated(mul(w1, d2)))};
+      for (std::size_t i = 0; i < 4; ++i) {
+        const double_double hu = mul(u[i], hl_dd);
+        Fhi_[i][j] = hu.hi;
+        Flo_[i][j] = hu.lo;
+      }
+    }
+    // The tail test reads F at the converged iterate: in quad the correction lies below the tail's
+    // rounding floor (4 (N+1) eps), in MPFR far above it, so there F moves with Z.
+    if constexpr (std::is_same_v<T, mpfr_real>)
+      for (std::size_t j = 0; j < n1_; ++j) {
+        const quaternion<T> d{T(R_[0][j]), T(R_[1][j]), T(R_[2][j]), T(R_[3][j])};
+        const quaternion<T> g = d * quaternion<T>{T(0), W_[j][0], W_[j][1], W_[j][2]};
+        F_[0][j] += g.w;
+        F_[1][j] += g.x;
+        F_[2][j] += g.y;
+        F_[3][j] += g.z;
+      }
+    double r_max = 0;
+    for (std::size_t i = 0; i < 4; ++i) {
+      matrices_->S_dd.multiply(Fhi_[i].data(), Flo_[i].data(), Yhi_.data(), Ylo_.data(), 1);
+      for (std::size_t j = 1; j < n1_; ++j) {
+        add_double(Yn_[i][j], Yhi_[j]);
+        add_double(Yn_[i][j], Ylo_[j]);
+        add_double(Z_[i][j], R_[i][j]);
+        acc_ = Yn_[i][j];
+        acc_ -= Z_[i][j];
+        R_[i][j] = static_cast<double>(acc_);
         r_max = std::max(r_max, std::abs(R_[i][j]));
       }
     }

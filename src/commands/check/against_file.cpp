@@ -120,16 +120,26 @@ check_result check_rows(const check_job& job, reference_csv_reader& ref, const P
 
   check_result r;
   r.time_name = cols.time_name;
+  // The attitude: the reference's q0..q3 (a file of a scene with [initial] q), compared when the
+  // trajectory has them too.
+  r.t.reference_attitude = ref.rows().column("q0").has_value();
+  require_attitude_match(job, cols, rows, r.t.reference_attitude, "reference " + job.reference_path,
+                         "no columns q0..q3");
+  r.t.attitude = cols.q.has_value();
+  std::optional<std::array<std::size_t, 4>> ref_q;
+  if (r.t.attitude) ref_q = {ref.column("q0"), ref.column("q1"), ref.column("q2"), ref.column("q3")};
   // A certified reference: each row's radius (of Omega, the state compared here).
   const std::optional<std::size_t> radius_column = ref.rows().column("radius");
   r.t.certified = radius_column.has_value();
   errors_writer out(job.errors_out);
-  out.header(cols.time_name, r.t.certified);
+  out.header(cols.time_name, r.t.certified, r.t.attitude);
   row_reader reader{rows, cols};
   reference_cursor cursor(ref, ref_time);
   while (rows.next()) {
     const decimal time = reader.time();
     const std::array<decimal, 3> d = reader.values();
+    std::optional<std::array<decimal, 4>> a;
+    if (cols.q) a = reader.attitude();
     cursor.seek(time, rows, cols.time_name);
     vec3<T> Om = {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
     T tau = time.template to_scalar<T>();
@@ -139,7 +149,14 @@ check_result check_rows(const check_job& job, reference_csv_reader& ref, const P
     }
     std::optional<decimal> radius;
     if (radius_column) radius = ref.rows().number(*radius_column);
-    record<T>(job, r.t, out, rows.line(), time, ref.template Omega<T>(), Om, problem, tau, radius);
+    std::optional<attitude_pair<T>> q;
+    if (ref_q) {
+      const csv_rows& f = ref.rows();
+      const std::array<std::size_t, 4>& c = *ref_q;
+      q = attitude_pair<T>{quaternion_of<T>({f.number(c[0]), f.number(c[1]), f.number(c[2]), f.number(c[3])}),
+                           quaternion_of<T>(*a)};
+    }
+    record<T>(job, r.t, out, rows.line(), time, ref.template Omega<T>(), Om, problem, tau, radius, q ? &*q : nullptr);
   }
   if (!r.t.rows) throw input_error(fmt::format("{}: no data rows", rows.where()));
   out.commit();

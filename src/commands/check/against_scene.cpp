@@ -60,6 +60,7 @@ trajectory_columns scene_columns(const check_job& job, const csv_rows& rows) {
   if (cols.physical && (cols.state == "y") != s.is_coefficient_form())
     throw input_error(fmt::format("{}: line {}: columns {}1..3 do not fit scene {}, whose state is {}1..3",
                                   rows.where(), rows.line(), cols.state, s.name, s.state_name()));
+  require_attitude_match(job, cols, rows, s.has_attitude(), "scene " + s.name, "[initial] q");
   return cols;
 }
 
@@ -80,6 +81,7 @@ trajectory_times<T> read_times(const check_job& job) {
   while (rows.next()) {
     out.tau.push_back(vars.tau(reader.time()));
     reader.values();
+    if (out.cols.q) reader.attitude();
   }
   if (out.tau.empty()) throw input_error(fmt::format("{}: no data rows", rows.where()));
   return out;
@@ -101,7 +103,9 @@ void describe_scene_reference(const check_job& job, double tau_end, const refere
 // Pass 2, during the integration: each row is read again as the reference at its time arrives.
 // Pass 1 checked that the times increase, and their conversion to tau in T is monotone, so the
 // reference is evaluated as its segments are accepted and none is kept (integrate_at would fall
-// back to the dense output otherwise).
+// back to the dense output otherwise). A trajectory with q0..q3 has the scene's attitude
+// integrated beside the rates (integrate_attitude_streaming); one without, the rates alone, as
+// for a scene without an attitude.
 template <scalar T>
 check_result check_in(const check_job& job) {
   const trajectory_times<T> pass1 = read_times<T>(job);
@@ -114,7 +118,9 @@ check_result check_in(const check_job& job) {
 
   check_result r;
   r.time_name = cols.time_name;
-  out.header(cols.time_name, false);
+  r.t.reference_attitude = job.scn.has_attitude();
+  r.t.attitude = cols.q.has_value();
+  out.header(cols.time_name, false, r.t.attitude);
   std::ifstream in = open_input_file("trajectory", job.trajectory_path);
   csv_rows rows(in, "trajectory " + job.trajectory_path);
   row_reader reader{rows, cols};
@@ -122,12 +128,22 @@ check_result check_in(const check_job& job) {
   const reference_run ref = with_problem<T>(job.scn, [&](const auto& problem) {
     // The direction of motion is evaluated on a copy: the integrator's own evaluates the torque.
     const auto motion = problem;
-    return integrate_at<T>(problem, tau_end, taus, job.settings, "reference", [&](std::size_t i, const vec3<T>& Omega_ref) {
+    // Row i of the trajectory against the reference there (q_ref: its attitude, if checked).
+    const auto compare = [&](std::size_t i, const vec3<T>& Omega_ref, const quaternion<T>* q_ref) {
       if (!rows.next()) throw changed();
       const decimal time = reader.time();
       if (vars.tau(time) != taus[i]) throw changed();
-      record<T>(job, r.t, out, rows.line(), time, Omega_ref, vars.Omega(reader.values()), &motion, taus[i]);
-    });
+      const vec3<T> Om = vars.Omega(reader.values());
+      std::optional<attitude_pair<T>> q;
+      if (q_ref) q = attitude_pair<T>{*q_ref, quaternion_of<T>(reader.attitude())};
+      record<T>(job, r.t, out, rows.line(), time, Omega_ref, Om, &motion, taus[i], std::nullopt, q ? &*q : nullptr);
+    };
+    if (cols.q)
+      return integrate_attitude_streaming<T>(
+          problem, body_rates_of<T>(job.scn), attitude_of<T>(job.scn), tau_end, taus, job.settings, "reference",
+          [&](std::size_t i, const vec3<T>& y, const quaternion<T>& q) { compare(i, y, &q); });
+    return integrate_at<T>(problem, tau_end, taus, job.settings, "reference",
+                           [&](std::size_t i, const vec3<T>& Omega_ref) { compare(i, Omega_ref, nullptr); });
   });
   if (rows.next()) throw changed();
   out.commit();

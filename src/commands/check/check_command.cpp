@@ -13,7 +13,7 @@ void add_check_flags(CLI::App& sub, check_options& o) {
       ->required()
       ->type_name("SCENE_OR_REFERENCE");
   sub.add_option("trajectory", o.trajectory,
-                 "The trajectory: CSV with header tau,Omega1,Omega2,Omega3 (or t,omega1..3)")
+                 "The trajectory: CSV with header tau,Omega1,Omega2,Omega3 (or t,omega1..3), and q0..q3 for an attitude")
       ->required()
       ->type_name("TRAJECTORY");
   add_text_flag(sub,
@@ -25,7 +25,9 @@ void add_check_flags(CLI::App& sub, check_options& o) {
                 o.tol);
   add_text_flag(sub, {"--rel-tol", "R", "Pass if every row's Eq. 20 error <= R |Omega_ref| (+ ABS with --tol)"},
                 o.rel_tol);
-  add_text_flag(sub, {"--errors-out", "FILE", "Write the per-row errors to FILE (CSV: line,time,error,bar)"},
+  add_text_flag(sub, {"--attitude-tol", "RAD", "Pass if every row's attitude error (the angle to the reference's q) <= RAD"},
+                o.attitude_tol);
+  add_text_flag(sub, {"--errors-out", "FILE", "Write the per-row errors to FILE (CSV: line,time,error,bar[,attitude_error])"},
                 o.errors_out);
   add_text_flag(sub, {"--format", "F", "Standard output: table (default) or json"}, o.format);
   add_text_flag(

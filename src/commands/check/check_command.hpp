@@ -9,10 +9,12 @@
 // streamed, never held in memory. Besides the Eq. 20 errors it reports the oracle metrics of the
 // IVP Test Set (scd, mescd), the largest error per component, the drift of c1^2 and c2^2 (Eq. 7)
 // against the reference's, and the error along and across the reference's direction of motion
-// (check_tally.hpp).
+// (check_tally.hpp). A trajectory with columns q0..q3 (an attitude) gets each row's rotation
+// angle to the reference's attitude too; the reference must then have one.
 //
-// Exit codes: 0 within tolerance (or no tolerance given), 1 outside it, 2 bad input (one line
-// naming the file, the line and the column), 3 numerical failure of the reference.
+// Exit codes: 0 within tolerance (or no tolerance given), 1 outside it (--tol, --rel-tol or
+// --attitude-tol), 2 bad input (one line naming the file, the line and the column), 3 numerical
+// failure of the reference.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -30,6 +32,7 @@ struct check_options {
   std::optional<std::string> precision;   // scene only: double | quad | mpfr:BITS
   std::optional<std::string> tol;         // absolute bar on the Eq. 20 error
   std::optional<std::string> rel_tol;     // bar relative to |Omega_ref|
+  std::optional<std::string> attitude_tol;  // bar on the attitude error (radians)
   std::optional<std::string> errors_out;  // per-row errors, CSV (written atomically)
   std::optional<std::string> format;      // table | json
   std::optional<std::string> scd_atol;    // mixed error's atol (mescd), default 1e-12

@@ -35,6 +35,7 @@ check_job check_job_of(const check_options& o) {
   job.columns = flag_columns(o.columns);
   job.tol = non_negative_flag("--tol", o.tol);
   job.rel_tol = non_negative_flag("--rel-tol", o.rel_tol);
+  job.attitude_tol = non_negative_flag("--attitude-tol", o.attitude_tol);
   if (o.scd_atol) job.scd_atol = positive_flag_number("--scd-atol", *o.scd_atol).value;
   if (o.scd_rtol) job.scd_rtol = positive_flag_number("--scd-rtol", *o.scd_rtol).value;
   job.json = flag_json_format(o.format);

@@ -29,7 +29,13 @@ double rms_of(const tally& t) {
   return static_cast<double>(std::sqrt(t.sum_squares / static_cast<long double>(t.rows)));
 }
 
+double attitude_rms_of(const tally& t) {
+  return static_cast<double>(std::sqrt(t.attitude_sum_squares / static_cast<long double>(t.rows)));
+}
+
 bool has_bar(const check_job& job) { return job.tol || job.rel_tol; }
+
+bool passed(const tally& t) { return t.exceeding == 0 && t.attitude_exceeding == 0; }
 
 // Against a certified reference: the rows whose verdict the radius leaves open.
 void add_certified_json(const check_job& job, const tally& t, json& j) {
@@ -62,6 +68,21 @@ void add_metrics_json(const check_job& job, const tally& t, json& j) {
   j["max_error_across_motion"] = t.has_direction ? json(t.max_across) : json(nullptr);
 }
 
+// The attitude (a trajectory with q0..q3): its errors in radians, as the rates' above; null
+// without q0..q3.
+void add_attitude_json(const check_job& job, const tally& t, json& j) {
+  const auto checked = [&](json value) { return t.attitude ? value : json(nullptr); };
+  const bool exceeded = t.attitude && t.first_attitude_exceeding_time.has_value();
+  j["attitude_tol"] = number_or_null(job.attitude_tol);
+  j["max_attitude_error"] = checked(t.max_attitude);
+  j["max_attitude_error_time"] = checked(time_value(t.max_attitude_time));
+  j["max_attitude_error_line"] = checked(t.max_attitude_line);
+  j["rms_attitude_error"] = checked(attitude_rms_of(t));
+  j["attitude_exceeding_rows"] = checked(t.attitude_exceeding);
+  j["first_attitude_exceeding_time"] = exceeded ? json(time_value(*t.first_attitude_exceeding_time)) : json(nullptr);
+  j["first_attitude_exceeding_line"] = exceeded ? json(t.first_attitude_exceeding_line) : json(nullptr);
+}
+
 json check_json(const check_job& job, const check_result& r) {
   const tally& t = r.t;
   json j;
@@ -80,32 +101,46 @@ json check_json(const check_job& job, const check_result& r) {
   j["exceeding_rows"] = t.exceeding;
   j["first_exceeding_time"] = t.first_exceeding_time ? json(time_value(*t.first_exceeding_time)) : json(nullptr);
   j["first_exceeding_line"] = t.first_exceeding_time ? json(t.first_exceeding_line) : json(nullptr);
-  j["pass"] = t.exceeding == 0;
+  j["pass"] = passed(t);
   add_certified_json(job, t, j);
   add_metrics_json(job, t, j);
+  add_attitude_json(job, t, j);
   return j;
 }
 
-// The table's lines on the bar: the tolerance, a certified reference's uncertain rows, the result.
+// The table's lines on the bars: the tolerances, a certified reference's uncertain rows, the
+// result.
 void put_verdict(const check_job& job, const check_result& r, text_buffer& out) {
   const tally& t = r.t;
-  if (!has_bar(job)) {
-    out.put("tolerance: none given (--tol, --rel-tol)\n");
+  if (!has_bar(job) && !job.attitude_tol) {
+    out.put("tolerance: none given (--tol, --rel-tol{})\n", t.attitude ? ", --attitude-tol" : "");
     return;
   }
-  std::string bar;
-  if (job.tol) bar = fmt::format("{}", *job.tol);
-  if (job.rel_tol) bar += fmt::format("{}{} |Omega_ref|", bar.empty() ? "" : " + ", *job.rel_tol);
-  out.put("tolerance: error <= {}\n", bar);
-  if (t.certified)
-    out.put("certified reference: each error is +- its row's radius (max {:.3g}); a row fails only if error - radius > "
-            "bar; {} of {} rows uncertain\n",
-            t.max_radius, t.uncertain, t.rows);
-  if (t.exceeding == 0)
+  if (has_bar(job)) {
+    std::string bar;
+    if (job.tol) bar = fmt::format("{}", *job.tol);
+    if (job.rel_tol) bar += fmt::format("{}{} |Omega_ref|", bar.empty() ? "" : " + ", *job.rel_tol);
+    out.put("tolerance: error <= {}\n", bar);
+    if (t.certified)
+      out.put(
+          "certified reference: each error is +- its row's radius (max {:.3g}); a row fails only if error - radius > "
+          "bar; {} of {} rows uncertain\n",
+          t.max_radius, t.uncertain, t.rows);
+  }
+  if (job.attitude_tol) out.put("attitude tolerance: attitude error <= {} rad\n", *job.attitude_tol);
+  if (passed(t)) {
     out.put("result: PASS (every row within tolerance)\n");
-  else
-    out.put("result: FAIL ({} of {} rows exceed; first at {} = {}, line {})\n", t.exceeding, t.rows, r.time_name,
-            *t.first_exceeding_time, t.first_exceeding_line);
+    return;
+  }
+  std::string why;
+  if (t.exceeding)
+    why = fmt::format("{} of {} rows exceed; first at {} = {}, line {}", t.exceeding, t.rows, r.time_name,
+                      *t.first_exceeding_time, t.first_exceeding_line);
+  if (t.attitude_exceeding)
+    why += fmt::format("{}attitude: {} of {} rows exceed; first at {} = {}, line {}", why.empty() ? "" : "; ",
+                       t.attitude_exceeding, t.rows, r.time_name, *t.first_attitude_exceeding_time,
+                       t.first_attitude_exceeding_line);
+  out.put("result: FAIL ({})\n", why);
 }
 
 std::string check_table(const check_job& job, const check_result& r) {
@@ -128,6 +163,13 @@ std::string check_table(const check_job& job, const check_result& r) {
     out.put("invariant drift: none (the body is integrated in the direct form of Eq. 1, where Eq. 7 does not apply)\n");
   if (t.has_direction)
     out.put("error along the motion (phase): max {:.3e}; across it: max {:.3e}\n", t.max_along, t.max_across);
+  if (t.attitude) {
+    out.put("max attitude error: {} rad at {} = {} (line {})\n", t.max_attitude, r.time_name, t.max_attitude_time,
+            t.max_attitude_line);
+    out.put("rms attitude error: {:.6e} rad\n", attitude_rms_of(t));
+  } else if (t.reference_attitude) {
+    out.put("attitude: not checked (the trajectory has no columns q0..q3)\n");
+  }
   put_verdict(job, r, out);
   return out.text();
 }
@@ -140,7 +182,7 @@ int print_check(const check_job& job, const check_result& r, std::ostream& stand
   else
     standard_output << check_table(job, r);
   standard_output << std::flush;
-  return r.t.exceeding == 0 ? exit_success : exit_check_outside;
+  return passed(r.t) ? exit_success : exit_check_outside;
 }
 
 }  // namespace eulervop::app

@@ -1,6 +1,7 @@
 // The tally of a check: each trajectory row's Eq. 20 error against the reference at its time,
 // against the bar (--tol, --rel-tol; with a certified reference, +- the row's radius), and the
-// oracle metrics over all rows.
+// oracle metrics over all rows; for a trajectory with q0..q3, each row's attitude error (the
+// angle of the rotation from the reference's q to the row's) against --attitude-tol.
 #pragma once
 
 #include "commands/check/check_job.hpp"
@@ -8,6 +9,7 @@
 #include "compute/scene_library.hpp"
 
 #include <eulervop/core/numerical_failure.hpp>
+#include <eulervop/core/quaternion.hpp>
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/model/error_measure.hpp>
 #include <eulervop/model/euler_problem.hpp>
@@ -56,6 +58,24 @@ struct tally {
   std::size_t uncertain = 0;
   std::vector<std::size_t> uncertain_lines;  // the first max_listed_lines of them
   static constexpr std::size_t max_listed_lines = 1000;
+  // The attitude: `reference_attitude` when the reference has one (q0..q3), `attitude` when the
+  // trajectory's q0..q3 are checked against it. Each row's error is the rotation angle from the
+  // reference's q to the row's, in radians (the same for q and -q).
+  bool reference_attitude = false;
+  bool attitude = false;
+  double max_attitude = -1;
+  std::string max_attitude_time;
+  std::size_t max_attitude_line = 0;
+  long double attitude_sum_squares = 0;
+  std::size_t attitude_exceeding = 0;  // rows above --attitude-tol
+  std::optional<std::string> first_attitude_exceeding_time;
+  std::size_t first_attitude_exceeding_line = 0;
+};
+
+// A row's attitude beside its rates: the reference's q and the trajectory's (any norm but 0).
+template <scalar T>
+struct attitude_pair {
+  quaternion<T> reference, trajectory;
 };
 
 // What a check found, and how it describes its reference.
@@ -101,14 +121,42 @@ void record_metrics(const check_job& job, tally& t, const vec3<T>& ref, const ve
   t.max_across = std::max(t.max_across, static_cast<double>(across2 > 0 ? sqrt(across2) : T(0)));
 }
 
+// The attitude error of one row (tally's last part); with `text`, also the text --errors-out
+// writes: every digit of T. rotation_angle does not depend on the norms of the quaternions, so
+// the trajectory's q need not be normalized; the angle is in [0, pi].
+template <scalar T>
+void record_attitude(const check_job& job, tally& t, std::size_t line, const decimal& time, const attitude_pair<T>& q,
+                     std::string* text) {
+  const T angle = rotation_angle(q.reference, q.trajectory);
+  const double a = static_cast<double>(angle);
+  if (!std::isfinite(a)) throw numerical_failure({outcome_kind::error_non_finite, time.value});
+  if (job.attitude_tol && a > *job.attitude_tol) {
+    if (!t.attitude_exceeding) {
+      t.first_attitude_exceeding_time = time.text;
+      t.first_attitude_exceeding_line = line;
+    }
+    ++t.attitude_exceeding;
+  }
+  if (a > t.max_attitude) {
+    t.max_attitude = a;
+    t.max_attitude_time = time.text;
+    t.max_attitude_line = line;
+  }
+  t.attitude_sum_squares += static_cast<long double>(a) * a;
+  if (text) *text = to_text(angle);
+}
+
 // `radius`: the reference row's certified radius, if it has one. `tau`: the row's time in the
 // integrator's variables (for a torque of time, the direction of motion depends on it).
+// `attitude`: the row's attitude and the reference's, for a trajectory with q0..q3.
 template <scalar T, class P>
 void record(const check_job& job, tally& t, errors_writer& out, std::size_t line, const decimal& time,
             const vec3<T>& ref, const vec3<T>& Om, const P* problem, const T& tau,
-            const std::optional<decimal>& radius = std::nullopt) {
+            const std::optional<decimal>& radius = std::nullopt, const attitude_pair<T>* attitude = nullptr) {
   const double e = static_cast<double>(eq20_error(ref, Om));
   if (!std::isfinite(e)) throw numerical_failure({outcome_kind::error_non_finite, time.value});
+  std::string attitude_text;
+  if (attitude) record_attitude(job, t, line, time, *attitude, out.writing() ? &attitude_text : nullptr);
   record_metrics(job, t, ref, Om, problem, tau);
   const double r = radius ? radius->value : 0.0;
   if (radius) t.max_radius = std::max(t.max_radius, r);
@@ -139,7 +187,7 @@ void record(const check_job& job, tally& t, errors_writer& out, std::size_t line
     t.max_line = line;
   }
   t.sum_squares += static_cast<long double>(e) * e;
-  out.row(line, time.text, e, bar, radius);
+  out.row(line, time.text, e, bar, radius, attitude ? &attitude_text : nullptr);
 }
 
 }  // namespace eulervop::app

@@ -6,10 +6,47 @@ namespace eulervop::app {
 
 namespace {
 
+// The file's name for a canonical column. (q0..q3 are canonical names only once --columns knows
+// them; until then they are looked up as they are.)
+std::string file_name(const check_job& job, const std::string& canonical) {
+  const auto it = job.columns.file.find(canonical);
+  return it == job.columns.file.end() ? canonical : it->second;
+}
+
+bool renamed(const check_job& job, const std::string& canonical) {
+  const auto it = job.columns.renamed.find(canonical);
+  return it != job.columns.renamed.end() && it->second;
+}
+
 std::string column_label(const check_job& job, const std::string& canonical) {
-  return job.columns.renamed.at(canonical)
-             ? fmt::format("`{}` (for {} by --columns)", job.columns.file.at(canonical), canonical)
-             : fmt::format("`{}`", canonical);
+  return renamed(job, canonical) ? fmt::format("`{}` (for {} by --columns)", file_name(job, canonical), canonical)
+                                 : fmt::format("`{}`", canonical);
+}
+
+// q0..q3: all four, or none (and none renamed by --columns).
+std::optional<std::array<std::size_t, 4>> find_attitude(const check_job& job, const csv_rows& rows,
+                                                        const std::string& where) {
+  std::array<std::optional<std::size_t>, 4> found;
+  std::optional<int> present;  // the first of q0..q3 the header has
+  bool asked = false;          // some renamed by --columns
+  for (int k = 0; k < 4; ++k) {
+    const std::string canonical = fmt::format("q{}", k);
+    found[k] = rows.column(file_name(job, canonical));
+    if (found[k] && !present) present = k;
+    asked = asked || renamed(job, canonical);
+  }
+  if (!present && !asked) return std::nullopt;
+  std::array<std::size_t, 4> q{};
+  for (int k = 0; k < 4; ++k) {
+    if (!found[k]) {
+      const std::string missing = column_label(job, fmt::format("q{}", k));
+      if (!present) throw input_error(fmt::format("{}: the header has no column {}", where, missing));
+      throw input_error(fmt::format("{}: the header has no column {} (column {} is there: an attitude needs q0..q3)",
+                                    where, missing, column_label(job, fmt::format("q{}", *present))));
+    }
+    q[k] = *found[k];
+  }
+  return q;
 }
 
 }  // namespace
@@ -35,7 +72,18 @@ trajectory_columns find_columns(const check_job& job, const csv_rows& rows) {
     if (!col) throw input_error(fmt::format("{}: the header has no column {}", where, column_label(job, canonical)));
     c.value[k] = *col;
   }
+  c.q = find_attitude(job, rows, where);
   return c;
+}
+
+void require_attitude_match(const check_job& job, const trajectory_columns& cols, const csv_rows& rows,
+                            bool reference_has_attitude, const std::string& reference, const std::string& why) {
+  if (cols.q && !reference_has_attitude)
+    throw input_error(fmt::format("{}: line {}: columns q0..q3: {} has no attitude ({})", rows.where(), rows.line(),
+                                  reference, why));
+  if (!cols.q && job.attitude_tol)
+    throw input_error(fmt::format("--attitude-tol {}: {} has no columns q0..q3 (no attitude to check)",
+                                  *job.attitude_tol, rows.where()));
 }
 
 decimal row_reader::time() {
@@ -53,6 +101,15 @@ decimal row_reader::time() {
 
 std::array<decimal, 3> row_reader::values() const {
   return {rows.number(cols.value[0]), rows.number(cols.value[1]), rows.number(cols.value[2])};
+}
+
+std::array<decimal, 4> row_reader::attitude() const {
+  const std::array<std::size_t, 4>& c = *cols.q;
+  const std::array<decimal, 4> q = {rows.number(c[0]), rows.number(c[1]), rows.number(c[2]), rows.number(c[3])};
+  if (q[0].value == 0 && q[1].value == 0 && q[2].value == 0 && q[3].value == 0)
+    throw input_error(fmt::format("{}: line {}: columns {}..{} are all 0, which is no attitude", rows.where(),
+                                  rows.line(), rows.header()[c[0]], rows.header()[c[3]]));
+  return q;
 }
 
 }  // namespace eulervop::app

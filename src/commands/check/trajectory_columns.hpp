@@ -1,11 +1,14 @@
 // The trajectory `check` reads: its columns, found by name (tau and Omega1..3, t and omega1..3,
-// or t and y1..3 for the coefficient form; --columns renames), and its rows, each checked as it
-// is read.
+// or t and y1..3 for the coefficient form, and q0..q3 for an attitude; --columns renames), and
+// its rows, each checked as it is read.
 #pragma once
 
 #include "commands/check/check_job.hpp"
 #include "compute/scene_library.hpp"
 #include "io/csv_rows.hpp"
+
+#include <eulervop/core/quaternion.hpp>
+#include <eulervop/core/scalar.hpp>
 
 #include <array>
 #include <cstddef>
@@ -20,10 +23,18 @@ struct trajectory_columns {
   std::size_t time = 0;
   std::array<std::size_t, 3> value{};
   std::string time_name;  // as in the file
+  // The attitude q0..q3 (scalar first), if the file has those columns: all four or none.
+  std::optional<std::array<std::size_t, 4>> q;
 };
 
 // The columns of the header of `rows`; input_error naming the missing one otherwise.
 trajectory_columns find_columns(const check_job& job, const csv_rows& rows);
+
+// The trajectory has q0..q3 but the reference no attitude: input_error "<where>: line <header>:
+// columns q0..q3: <reference> has no attitude (<why>)". Without q0..q3, --attitude-tol is bad
+// input too (there is nothing to hold to it).
+void require_attitude_match(const check_job& job, const trajectory_columns& cols, const csv_rows& rows,
+                            bool reference_has_attitude, const std::string& reference, const std::string& why);
 
 // A trajectory row: its time and state, checked (numbers, time >= 0 and increasing).
 struct row_reader {
@@ -34,6 +45,15 @@ struct row_reader {
 
   decimal time();
   std::array<decimal, 3> values() const;
+  // q0..q3 (cols.q must be set), not all zero.
+  std::array<decimal, 4> attitude() const;
 };
+
+// q0..q3 as a quaternion in T.
+template <scalar T>
+quaternion<T> quaternion_of(const std::array<decimal, 4>& q) {
+  return {q[0].template to_scalar<T>(), q[1].template to_scalar<T>(), q[2].template to_scalar<T>(),
+          q[3].template to_scalar<T>()};
+}
 
 }  // namespace eulervop::app
