@@ -22,6 +22,7 @@ datasets=(
   "torque-free-short|data/scenes/torque-free-k0.5.toml|--tau-end 20 --samples 201"
   "torque-free-k0.5|data/scenes/torque-free-k0.5.toml|--samples 501"
   "spacecraft-physical|data/scenes/spacecraft-physical.toml|"
+  "spacecraft-attitude|data/scenes/spacecraft-attitude.toml|"
   "axisymmetric|data/scenes/axisymmetric.toml|"
 )
 for scene in data/scenes/hard/*.toml; do
