@@ -213,118 +213,25 @@ class compiled_expression {
   // chain rule for the functions). The value is computed by the same operations in the same
   // order as operator(), so the two agree to the last bit.
   T value_and_gradient(const T& t, const vec3<T>& y, vec3<T>& dy) const {
-    using std::cos;
-    using std::exp;
-    using std::log;
-    using std::sin;
-    using std::sqrt;
-    using std::swap;
     std::size_t sp = 0;
     for (const expression_step& s : source_.code) {
       switch (s.op) {
         case expression_op::constant:
-          values_[sp] = constants_[static_cast<std::size_t>(s.arg)];
-          zero(partials_[sp]);
-          ++sp;
-          break;
         case expression_op::pi:
-          values_[sp] = pi_;
-          zero(partials_[sp]);
-          ++sp;
-          break;
-        case expression_op::variable: {
-          zero(partials_[sp]);
-          if (s.arg == expression::time_slot) {
-            values_[sp] = t;
-          } else {
-            const auto k = static_cast<std::size_t>(s.arg - 1);
-            values_[sp] = y[k];
-            partials_[sp][k] = 1;
-          }
-          ++sp;
-          break;
-        }
+        case expression_op::variable: push_with_partials(s, t, y, sp); break;
         case expression_op::add:
-          --sp;
-          values_[sp - 1] += values_[sp];
-          for (int k = 0; k < 3; ++k) partials_[sp - 1][k] += partials_[sp][k];
-          break;
         case expression_op::sub:
+        case expression_op::mul:
+        case expression_op::div:
           --sp;
-          values_[sp - 1] -= values_[sp];
-          for (int k = 0; k < 3; ++k) partials_[sp - 1][k] -= partials_[sp][k];
+          binary_with_partials(s.op, sp);
           break;
-        case expression_op::mul: {
-          // (a b)' = a' b + a b'
-          --sp;
-          T& a = values_[sp - 1];
-          const T& b = values_[sp];
-          for (int k = 0; k < 3; ++k) {
-            partials_[sp - 1][k] *= b;
-            s2_ = a;
-            s2_ *= partials_[sp][k];
-            partials_[sp - 1][k] += s2_;
-          }
-          a *= b;
-          break;
-        }
-        case expression_op::div: {
-          // (a / b)' = (a' - q b') / b with q = a / b
-          --sp;
-          T& a = values_[sp - 1];
-          const T& b = values_[sp];
-          s1_ = a;
-          s1_ /= b;
-          for (int k = 0; k < 3; ++k) {
-            s2_ = s1_;
-            s2_ *= partials_[sp][k];
-            partials_[sp - 1][k] -= s2_;
-            partials_[sp - 1][k] /= b;
-          }
-          swap(a, s1_);
-          break;
-        }
         case expression_op::neg:
           detail::negate_in_place(values_[sp - 1]);
           for (int k = 0; k < 3; ++k) detail::negate_in_place(partials_[sp - 1][k]);
           break;
         case expression_op::pow: power_with_partials(values_[sp - 1], partials_[sp - 1], s.arg); break;
-        case expression_op::sin:
-          // sin' = cos
-          s1_ = sin(values_[sp - 1]);
-          s2_ = cos(values_[sp - 1]);
-          for (int k = 0; k < 3; ++k) partials_[sp - 1][k] *= s2_;
-          swap(values_[sp - 1], s1_);
-          break;
-        case expression_op::cos:
-          // cos' = -sin
-          s1_ = cos(values_[sp - 1]);
-          s2_ = sin(values_[sp - 1]);
-          detail::negate_in_place(s2_);
-          for (int k = 0; k < 3; ++k) partials_[sp - 1][k] *= s2_;
-          swap(values_[sp - 1], s1_);
-          break;
-        case expression_op::exp:
-          // exp' = exp
-          s1_ = exp(values_[sp - 1]);
-          for (int k = 0; k < 3; ++k) partials_[sp - 1][k] *= s1_;
-          swap(values_[sp - 1], s1_);
-          break;
-        case expression_op::log:
-          // log' x = 1 / x
-          for (int k = 0; k < 3; ++k) partials_[sp - 1][k] /= values_[sp - 1];
-          s1_ = log(values_[sp - 1]);
-          swap(values_[sp - 1], s1_);
-          break;
-        case expression_op::sqrt:
-          // sqrt' x = 1 / (2 sqrt x); the division by 2 is exact
-          s1_ = sqrt(values_[sp - 1]);
-          for (int k = 0; k < 3; ++k) {
-            partials_[sp - 1][k] /= s1_;
-            partials_[sp - 1][k] /= 2;
-          }
-          swap(values_[sp - 1], s1_);
-          break;
+        default: function_with_partials(s.op, sp - 1); break;
       }
     }
     for (std::size_t k = 0; k < 3; ++k) dy[k] = partials_[0][k];
@@ -332,6 +239,101 @@ class compiled_expression {
   }
 
  private:
+  // A constant, pi or a variable onto the stack, with its partials (1 for d y_k / d y_k).
+  void push_with_partials(const expression_step& s, const T& t, const vec3<T>& y, std::size_t& sp) const {
+    zero(partials_[sp]);
+    if (s.op == expression_op::constant) {
+      values_[sp] = constants_[static_cast<std::size_t>(s.arg)];
+    } else if (s.op == expression_op::pi) {
+      values_[sp] = pi_;
+    } else if (s.arg == expression::time_slot) {
+      values_[sp] = t;
+    } else {
+      const auto k = static_cast<std::size_t>(s.arg - 1);
+      values_[sp] = y[k];
+      partials_[sp][k] = 1;
+    }
+    ++sp;
+  }
+
+  // a op b with a = entry sp - 1 and b = entry sp: the sum, difference, product and quotient
+  // rules.
+  void binary_with_partials(expression_op op, std::size_t sp) const {
+    using std::swap;
+    T& a = values_[sp - 1];
+    const T& b = values_[sp];
+    switch (op) {
+      case expression_op::add:
+        a += b;
+        for (int k = 0; k < 3; ++k) partials_[sp - 1][k] += partials_[sp][k];
+        break;
+      case expression_op::sub:
+        a -= b;
+        for (int k = 0; k < 3; ++k) partials_[sp - 1][k] -= partials_[sp][k];
+        break;
+      case expression_op::mul:  // (a b)' = a' b + a b'
+        for (int k = 0; k < 3; ++k) {
+          partials_[sp - 1][k] *= b;
+          s2_ = a;
+          s2_ *= partials_[sp][k];
+          partials_[sp - 1][k] += s2_;
+        }
+        a *= b;
+        break;
+      default:  // div: (a / b)' = (a' - q b') / b with q = a / b
+        s1_ = a;
+        s1_ /= b;
+        for (int k = 0; k < 3; ++k) {
+          s2_ = s1_;
+          s2_ *= partials_[sp][k];
+          partials_[sp - 1][k] -= s2_;
+          partials_[sp - 1][k] /= b;
+        }
+        swap(a, s1_);
+        break;
+    }
+  }
+
+  // f(x) for x = entry i, by the chain rule: f(x)' = f'(x) x'.
+  void function_with_partials(expression_op op, std::size_t i) const {
+    using std::cos;
+    using std::exp;
+    using std::log;
+    using std::sin;
+    using std::sqrt;
+    using std::swap;
+    T& x = values_[i];
+    switch (op) {
+      case expression_op::sin:  // sin' = cos
+        s1_ = sin(x);
+        s2_ = cos(x);
+        for (int k = 0; k < 3; ++k) partials_[i][k] *= s2_;
+        break;
+      case expression_op::cos:  // cos' = -sin
+        s1_ = cos(x);
+        s2_ = sin(x);
+        detail::negate_in_place(s2_);
+        for (int k = 0; k < 3; ++k) partials_[i][k] *= s2_;
+        break;
+      case expression_op::exp:  // exp' = exp
+        s1_ = exp(x);
+        for (int k = 0; k < 3; ++k) partials_[i][k] *= s1_;
+        break;
+      case expression_op::log:  // log' x = 1 / x
+        for (int k = 0; k < 3; ++k) partials_[i][k] /= x;
+        s1_ = log(x);
+        break;
+      default:  // sqrt' x = 1 / (2 sqrt x); the division by 2 is exact
+        s1_ = sqrt(x);
+        for (int k = 0; k < 3; ++k) {
+          partials_[i][k] /= s1_;
+          partials_[i][k] /= 2;
+        }
+        break;
+    }
+    swap(x, s1_);
+  }
+
   static void zero(vec3<T>& v) {
     for (T& x : v) x = 0;
   }
