@@ -433,4 +433,31 @@ TEST(Reference, AttitudeColumnsAndConvention) {
   expect_one_line_error(run(dir.path(), {"reference", "scene.toml", "--certify", "--out", "c.csv"}), "[initial] q");
 }
 
+// A tolerance below the precision's reach: the run stops at its rounding, one note says so, and
+// the method line records the tolerance actually used (epsilon: 2^-112 in quad, 2^-256 at
+// mpfr:256, whose 257 effective bits give 2^(1 - 257)).
+TEST(Reference, ToleranceBelowReachIsNotedAndRecorded) {
+  temp_dir dir;
+  const std::vector<std::pair<std::string, std::string>> cases = {{"quad", "tolerance=1.93e-34"},
+                                                                    {"mpfr:256", "tolerance=8.64e-78"}};
+  for (const auto& [precision, used] : cases) {
+    const run_result r = run(dir.path(), {"reference", "--tau-end", "1", "--samples", "3", "--precision", precision,
+                                          "--tolerance", "1e-100", "--out", "ref.csv"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto err = lines_of(r.err);
+    ASSERT_EQ(err.size(), 1u) << r.err;
+    EXPECT_TRUE(err[0].starts_with("note: --tolerance 1e-100 is below what " + precision + " can reach")) << err[0];
+    const std::string csv = read_file(dir.path() / "ref.csv");
+    const std::size_t at = csv.find("# method: chebyshev-picard degree=");
+    ASSERT_NE(at, std::string::npos);
+    const std::string method = csv.substr(at, csv.find('\n', at) - at);
+    EXPECT_NE(method.find(used), std::string::npos) << method;  // the request stays on the # overrides line
+    EXPECT_NE(csv.find("--precision=" + precision + " --tolerance=1e-100\n"), std::string::npos);
+  }
+  // At the reach or above: no note.
+  const run_result ok = run(dir.path(), {"reference", "--tau-end", "1", "--samples", "3", "--tolerance", "1e-30"});
+  EXPECT_EQ(ok.exit_code, 0);
+  EXPECT_TRUE(ok.err.empty()) << ok.err;
+}
+
 }  // namespace

@@ -6,7 +6,34 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <cmath>
+#include <iostream>
+
 namespace eulervop::app {
+
+namespace {
+
+// The rounding unit of a precision: what no tolerance can go below.
+double epsilon_of(const eulervop::precision& p) {
+  switch (p.type) {
+    case eulervop::precision::kind::binary64: return std::ldexp(1.0, -52);
+    case eulervop::precision::kind::binary128: return std::ldexp(1.0, -112);
+    case eulervop::precision::kind::mpfr: break;
+  }
+  return std::ldexp(1.0, 1 - static_cast<int>(eulervop::mpfr_effective_bits(p.bits)));
+}
+
+// A tolerance below the precision's rounding: one note, and the run holds itself to epsilon
+// (chebyshev_picard), which its method line then states.
+void note_unreachable_tolerance(double tolerance, const eulervop::precision& p, const char* field) {
+  const double eps = epsilon_of(p);
+  if (tolerance > 0 && tolerance < eps)
+    std::cerr << fmt::format("note: {} {:.3g} is below what {} can reach (its rounding, {:.3g}); the run stops "
+                             "there, and its method line says tolerance={:.3g}\n",
+                             field, tolerance, p.name(), eps, eps);
+}
+
+}  // namespace
 
 std::string applied_overrides::text() const { return fmt::format("{}", fmt::join(flags, " ")); }
 
@@ -55,6 +82,7 @@ applied_overrides apply_scene_overrides(scene& s, const scene_override_flags& o)
   } else if (s.tolerance) {
     out.settings.tolerance = s.tolerance->value;
   }
+  note_unreachable_tolerance(out.settings.tolerance, out.precision, o.tolerance ? "--tolerance" : "[reference] tolerance");
   return out;
 }
 

@@ -70,7 +70,9 @@ class chebyshev_picard {
         n1_(N_ + 1),
         matrices_(N_, detail::effective_bits<T>(settings)),
         eps_log_(detail::log_abs(epsilon<T>())),
-        tol_log_(settings.tolerance > 0 ? std::log(settings.tolerance) : eps_log_),
+        // A tolerance below the rounding of T cannot be met: the run holds itself to epsilon, and
+        // its statistics say so (picard_stats::tolerance).
+        tol_log_(settings.tolerance > 0 ? std::max(std::log(settings.tolerance), eps_log_) : eps_log_),
         // Each segment's truncation is held to a sixteenth of the tolerance (never below
         // epsilon), so that the error accumulated over thousands of segments stays near the
         // tolerance: with the tolerance itself, mpfr:256 at 1e-60 ended 6.6e-60 from the truth
