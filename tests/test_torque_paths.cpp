@@ -16,6 +16,7 @@
 // instead of the nodes' times errs by about 1e-3 here.
 #include <eulervop/reference/integrate.hpp>
 
+#include "test_torques.hpp"
 #include "type_test_names.hpp"
 
 #include <gtest/gtest.h>
@@ -46,21 +47,7 @@ sin2_torque<U> convert_torque(const sin2_torque<T>& g) {
   return {static_cast<U>(g.A)};
 }
 
-// g = -D y: a torque of the state alone (linear damping).
-template <class T>
-struct damping_torque {
-  static constexpr bool depends_on_time = false;
-  static constexpr bool depends_on_state = true;
-  T D;
-  vec3<T> value(const T&, const vec3<T>& y) const { return {-D * y[0], -D * y[1], -D * y[2]}; }
-  void add_jacobian(const T&, const vec3<T>&, std::array<vec3<T>, 3>& J) const {
-    for (int i = 0; i < 3; ++i) J[i][i] -= D;
-  }
-};
-template <class U, class T>
-damping_torque<U> convert_torque(const damping_torque<T>& g) {
-  return {static_cast<U>(g.D)};
-}
+using eulervop::test_torques::damping_torque;
 
 template <class T>
 class TorquePaths : public ::testing::Test {

@@ -25,21 +25,9 @@ using eulervop::mpfr_real;
 using eulervop::quad;
 using eulervop::vec3;
 
-// Random states in both regimes and all four frames: built in the W frame from (d1, d2, am)
-// with 0.05 <= d1/d2 <= 0.95, then W -> Omega = (W1, W2, W3) (k < 1) or (W3, W2, W1) (k > 1),
-// with random signs of the axis that keeps its sign.
+// Random states in both regimes and all four frames (vop_test::random_regime_states).
 std::vector<vec3<quad>> random_states(int n, bool minor) {
-  std::mt19937_64 rng(minor ? 977 : 20261123);
-  std::uniform_real_distribution<double> ang(-3.14159, 3.14159), kk(0.05, 0.95), dd(0.2, 5.0);
-  std::vector<vec3<quad>> out;
-  for (int i = 0; i < n; ++i) {
-    const quad d2 = quad(dd(rng)), d1 = quad(kk(rng)) * d2, am = quad(ang(rng));
-    const quad W2 = d1 * sin(am);
-    const quad s = (i % 2) ? quad(-1) : quad(1);
-    const vec3<quad> W = {d1 * cos(am), W2, s * sqrt(d2 * d2 - W2 * W2)};
-    out.push_back(minor ? vec3<quad>{W[2], W[1], W[0]} : W);
-  }
-  return out;
+  return vop_test::random_regime_states(n, minor, minor ? 977 : 20261123, 5.0);
 }
 
 // The theta equation (docs/vop-strategies.md section 1, derived in vop/vop_theta_system.hpp:

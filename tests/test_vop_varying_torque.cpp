@@ -32,6 +32,9 @@
 #include <eulervop/vop/vop_system.hpp>
 #include <eulervop/vop/vop_theta_system.hpp>
 
+#include "test_torques.hpp"
+#include "vop_test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -70,21 +73,7 @@ wobble_torque<U> convert_torque(const wobble_torque<T>& g) {
   return {static_cast<U>(g.a)};
 }
 
-// G = -D Omega: linear damping, a torque of the state.
-template <class T>
-struct damping_torque {
-  static constexpr bool depends_on_time = false;
-  static constexpr bool depends_on_state = true;
-  T D;
-  vec3<T> value(const T&, const vec3<T>& y) const { return {-D * y[0], -D * y[1], -D * y[2]}; }
-  void add_jacobian(const T&, const vec3<T>&, std::array<vec3<T>, 3>& J) const {
-    for (int i = 0; i < 3; ++i) J[i][i] -= D;
-  }
-};
-template <class U, class T>
-damping_torque<U> convert_torque(const damping_torque<T>& g) {
-  return {static_cast<U>(g.D)};
-}
+using eulervop::test_torques::damping_torque;
 
 // A torque of time and state with every component different, for the chain rule: a wrong
 // component, a missing rotation into the frame or Omega taken from the wrong frame all show.
@@ -216,45 +205,11 @@ double max_error_at_taus(const eulervop::run_result& r, const eulervop::dense_tr
   return worst;
 }
 
-// Random states in the W frame (d1, d2, am), 0.05 <= d1/d2 <= 0.95, both signs, mapped to the
-// major (k < 1) or minor (k > 1) regime, as in tests/test_vop_theta.cpp.
+// Random states in both regimes (vop_test::random_regime_states, as in tests/test_vop_theta.cpp).
 std::vector<vec3<quad>> random_states(int n, bool minor) {
-  std::mt19937_64 rng(minor ? 4242 : 2424);
-  std::uniform_real_distribution<double> ang(-3.14159, 3.14159), kk(0.05, 0.95), dd(0.2, 3.0);
-  std::vector<vec3<quad>> out;
-  for (int i = 0; i < n; ++i) {
-    const quad d2 = quad(dd(rng)), d1 = quad(kk(rng)) * d2, am = quad(ang(rng));
-    const quad W2 = d1 * sin(am);
-    const quad s = (i % 2) ? quad(-1) : quad(1);
-    const vec3<quad> W = {d1 * cos(am), W2, s * sqrt(d2 * d2 - W2 * W2)};
-    out.push_back(minor ? vec3<quad>{W[2], W[1], W[0]} : W);
-  }
-  return out;
+  return vop_test::random_regime_states(n, minor, minor ? 4242 : 2424, 3.0);
 }
-
-// d/dtau Omega(elements) along the element right-hand side at time tau, by a central difference
-// in quad (step 1e-9), against Eq. 5 with G(tau, Omega).
-template <class System, class ToOmega, class Torque>
-double chain_rule_mismatch(const vec3<quad>& y, const quad& tau, System& sys, ToOmega&& Omega_of,
-                           const Torque& torque) {
-  vec3<quad> dy;
-  sys(y, dy, tau);
-  const quad eps("1e-9");
-  vec3<quad> yp, ym;
-  for (int i = 0; i < 3; ++i) {
-    yp[i] = y[i] + eps * dy[i];
-    ym[i] = y[i] - eps * dy[i];
-  }
-  const vec3<quad> Om = Omega_of(y), Op = Omega_of(yp), Omn = Omega_of(ym);
-  vec3<quad> f;
-  eulervop::euler_rhs(Om, torque.value(tau, Om), f);
-  double worst = 0;
-  for (int i = 0; i < 3; ++i) {
-    const quad chain = (Op[i] - Omn[i]) / (2 * eps);
-    worst = std::max(worst, static_cast<double>(fabs(chain - f[i]) / (1 + fabs(f[i]))));
-  }
-  return worst;
-}
+using vop_test::chain_rule_mismatch;
 
 // ---- Right-hand sides ----
 

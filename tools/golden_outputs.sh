@@ -96,6 +96,8 @@ for s in small-torque torque-free-k0.5 spacecraft-physical axisymmetric hard/cro
   hard/omega3-negative hard/small-k hard/c1-zero hard/near-separatrix-torque hard/near-symmetric; do
   run "report-${s//\//-}" report "$S/$s.toml" --no-plot --out-dir out
 done
+# attitude beside the rates (where the binary knows the scene; an older one reports its error)
+run report-spacecraft-attitude report "$S/spacecraft-attitude.toml" --no-plot --out-dir out
 
 # check: a trajectory made from the reference file with a known offset
 traj=$work/traj.csv

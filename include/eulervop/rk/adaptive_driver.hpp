@@ -71,8 +71,11 @@ struct no_adaptive_observer {
 
 // One run of integrate_adaptive. The state, its compensation and the time stay in locals of
 // run() and pass by reference into the force-inlined steps: kept as members (or behind the
-// caller's reference) they would go through memory at every step.
-template <class Pair, class System, class State, scalar T, class Observer, class Scale>
+// caller's reference) they would go through memory at every step. Stepper is embedded_rk, or a
+// stepper of the same interface that measures only part of the state (runs/detail/attitude.hpp):
+// it measures the error, so it also gives the starting step (starting_step).
+template <class Pair, class System, class State, scalar T, class Observer, class Scale,
+          class Stepper = embedded_rk<Pair, State, T>>
 class adaptive_driver {
  public:
   adaptive_driver(System& sys, const State& shape, const T& t0, const T& t_end, const adaptive_options<T>& o,
@@ -107,7 +110,7 @@ class adaptive_driver {
   [[gnu::always_inline]] void integrate(State& cur, State& next, State& comp, State& comp_next, clock& at) {
     h_max_ = o_.h_max ? *o_.h_max : T(t_end_ - t0_);
     stepper_.prime(sys_, cur, at.t);
-    T h = o_.h_init ? *o_.h_init : initial_step<Pair>(sys_, cur, at.t, stepper_.derivative(), h_max_, scale_, extra_evals_);
+    T h = o_.h_init ? *o_.h_init : stepper_.starting_step(sys_, cur, at.t, h_max_, scale_, extra_evals_);
     for (;;) {
       // The remaining span, from the compensated time; the last step lands on t_end.
       const T left = (t_end_ - at.t) - at.t_lo;
@@ -173,7 +176,7 @@ class adaptive_driver {
   const adaptive_options<T>& o_;
   Observer& observer_;
   Scale scale_;
-  embedded_rk<Pair, State, T> stepper_;
+  Stepper stepper_;
   pi_controller controller_{Pair::estimate_order + 1};
   T h_max_{};
   std::size_t extra_evals_ = 0;  // those of the starting-step estimate

@@ -12,12 +12,15 @@
 #include <eulervop/rk/detail/compensated_sum.hpp>
 #include <eulervop/rk/detail/stage_loop.hpp>
 #include <eulervop/rk/error_norm.hpp>
+#include <eulervop/rk/initial_step.hpp>
 #include <eulervop/rk/state_traits.hpp>
 #include <eulervop/rk/tableaux.hpp>
 
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <type_traits>
+#include <utility>
 
 namespace eulervop::rk {
 
@@ -29,8 +32,21 @@ namespace eulervop::rk {
 //                                          returns the error norm (NaN if a stage was not finite)
 //   accept(sys, out, t + h)                FSAL: k_1 of the next step
 // For MPFR, construct it inside the run's mpfr_precision_scope.
-template <class Pair, class State, scalar T = state_value_t<State>>
+//
+// Measure says which part of the state the error norm and the starting step see: the whole state
+// (whole_state), or a leading part that the rest never feeds (runs/detail/attitude.hpp: the rates
+// with the attitude beside them), so that the steps are those of that part alone.
+struct whole_state {
+  template <class State>
+  static const State& part(const State& x) { return x; }
+  template <class System>
+  static System& system(System& sys) { return sys; }
+};
+
+template <class Pair, class State, scalar T = state_value_t<State>, class Measure = whole_state>
 class embedded_rk {
+  using Part = std::decay_t<decltype(Measure::part(std::declval<const State&>()))>;
+
  public:
   using pair_type = Pair;
   static constexpr std::size_t stages = Pair::stages;
@@ -41,7 +57,7 @@ class embedded_rk {
         work_(shape),
         k1_(shape),
         k_last_(shape),
-        sc_(shape),
+        sc_(Measure::part(shape)),
         err_(shape),
         err2_(shape) {
     if constexpr (Pair::two_estimates) e2_ = Pair::template second_error_weights<T>();
@@ -60,7 +76,8 @@ class embedded_rk {
                                         const State& comp, State& comp_out, Scale&& scale) {
     if constexpr (detail::work_on_stack<State, T>) {
       work_type w;
-      State err, err2, sc;
+      State err, err2;
+      Part sc;
       return attempt_in(w, err, err2, sc, sys, x, t, h, out, comp, comp_out, scale);
     } else {
       return attempt_in(work_, err_, err2_, sc_, sys, x, t, h, out, comp, comp_out, scale);
@@ -82,11 +99,19 @@ class embedded_rk {
   // The derivative at the current state (valid after prime or accept).
   const State& derivative() const { return k1_; }
 
+  // HNW's starting step (initial_step.hpp) from the primed state, in the norm of attempt.
+  template <class System, class Scale>
+  T starting_step(System& sys, const State& x, const T& t, const T& h_max, Scale& scale,
+                  std::size_t& evals) const {
+    auto&& part_system = Measure::system(sys);
+    return initial_step<Pair>(part_system, Measure::part(x), t, Measure::part(k1_), h_max, scale, evals);
+  }
+
  private:
   using work_type = detail::stage_work<State, T, stages>;
 
   template <class System, class Scale>
-  [[gnu::always_inline]] double attempt_in(work_type& w, State& err, State& err2, State& sc, System& sys,
+  [[gnu::always_inline]] double attempt_in(work_type& w, State& err, State& err2, Part& sc, System& sys,
                                            const State& x, const T& t, const T& h, State& out, const State& comp,
                                            State& comp_out, Scale& scale) {
     using traits = state_traits<State>;
@@ -101,11 +126,11 @@ class embedded_rk {
       error_sum(w, e_, i, h, traits::get(err, i));
       if constexpr (Pair::two_estimates) error_sum(w, e2_, i, h, traits::get(err2, i));
     });
-    scale(x, out, sc);
-    const double n1 = rms_norm(err, sc);
+    scale(Measure::part(x), Measure::part(out), sc);
+    const double n1 = rms_norm(Measure::part(err), sc);
     if constexpr (Pair::two_estimates) {
       // dop853.f: err5^2 / sqrt(err5^2 + 0.01 err3^2) (0 when both vanish).
-      const double n3 = rms_norm(err2, sc);
+      const double n3 = rms_norm(Measure::part(err2), sc);
       const double den = std::sqrt(n1 * n1 + 0.01 * n3 * n3);
       return den > 0 ? n1 * n1 / den : (std::isnan(den) ? den : 0.0);
     } else {
@@ -134,7 +159,8 @@ class embedded_rk {
   std::array<T, stages> e_, e2_{};
   work_type work_;           // used only when the state cannot live on the stack
   State k1_, k_last_;        // the derivative at the current state; dp45's 7th stage
-  State sc_, err_, err2_;    // likewise
+  Part sc_;                  // likewise
+  State err_, err2_;
   std::size_t evals_ = 0;
 };
 

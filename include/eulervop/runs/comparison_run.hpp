@@ -16,6 +16,11 @@
 // formulation (the VOP formulations from the Omega of their elements). The runs step onto the
 // torque's breakpoints (detail/euler_runs.hpp), and the explosion bound of every formulation is
 // taken from the torque's size over the span (detail/divergence.hpp, detail/run_torque.hpp).
+//
+// Attitude (settings.hpp, attitude_settings): every formulation then also carries q,
+// dq/dtau = 1/2 q (x) (0, body rates), on the same stages as its rates or elements, sampled beside
+// them in run_result::q (detail/attitude.hpp, docs/attitude-runs.md). The rates are bit for bit
+// those of the run without it. The rate-only runs are separate instantiations, compiled as before.
 #pragma once
 
 #include <eulervop/core/vec3.hpp>
@@ -54,6 +59,35 @@ void require_normalized(formulation f, const Problem& p) {
                             "form of Eq. 1 (two moments equal or nearly so)");
 }
 
+// The runs with attitude (s.attitude set): out of line, apart from the rate-only ones.
+template <class Problem>
+[[gnu::noinline]] void run_fixed_attitude(run_result& out, formulation f, rk::method m, const Problem& p,
+                                          const fixed_run_settings& s, double bound) {
+  if (f == formulation::euler) {
+    run_euler_fixed<Problem, true>(out, p, s, bound);
+    return;
+  }
+  rk::dispatch_method(m, [&](auto tag) {
+    if (f == formulation::vop)
+      vop_fixed_run<decltype(tag), false, Problem, true>(out, p, s, bound)();
+    else
+      vop_fixed_run<decltype(tag), true, Problem, true>(out, p, s, bound)();
+  });
+}
+
+template <class Problem>
+[[gnu::noinline]] void run_adaptive_attitude(run_result& out, formulation f, rk::method m, const Problem& p,
+                                             const adaptive_run_settings& s, double bound) {
+  rk::dispatch_pair(m, [&](auto pair) {
+    using Pair = decltype(pair);
+    switch (f) {
+      case formulation::euler: run_euler_adaptive<Pair, Problem, true>(out, p, s, bound); break;
+      case formulation::vop: vop_adaptive_run<Pair, false, Problem, true>(out, p, s, bound)(); break;
+      case formulation::vop_theta: vop_adaptive_run<Pair, true, Problem, true>(out, p, s, bound)(); break;
+    }
+  });
+}
+
 }  // namespace detail
 
 // Integrates the problem with formulation `f` and method `m` at fixed step in double.
@@ -67,6 +101,10 @@ run_result run_fixed(formulation f, rk::method m, const Problem& p, const fixed_
   const double tau_end = p.initial_time() + s.h * static_cast<double>(s.n_steps);
   const double bound =
       detail::explosion_bound(p.initial_state(), detail::torque_size(p, tau_end), tau_end, f == formulation::vop);
+  if (s.attitude) [[unlikely]] {
+    detail::run_fixed_attitude(out, f, m, p, s, bound);
+    return out;
+  }
   if (f == formulation::euler) {
     detail::run_euler_fixed(out, p, s, bound);
     return out;
@@ -92,6 +130,10 @@ run_result run_adaptive(formulation f, rk::method m, const Problem& p, const ada
   detail::require_normalized(f, p);
   const double bound =
       detail::explosion_bound(p.initial_state(), detail::torque_size(p, s.tau_end), s.tau_end, f == formulation::vop);
+  if (s.attitude) [[unlikely]] {
+    detail::run_adaptive_attitude(out, f, m, p, s, bound);
+    return out;
+  }
   rk::dispatch_pair(m, [&](auto pair) {
     using Pair = decltype(pair);
     switch (f) {

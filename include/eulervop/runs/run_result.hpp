@@ -2,6 +2,7 @@
 #pragma once
 
 #include <eulervop/core/outcome.hpp>
+#include <eulervop/core/quaternion.hpp>
 #include <eulervop/core/vec3.hpp>
 #include <eulervop/rk/method.hpp>
 #include <eulervop/runs/formulation.hpp>
@@ -23,6 +24,8 @@ struct run_result {
   std::vector<std::size_t> sample_steps;
   std::vector<double> sample_tau, sample_tau_lo;  // adaptive runs only
   std::vector<vec3<double>> Omega;                // the state there (for vop: converted by Eq. 12)
+  std::vector<quaternion<double>> q;              // the attitude there, when the settings carry one
+                                                  // (else empty; settings.hpp, attitude_settings)
   std::size_t steps = 0;                          // accepted steps
   std::size_t rejected = 0;                       // rejected steps (adaptive runs)
   std::size_t rhs_evals = 0;

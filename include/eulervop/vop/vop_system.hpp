@@ -40,35 +40,14 @@ class vop_system : public detail::vop_equations<T, Torque> {
     requires base::varying
       : base(frame, std::move(torque)) {}
 
+  // Eqs. 13 and 16; for a torque of time or state with G(tau, Omega) of the stage, which is never
+  // torque-free.
   [[gnu::always_inline]] void operator()(const vec3<T>& y, vec3<T>& dy, const T& tau) {
-    if constexpr (base::varying) varying_rates(y, dy, tau);
-    else constant_rates(y, dy, tau);
-  }
-
- private:
-  // Eqs. 13 and 16 with G(tau, Omega) of the stage (never torque-free).
-  [[gnu::always_inline]] void varying_rates(const vec3<T>& y, vec3<T>& dy, const T& tau) {
     const T& c1 = y[0];
     const T& c2 = y[1];
-    if (this->outside(c1, c2, tau, false, dy)) return;
-    const T k = c1 / c2;
-    const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
-    const T inv_c1_kc2 = 1 / (c1 * kc2);
-    this->template with_functions<false>(k, kc2, y[2], [&](const jacobi_values<T>& j, const T&) __attribute__((always_inline)) {
-      this->stage_torque(j, c1, c2, tau);
-      const T secular = j.E - kc2 * y[2];  // E(u) - kc^2 u
-      T du = c2 + this->torque_bracket(j, k, kc2, secular) * inv_c1_kc2;
-      this->element_rates(j, k, dy);
-      dy[2] = std::move(du);
-    });
-  }
-
-  // The constant G (the paper's case).
-  [[gnu::always_inline]] void constant_rates(const vec3<T>& y, vec3<T>& dy, const T& tau) {
-    const T& c1 = y[0];
-    const T& c2 = y[1];
-    if (this->outside(c1, c2, tau, this->torque_free_, dy)) return;
-    if (this->torque_free_) {  // Eq. 13 and 16 with G = 0, also at c1 = 0
+    const bool torque_free = !base::varying && this->torque_free_;
+    if (this->outside(c1, c2, tau, torque_free, dy)) return;
+    if (torque_free) {  // Eq. 13 and 16 with G = 0, also at c1 = 0
       dy = {T(0), T(0), c2};
       return;
     }
@@ -78,6 +57,7 @@ class vop_system : public detail::vop_equations<T, Torque> {
     // The divisor of Eq. 16, inverted while the elliptic functions are evaluated (off the path).
     const T inv_c1_kc2 = 1 / (c1 * kc2);
     this->template with_functions<false>(k, kc2, y[2], [&](const jacobi_values<T>& j, const T&) __attribute__((always_inline)) {
+      if constexpr (base::varying) this->stage_torque(j, c1, c2, tau);
       const T secular = j.E - kc2 * y[2];  // E(u) - kc^2 u
       // The torque-free term k (c2^2 - c1^2) / (c1 kc^2) of Eq. 16 is exactly c2 (k = c1/c2,
       // c2^2 - c1^2 = c2^2 kc^2): written so, torque-free motion advances u by exactly c2 tau.

@@ -40,42 +40,23 @@ class vop_theta_system : public detail::vop_equations<T, Torque> {
     requires base::varying
       : base(frame, std::move(torque)) {}
 
+  // theta' and Eq. 13; for a torque of time or state with G(tau, Omega) of the stage, which is
+  // never torque-free.
   [[gnu::always_inline]] void operator()(const vec3<T>& y, vec3<T>& dy, const T& tau) {
-    if constexpr (base::varying) varying_rates(y, dy, tau);
-    else constant_rates(y, dy, tau);
-  }
-
- private:
-  // theta' and Eq. 13 with G(tau, Omega) of the stage (never torque-free).
-  [[gnu::always_inline]] void varying_rates(const vec3<T>& y, vec3<T>& dy, const T& tau) {
     const T& c1 = y[0];
     const T& c2 = y[1];
-    if (this->outside(c1, c2, tau, false, dy)) return;
+    const bool torque_free = !base::varying && this->torque_free_;
+    if (this->outside(c1, c2, tau, torque_free, dy)) return;
     const T k = c1 / c2;
     const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
-    const T inv_c1_kc2 = 1 / (c1 * kc2);
-    this->template with_functions<true>(k, kc2, y[2], [&](const jacobi_values<T>& j, const T& rate) __attribute__((always_inline)) {
-      this->stage_torque(j, c1, c2, tau);
-      T dtheta = rate * c2 + rate * (this->torque_bracket(j, k, kc2, j.Z) * inv_c1_kc2);
-      this->element_rates(j, k, dy);
-      dy[2] = std::move(dtheta);
-    });
-  }
-
-  // The constant G (the paper's case).
-  [[gnu::always_inline]] void constant_rates(const vec3<T>& y, vec3<T>& dy, const T& tau) {
-    const T& c1 = y[0];
-    const T& c2 = y[1];
-    if (this->outside(c1, c2, tau, this->torque_free_, dy)) return;
-    const T k = c1 / c2;
-    const T kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
-    if (this->torque_free_) {
+    if (torque_free) {
       dy = {T(0), T(0), this->rate_of(k, kc2) * c2};
       return;
     }
     // The divisor of Eq. 16, inverted while the elliptic functions are evaluated (off the path).
     const T inv_c1_kc2 = 1 / (c1 * kc2);
     this->template with_functions<true>(k, kc2, y[2], [&](const jacobi_values<T>& j, const T& rate) __attribute__((always_inline)) {
+      if constexpr (base::varying) this->stage_torque(j, c1, c2, tau);
       T dtheta = rate * c2 + rate * (this->torque_bracket(j, k, kc2, j.Z) * inv_c1_kc2);
       this->element_rates(j, k, dy);
       dy[2] = std::move(dtheta);

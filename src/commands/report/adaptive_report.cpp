@@ -7,8 +7,9 @@
 #include "compute/with_scalar.hpp"
 #include "io/output_dir.hpp"
 
-#include <eulervop/model/error_measure.hpp>
+#include <eulervop/core/quaternion.hpp>
 #include <eulervop/core/scalar.hpp>
+#include <eulervop/model/error_measure.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -55,8 +56,27 @@ template <scalar T>
 computed_reference_info measure_adaptive(const report_job& job, const T& tau_end, std::vector<run_errors>& runs) {
   for (run_errors& a : runs) a.error.resize(a.run.Omega.size());
   const merged_sample_times<T> times = merge_sample_times<T>(runs);
+  // The runs end at tau_end rounded to double, which may lie above it in T (a physical scene's
+  // tau_end = t_end dtau/dt): the reference then goes on to that last step point.
+  T end = tau_end;
+  if (!times.tau.empty() && times.tau.back() > end) end = times.tau.back();
   const reference_run ref = with_problem<T>(job.scn, [&](const auto& problem) {
-    return integrate_at<T>(problem, tau_end, times.tau, job.settings, "reference", [&](std::size_t j, const vec3<T>& Om) {
+    if (job.attitude) {
+      // The rates and the attitude together (reference/attitude_cascade.hpp), at the merged times.
+      for (run_errors& a : runs) a.attitude_error.resize(a.run.Omega.size());
+      return integrate_attitude_streaming<T>(
+          problem, body_rates_of<T>(job.scn), attitude_of<T>(job.scn), end, times.tau, job.settings, "reference",
+          [&](std::size_t j, const vec3<T>& Om, const quaternion<T>& q) {
+            const auto [i, k] = times.owner[j];
+            const run_result& r = runs[i].run;
+            const double e = static_cast<double>(eq20_error(Om, r.Omega[k]));
+            if (std::isfinite(e)) runs[i].error[k] = e;  // never a NaN as an error value
+            const quaternion<double>& qr = r.q[k];
+            const double a = static_cast<double>(rotation_angle(q, quaternion<T>{T(qr.w), T(qr.x), T(qr.y), T(qr.z)}));
+            if (std::isfinite(a)) runs[i].attitude_error[k] = a;
+          });
+    }
+    return integrate_at<T>(problem, end, times.tau, job.settings, "reference", [&](std::size_t j, const vec3<T>& Om) {
       const auto [i, k] = times.owner[j];
       const double e = static_cast<double>(eq20_error(Om, runs[i].run.Omega[k]));
       if (std::isfinite(e)) runs[i].error[k] = e;  // never a NaN as an error value
@@ -68,6 +88,11 @@ computed_reference_info measure_adaptive(const report_job& job, const T& tau_end
       a.max_error = std::max(a.max_error.value_or(0.0), *a.error[k]);
       a.final_tau = a.run.sample_tau[k];
       a.final_error = a.error[k];
+    }
+    for (std::size_t k = 0; k < a.attitude_error.size(); ++k) {
+      if (!a.attitude_error[k]) continue;
+      a.max_attitude_error = std::max(a.max_attitude_error.value_or(0.0), *a.attitude_error[k]);
+      a.final_attitude_error = a.attitude_error[k];
     }
   }
   return {ref.wall_seconds, ref.stats.segments};
@@ -83,6 +108,7 @@ std::vector<run_errors> adaptive_runs(const report_job& job, double tau_end) {
       s.atol = s.rtol = job.tols[*spec.tol].value;
       s.h_max = job.max_step.h;
       s.samples = job.samples;
+      if (job.attitude) s.attitude = attitude_settings{body_rates_of<double>(job.scn), attitude_of<double>(job.scn)};
       run_errors a;
       a.run = run_adaptive(spec.form, spec.method, problem, s);
       runs.push_back(std::move(a));

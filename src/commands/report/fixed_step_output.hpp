@@ -21,6 +21,7 @@ struct fixed_reference_info {
   std::string precision;
   std::string source;            // "computed", or the --reference file's path
   std::optional<double> estimated_max_error;
+  std::optional<double> estimated_max_attitude_error;  // --verify of an attitude reference (rad)
   std::optional<double> seconds;  // a computed reference's wall time and segments
   std::optional<std::size_t> segments;
 };

@@ -11,12 +11,14 @@
 #include "io/output_dir.hpp"
 #include "io/reference_csv.hpp"
 
-#include <eulervop/model/error_measure.hpp>
+#include <eulervop/core/quaternion.hpp>
 #include <eulervop/core/scalar.hpp>
+#include <eulervop/model/error_measure.hpp>
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <numeric>
@@ -25,6 +27,13 @@ namespace eulervop::app {
 
 namespace {
 
+// The attitude error of a run's q against the reference's, in T: the angle of the rotation
+// between them (core/quaternion.hpp), radians.
+template <scalar T>
+double attitude_error(const quaternion<T>& reference, const quaternion<double>& run) {
+  return static_cast<double>(rotation_angle(reference, quaternion<T>{T(run.w), T(run.x), T(run.y), T(run.z)}));
+}
+
 // The reference at the error sample points, in T.
 template <scalar T>
 struct reference_samples {
@@ -32,6 +41,7 @@ struct reference_samples {
   std::vector<std::size_t> steps;  // step index of each sample, increasing
   std::vector<T> tau;              // its tau: n h exactly (computed) or the file's tau
   std::vector<vec3<T>> Omega;
+  std::vector<quaternion<T>> q;    // the attitude there (attitude jobs only)
   std::size_t n_steps = 0;         // the runs go this far
 };
 
@@ -70,10 +80,17 @@ reference_samples<T> load_reference_file(const report_job& job) {
   // A body in the direct form has t and omega (the coefficient form t and y), which are its tau
   // and Omega here.
   const std::size_t col_tau = reader.column(uses_direct_form(job.scn) ? "t" : "tau");
+  // An attitude job's file has the attitude (report_command.cpp checks its metadata): q0..q3.
+  std::array<std::size_t, 4> col_q{};
+  if (job.attitude)
+    for (std::size_t c = 0; c < 4; ++c) col_q[c] = reader.column(fmt::format("q{}", c), " (the attitude)");
   csv_rows& rows = reader.rows();
   while (rows.next()) {
     const decimal tau = rows.number(col_tau);
     const vec3<T> Om = reader.template Omega<T>();
+    if (job.attitude)
+      out.q.push_back({rows.number(col_q[0]).template to_scalar<T>(), rows.number(col_q[1]).template to_scalar<T>(),
+                       rows.number(col_q[2]).template to_scalar<T>(), rows.number(col_q[3]).template to_scalar<T>()});
     const std::optional<double> previous =
         out.tau.empty() ? std::nullopt : std::optional<double>(static_cast<double>(out.tau.back()));
     out.steps.push_back(step_of_row(job, where, rows.line(), tau, previous));
@@ -103,25 +120,49 @@ reference_samples<T> compute_reference(const report_job& job) {
 
   T tau_end = tau_end_of<T>(job.scn);
   if (out.tau.back() > tau_end) tau_end = out.tau.back();  // within the 1e-9 h slack of n_steps
-  sampled_reference<T> ref = with_problem<T>(job.scn, [&](const auto& problem) {
-    return integrate_and_sample<T>(problem, tau_end, out.tau, job.settings, "reference");
-  });
-  out.Omega = std::move(ref.Omega);
-  out.info.seconds = ref.wall_seconds;
-  out.info.segments = ref.stats.segments;
+  if (job.attitude) {
+    // The rates and the attitude together (reference/attitude_cascade.hpp).
+    out.Omega.resize(out.tau.size());
+    out.q.resize(out.tau.size());
+    const reference_run ref = with_problem<T>(job.scn, [&](const auto& problem) {
+      return integrate_attitude_streaming<T>(problem, body_rates_of<T>(job.scn), attitude_of<T>(job.scn), tau_end,
+                                             out.tau, job.settings, "reference",
+                                             [&](std::size_t i, const vec3<T>& y, const quaternion<T>& q) {
+                                               out.Omega[i] = y;
+                                               out.q[i] = q;
+                                             });
+    });
+    out.info.seconds = ref.wall_seconds;
+    out.info.segments = ref.stats.segments;
+  } else {
+    sampled_reference<T> ref = with_problem<T>(job.scn, [&](const auto& problem) {
+      return integrate_and_sample<T>(problem, tau_end, out.tau, job.settings, "reference");
+    });
+    out.Omega = std::move(ref.Omega);
+    out.info.seconds = ref.wall_seconds;
+    out.info.segments = ref.stats.segments;
+  }
   if (job.verify) {
-    const verify_result v = verify<T>(job.scn, tau_end, out.tau, out.Omega, job.precision);
+    const verify_result v =
+        verify<T>(job.scn, tau_end, out.tau, out.Omega, job.precision, job.attitude ? &out.q : nullptr);
     out.info.estimated_max_error = v.max_error.value;
+    if (v.max_attitude_error) out.info.estimated_max_attitude_error = v.max_attitude_error->value;
   }
   return out;
 }
 
 // One run at the report's step and its errors at the reference's samples (nullopt: not reached,
-// or after divergence).
+// or after divergence); with the attitude, q too (settings.hpp) and its error.
 template <scalar T, class Problem>
-run_errors measure(const run_spec& spec, const Problem& problem, const reference_samples<T>& ref, double h) {
+run_errors measure(const report_job& job, const run_spec& spec, const Problem& problem,
+                   const reference_samples<T>& ref, double h) {
   run_errors out;
-  out.run = run_fixed(spec.form, spec.method, problem, fixed_run_settings{h, ref.n_steps, ref.info.sample_every});
+  fixed_run_settings settings{h, ref.n_steps, ref.info.sample_every};
+  if (job.attitude) {
+    settings.attitude = attitude_settings{body_rates_of<double>(job.scn), attitude_of<double>(job.scn)};
+    out.attitude_error.resize(ref.steps.size());
+  }
+  out.run = run_fixed(spec.form, spec.method, problem, settings);
   const run_result& r = out.run;
   out.error.resize(ref.steps.size());
   std::size_t pos = 0;
@@ -132,6 +173,10 @@ run_errors measure(const run_spec& spec, const Problem& problem, const reference
     const double tau = static_cast<double>(n) * h;
     if (r.diverged() && r.diverged_at() && tau >= *r.diverged_at()) continue;
     const double e = static_cast<double>(eq20_error(ref.Omega[i], r.Omega[pos]));
+    if (job.attitude) {
+      record_errors(out, i, static_cast<double>(ref.tau[i]), e, attitude_error(ref.q[i], r.q[pos]));
+      continue;
+    }
     if (!std::isfinite(e)) continue;  // never a NaN as an error value
     out.error[i] = e;
     out.max_error = std::max(out.max_error.value_or(0.0), e);
@@ -152,7 +197,7 @@ void report_in(const report_job& job, std::ostream& standard_output) {
   for (const T& tau : ref.tau) ref.info.tau.push_back(static_cast<double>(tau));
   std::vector<run_errors> runs;
   with_problem<double>(job.scn, [&](const auto& problem) {
-    for (const run_spec& spec : job.runs) runs.push_back(measure<T>(spec, problem, ref, job.step.h));
+    for (const run_spec& spec : job.runs) runs.push_back(measure<T>(job, spec, problem, ref, job.step.h));
   });
 
   const std::string summary = fixed_summary_json(job, ref.info, runs).dump(2) + "\n";

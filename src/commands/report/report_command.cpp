@@ -122,6 +122,9 @@ report_job make_job(const report_options& o) {
                                     *o.reference_file, meta.scene_name, s.name));
     job.file = reference_file_info{*o.reference_file, meta};
   }
+  // The attitude beside the rates (docs/attitude-runs.md): a scene with [initial] q; with
+  // --reference, only when the file has the attitude too.
+  job.attitude = s.has_attitude() && (!job.file || !job.file->meta.attitude.empty());
   job.out_dir = out_dir_of(o.out_dir, "report");
   job.json = flag_json_format(o.format);
   job.plot = !o.no_plot;

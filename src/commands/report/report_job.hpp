@@ -57,6 +57,9 @@ struct report_job {
   bool json = false;
   bool plot = true;
   std::string note;  // one line for the table and the summary, when the runs differ from the usual
+  // The runs carry the attitude and are measured by it too (docs/attitude-runs.md): a scene with
+  // [initial] q, and with --reference a file with its q columns.
+  bool attitude = false;
 
   bool adaptive() const { return !tols.empty(); }
 };

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace eulervop::app {
@@ -56,12 +57,12 @@ std::string divergence_note(const run_result& r) {
 }
 
 nlohmann::ordered_json run_json(const run_spec& spec, const run_errors& e, nlohmann::ordered_json step,
-                                nlohmann::ordered_json tol) {
+                                nlohmann::ordered_json tol, bool attitude) {
   const run_result& r = e.run;
   const bool adaptive = spec.tol.has_value();
   auto if_adaptive = [&](auto v) { return adaptive ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
   auto if_diverged = [&](auto v) { return r.diverged() ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
-  return {{"formulation", std::string(formulation_name(spec.form))},
+  nlohmann::ordered_json j = {{"formulation", std::string(formulation_name(spec.form))},
           {"method", std::string(rk::method_name(spec.method))},
           {"step", std::move(step)},
           {"tol", std::move(tol)},
@@ -80,6 +81,31 @@ nlohmann::ordered_json run_json(const run_spec& spec, const run_errors& e, nlohm
           {"small_k_bands", bands_json(r.small_k_bands)},
           {"direct_steps", r.direct_steps},
           {"regime_changes", r.regime_changes}};
+  if (!attitude) return j;
+  // After final_error: rebuilt in order (ordered_json inserts at the end).
+  nlohmann::ordered_json out;
+  for (auto& [key, value] : j.items()) {
+    out[key] = value;
+    if (key == "final_error") {
+      out["max_attitude_error"] = number_or_null(e.max_attitude_error);
+      out["final_attitude_error"] = number_or_null(e.final_attitude_error);
+    }
+  }
+  return out;
+}
+
+void record_errors(run_errors& e, std::size_t i, double tau, double error, std::optional<double> attitude) {
+  if (std::isfinite(error)) {
+    e.error[i] = error;
+    e.max_error = std::max(e.max_error.value_or(0.0), error);
+    e.final_tau = tau;
+    e.final_error = error;
+  }
+  if (attitude && std::isfinite(*attitude)) {
+    e.attitude_error[i] = *attitude;
+    e.max_attitude_error = std::max(e.max_attitude_error.value_or(0.0), *attitude);
+    e.final_attitude_error = *attitude;
+  }
 }
 
 std::string run_label(const report_job& job, const run_spec& spec) {

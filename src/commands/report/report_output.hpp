@@ -21,11 +21,15 @@
 namespace eulervop::app {
 
 // A run and its Eq. 20 error at each sample (the reference's samples for fixed steps, the run's
-// own step points for adaptive ones); nullopt: not reached, or after divergence.
+// own step points for adaptive ones); nullopt: not reached, or after divergence. A job with the
+// attitude also has the attitude error there, the angle of the rotation from the reference's q
+// to the run's (rotation_angle, core/quaternion.hpp), in radians.
 struct run_errors {
   run_result run;
   std::vector<std::optional<double>> error;
   std::optional<double> max_error, final_tau, final_error;
+  std::vector<std::optional<double>> attitude_error;  // attitude jobs only (else empty)
+  std::optional<double> max_attitude_error, final_attitude_error;
 };
 
 // x in the format `spec`, or "-" when there is none.
@@ -35,9 +39,14 @@ std::string optional_text(const std::optional<double>& x, const char* spec);
 std::string divergence_note(const run_result& r);
 
 // One entry of summary.json's "runs": a fixed run has a step and no tolerance (and no
-// accepted/rejected counts), an adaptive run the reverse.
+// accepted/rejected counts), an adaptive run the reverse. With `attitude`, also
+// max_attitude_error and final_attitude_error (radians), after final_error.
 nlohmann::ordered_json run_json(const run_spec& spec, const run_errors& e, nlohmann::ordered_json step,
-                                nlohmann::ordered_json tol);
+                                nlohmann::ordered_json tol, bool attitude);
+
+// Records a sample's errors in `e` (its maxima and finals): `error` at index i, and `attitude`
+// when the job has the attitude. Neither is recorded unless finite (never a NaN as an error).
+void record_errors(run_errors& e, std::size_t i, double tau, double error, std::optional<double> attitude);
 
 // "euler rk4", or "vop dp45 tol 1e-8" for an adaptive run.
 std::string run_label(const report_job& job, const run_spec& spec);

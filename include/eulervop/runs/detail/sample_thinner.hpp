@@ -1,6 +1,7 @@
 // The sampling of an adaptive comparison run (comparison_run.hpp).
 #pragma once
 
+#include <eulervop/core/quaternion.hpp>
 #include <eulervop/core/vec3.hpp>
 #include <eulervop/runs/run_result.hpp>
 
@@ -34,13 +35,20 @@ class sample_thinner {
       out_.sample_tau[kept] = out_.sample_tau[i];
       out_.sample_tau_lo[kept] = out_.sample_tau_lo[i];
       out_.Omega[kept] = out_.Omega[i];
+      if (!out_.q.empty()) out_.q[kept] = out_.q[i];
       ++kept;
     }
     out_.sample_steps.resize(kept);
     out_.sample_tau.resize(kept);
     out_.sample_tau_lo.resize(kept);
     out_.Omega.resize(kept);
+    if (!out_.q.empty()) out_.q.resize(kept);
     next_ = (step / stride_ + 1) * stride_;
+  }
+  // The same with the attitude there (a run with attitude puts every sample so).
+  void put(std::size_t step, double tau, double tau_lo, const vec3<double>& Omega, const quaternion<double>& q) {
+    out_.q.push_back(q);
+    put(step, tau, tau_lo, Omega);
   }
   // Whether the run's last state (at `step`) still needs to be put.
   bool lacks_last(std::size_t step) const { return out_.sample_steps.empty() || out_.sample_steps.back() != step; }

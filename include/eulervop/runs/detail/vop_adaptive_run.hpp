@@ -17,6 +17,11 @@
 // copies of the torque (the element system's and the direct system's) pinned to the interval
 // that starts at the breakpoint, the derivative re-evaluated, the controller reset and the step
 // estimated afresh (a formula that changes there changes the solution's smoothness too).
+//
+// With Attitude, the stepped state is (elements or Omega, q) (detail/attitude.hpp): q rides on the
+// same stages and keeps its value and compensation when the representation changes; the error
+// estimate and the starting step measure the elements or Omega alone, as above, so the steps are
+// those of the run without q.
 #pragma once
 
 #include <eulervop/core/outcome.hpp>
@@ -28,6 +33,7 @@
 #include <eulervop/rk/initial_step.hpp>
 #include <eulervop/rk/pi_controller.hpp>
 #include <eulervop/rk/problem_system.hpp>
+#include <eulervop/runs/detail/attitude.hpp>
 #include <eulervop/runs/detail/divergence.hpp>
 #include <eulervop/runs/detail/run_torque.hpp>
 #include <eulervop/runs/detail/sample_thinner.hpp>
@@ -40,6 +46,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 namespace eulervop::detail {
@@ -62,10 +69,11 @@ struct element_scale {
 // The VOP formulations under error control: vop_run_state's representations stepped with one
 // embedded pair, whose PI controller carries over between them (the derivative is re-evaluated
 // after a change; it restarts at a breakpoint, see the header note).
-template <class Pair, bool Theta, class Problem>
+template <class Pair, bool Theta, class Problem, bool Attitude = false>
 class vop_adaptive_run {
  public:
   using V = vec3<double>;
+  using S = std::conditional_t<Attitude, attitude_state, V>;  // the stepped state
   using Torque = typename Problem::torque_type;
   // Breakpoints matter only to a torque that varies (a constant one has none to honour).
   static constexpr bool piecewise = piecewise_torque<Torque> && !is_constant_torque_v<Torque>;
@@ -73,7 +81,7 @@ class vop_adaptive_run {
   vop_adaptive_run(run_result& out, const Problem& p, const adaptive_run_settings& s, double bound)
       : out_(out), s_(s), tau0_(p.initial_time()), bound_(bound), span_(s.tau_end - p.initial_time()),
         h_max_(s.h_max > 0 ? std::min(s.h_max, span_) : span_),
-        run_(out, p.initial_state(), p.initial_time(), p.torque, s.bands, first_), euler_{p},
+        run_(out, p.initial_state(), p.initial_time(), p.torque, s.bands, first_), euler_{direct_system(p, s)},
         omega_scale_{s.atol, s.rtol}, element_scale_{s.atol, s.rtol, &run_}, samples_(out, s.samples) {
     if constexpr (piecewise) {
       breaks_ = breakpoints_between(p, tau0_, s.tau_end);
@@ -82,9 +90,9 @@ class vop_adaptive_run {
   }
 
   void operator()() {
-    V state = first_, comp{0, 0, 0};
+    S state = first_state(), comp{};
     step_clock at{tau0_, 0, 0};
-    samples_.put(0, at.t, at.t_lo, run_.Omega(state));
+    sample(at, state);
     const auto start = std::chrono::steady_clock::now();
     prime(state, at.t);
     double h = first_step(state, at.t);
@@ -112,7 +120,7 @@ class vop_adaptive_run {
     }
     out_.steps = at.n;
     out_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (samples_.lacks_last(at.n)) samples_.put(at.n, at.t, at.t_lo, run_.Omega(state));
+    if (samples_.lacks_last(at.n)) sample(at, state);
     out_.rhs_evals = stepper_.rhs_evaluations() + extra_evals_;
     run_.finish(at.t);
   }
@@ -131,13 +139,13 @@ class vop_adaptive_run {
   // h the next step), retry (h shorter, or the representation changed) or stopped (out_.status).
   // `end` is the end of the current interval (tau_end, or a breakpoint), which a last step reaches
   // exactly.
-  [[gnu::always_inline]] attempt_result advance(V& state, V& comp, step_clock& at, double& h, double h_try,
+  [[gnu::always_inline]] attempt_result advance(S& state, S& comp, step_clock& at, double& h, double h_try,
                                                 bool last, double end) {
     if (!(h_try > 16 * std::numeric_limits<double>::epsilon() * std::abs(at.t)) || !std::isfinite(h_try)) {
       out_.status = {std::isfinite(h_try) ? outcome_kind::step_underflow : outcome_kind::non_finite, at.t};
       return attempt_result::stopped;
     }
-    V next{}, comp_next = comp;
+    S next{}, comp_next = comp;
     double err = 0;
     if (!attempt(state, comp, at.t, h_try, next, comp_next, err)) [[unlikely]] {
       leave_elements(state, comp, at.t);
@@ -169,39 +177,81 @@ class vop_adaptive_run {
 
   // The embedded step of h of the current representation from (t, state) (error norm in err).
   // False when an element step left the elements' domain.
-  [[gnu::always_inline]] bool attempt(const V& state, const V& comp, double t, double h, V& next, V& comp_next,
+  [[gnu::always_inline]] bool attempt(const S& state, const S& comp, double t, double h, S& next, S& comp_next,
                                       double& err) {
     if (run_.in_elements()) {
-      err = stepper_.attempt(run_.system(), state, t, h, next, comp, comp_next, element_scale_);
-      return run_.element_step_in_domain(next);
+      if constexpr (Attitude) {
+        auto sys = elements();
+        err = stepper_.attempt(sys, state, t, h, next, comp, comp_next, element_scale_);
+        return run_.element_step_in_domain(head(next));
+      } else {
+        err = stepper_.attempt(run_.system(), state, t, h, next, comp, comp_next, element_scale_);
+        return run_.element_step_in_domain(next);
+      }
     }
     err = stepper_.attempt(euler_, state, t, h, next, comp, comp_next, omega_scale_);
     return true;
   }
   // After an accepted step: band entry or exit (a new representation is primed afresh), the
   // derivative at the new state (FSAL), the sample.
-  [[gnu::always_inline]] void accept(V& state, V& comp, const step_clock& at) {
+  [[gnu::always_inline]] void accept(S& state, S& comp, const step_clock& at) {
     const bool was_elements = run_.in_elements();
-    if (run_.after_step(at.t, state, comp)) [[unlikely]] {
+    if (after_step(at.t, state, comp)) [[unlikely]] {
       controller_.reset();
       prime(state, at.t);
     } else if (was_elements) {
-      stepper_.accept(run_.system(), state, at.t);
+      if constexpr (Attitude) {
+        auto sys = elements();
+        stepper_.accept(sys, state, at.t);
+      } else {
+        stepper_.accept(run_.system(), state, at.t);
+      }
     } else {
       stepper_.accept(euler_, state, at.t);
     }
     if (samples_.wants(at.n)) [[unlikely]]
-      samples_.put(at.n, at.t, at.t_lo, run_.Omega(state));
+      sample(at, state);
   }
   // A stage left the elements' domain: the step is redone directly from its start (t, state).
-  void leave_elements(V& state, V& comp, double t) {
-    state = run_.leave_elements(t, state);
-    comp = V{0, 0, 0};
+  // With q: q and its compensation stay.
+  void leave_elements(S& state, S& comp, double t) {
+    leave_elements_of(run_, t, state, comp);
     controller_.reset();
     prime(state, t);
   }
+  // vop_run_state::after_step on the elements or Omega (q unchanged).
+  [[gnu::always_inline]] bool after_step(double t, S& state, S& comp) {
+    if constexpr (Attitude) {
+      V y = head(state), c = head(comp);
+      const bool changed = run_.after_step(t, y, c);
+      set_head(state, y);
+      set_head(comp, c);
+      return changed;
+    } else {
+      return run_.after_step(t, state, comp);
+    }
+  }
+  [[gnu::always_inline]] void sample(const step_clock& at, const S& state) {
+    if constexpr (Attitude) samples_.put(at.n, at.t, at.t_lo, run_.Omega(head(state)), quat(state));
+    else samples_.put(at.n, at.t, at.t_lo, run_.Omega(state));
+  }
+  // The starting state: the representation vop_run_state chose (and q0).
+  S first_state() const {
+    if constexpr (Attitude) return join(first_, s_.attitude->q0);
+    else return first_;
+  }
+  // The element system with q (attitude runs).
+  element_attitude_system<vop_run_state<Theta, Torque>> elements()
+    requires Attitude
+  {
+    return {run_, euler_.rates};
+  }
+  static auto direct_system(const Problem& p, const adaptive_run_settings& s) {
+    if constexpr (Attitude) return direct_attitude_system<Problem>{p, s.attitude->rates};
+    else return rk::problem_system<Problem>{p};
+  }
   // On the breakpoint t: the next interval's formulas, the derivative, controller and step afresh.
-  [[gnu::noinline]] void restart(const V& state, double t, double& h) {
+  [[gnu::noinline]] void restart(const S& state, double t, double& h) {
     pin_at(t);
     controller_.reset();
     prime(state, t);
@@ -215,15 +265,33 @@ class vop_adaptive_run {
       euler_.problem.torque.pin(i);
     }
   }
-  void prime(const V& state, double t) {
-    if (run_.in_elements()) stepper_.prime(run_.system(), state, t);
-    else stepper_.prime(euler_, state, t);
+  void prime(const S& state, double t) {
+    if constexpr (Attitude) {
+      if (run_.in_elements()) {
+        auto sys = elements();
+        stepper_.prime(sys, state, t);
+      } else {
+        stepper_.prime(euler_, state, t);
+      }
+    } else {
+      if (run_.in_elements()) stepper_.prime(run_.system(), state, t);
+      else stepper_.prime(euler_, state, t);
+    }
   }
-  double first_step(const V& state, double t) {
-    if (run_.in_elements())
-      return rk::initial_step<Pair>(run_.system(), state, t, stepper_.derivative(), h_max_, element_scale_,
-                                    extra_evals_);
-    return rk::initial_step<Pair>(euler_, state, t, stepper_.derivative(), h_max_, omega_scale_, extra_evals_);
+  // HNW's starting step; with q, that of the elements or Omega alone (q does not choose steps).
+  double first_step(const S& state, double t) {
+    if constexpr (Attitude) {
+      const V y = head(state), dy = head(stepper_.derivative());
+      if (run_.in_elements())
+        return rk::initial_step<Pair>(run_.system(), y, t, dy, h_max_, element_scale_, extra_evals_);
+      auto rates = euler_.without_attitude();
+      return rk::initial_step<Pair>(rates, y, t, dy, h_max_, omega_scale_, extra_evals_);
+    } else {
+      if (run_.in_elements())
+        return rk::initial_step<Pair>(run_.system(), state, t, stepper_.derivative(), h_max_, element_scale_,
+                                      extra_evals_);
+      return rk::initial_step<Pair>(euler_, state, t, stepper_.derivative(), h_max_, omega_scale_, extra_evals_);
+    }
   }
 
   run_result& out_;
@@ -232,9 +300,10 @@ class vop_adaptive_run {
   double span_, h_max_;  // tau_end - tau0; the largest step
   V first_{};            // the starting state, in the representation vop_run_state chose
   vop_run_state<Theta, Torque> run_;
-  rk::embedded_rk<Pair, V> stepper_;
+  std::conditional_t<Attitude, attitude_embedded_rk<Pair>, rk::embedded_rk<Pair, V>> stepper_;
   rk::pi_controller controller_{Pair::estimate_order + 1};
-  rk::problem_system<Problem> euler_;
+  // Eq. 5 (with q: and the body rates, which the element steps use too)
+  std::conditional_t<Attitude, direct_attitude_system<Problem>, rk::problem_system<Problem>> euler_;
   rk::hairer_scale<double> omega_scale_;
   element_scale<Theta, Torque> element_scale_;
   sample_thinner samples_;

@@ -32,6 +32,8 @@
 #include <eulervop/model/torque.hpp>
 #include <eulervop/runs/run_result.hpp>
 #include <eulervop/runs/settings.hpp>
+#include <eulervop/special/elliptic.hpp>
+#include <eulervop/special/jacobi_theta.hpp>
 #include <eulervop/vop/frame.hpp>
 #include <eulervop/vop/phase.hpp>
 #include <eulervop/vop/vop_system.hpp>
@@ -39,6 +41,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <type_traits>
@@ -99,6 +102,31 @@ class vop_run_state {
     if (!elements_) return state;
     if constexpr (Theta) return frame_.Omega_of_theta(state);
     else return frame_.Omega_of(state);
+  }
+
+  // Omega of a stage's elements y in the current frame (Eq. 12), for the attitude beside the
+  // elements (detail/attitude.hpp): sn, cn, dn by the theta route in double where the element
+  // system takes it (k <= theta_max_k), else by the AGM; NaN outside 0 <= c1 < c2, where the
+  // element system flags the step anyway (it is then redone with Eq. 5).
+  [[gnu::always_inline]] V stage_Omega(const V& y) const {
+    const double c1 = y[0], c2 = y[1];
+    if (!(c1 >= 0 && c1 < c2)) [[unlikely]] {
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      return V{nan, nan, nan};
+    }
+    const double k = c1 / c2;
+    const double kc2 = (c2 - c1) * (c2 + c1) / (c2 * c2);
+    jacobi_values<double> j;
+    if (k <= theta_max_k) [[likely]] {
+      const theta_constants m = theta_constants_of(k, kc2);
+      if constexpr (Theta) theta_values_at_phase(y[2], m, j);
+      else theta_values_at_u(y[2], m, j);
+    } else {
+      const elliptic_modulus<double> m(k);
+      if constexpr (Theta) j = jacobi_eval(double(y[2] / pi_over_2K(m)), m);
+      else j = jacobi_eval(y[2], m);
+    }
+    return frame_.unrotate(V{c1 * j.cn, c1 * j.sn, c2 * j.dn});
   }
 
   // A finished element step's result (candidate yn): true if it stays in the elements' domain
