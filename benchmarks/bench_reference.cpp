@@ -45,6 +45,8 @@
 #include <eulervop/scene/scene.hpp>
 #include <eulervop/scene/scene_problem.hpp>
 
+#include "reference_bench_support.hpp"
+
 #include <boost/multiprecision/float128.hpp>
 #include <boost/multiprecision/mpfr.hpp>
 #include <boost/numeric/odeint.hpp>
@@ -68,35 +70,20 @@
 #include <type_traits>
 #include <vector>
 
-namespace mp = boost::multiprecision;
 namespace odeint = boost::numeric::odeint;
 
-// Boost.Odeint's value type for the peers. float128 is Boost's number<float128_backend, et_off>.
-// For MPFR the peer uses expression templates off: odeint mixes plain values with abs(...) in
-// std::max and friends, which does not deduce with Boost.Multiprecision expression templates.
-using odeint_mpfr = mp::number<mp::mpfr_float_backend<0>, mp::et_off>;
-
-// odeint's extract_value_type recurses into number::value_type, which for a real number is the
-// number itself: it never ends (docs/design.md section 2). Stop the recursion at the scalar.
-namespace boost::numeric::odeint::detail {
-template <>
-struct extract_value_type<eulervop::quad, void> {
-  typedef eulervop::quad type;
-};
-template <>
-struct extract_value_type<odeint_mpfr, void> {
-  typedef odeint_mpfr type;
-};
-}  // namespace boost::numeric::odeint::detail
+// The Boost.Odeint MPFR scalar, the clock, text and progress helpers shared with bench_problems.
+using eulervop::bench::odeint_mpfr;
 
 namespace {
 
-using clock_type = std::chrono::steady_clock;
+using eulervop::bench::bulirsch_stoer_maker;
+using eulervop::bench::clock_type;
+using eulervop::bench::executable_dir;
+using eulervop::bench::progress_printer;
+using eulervop::bench::seconds_since;
+using eulervop::bench::text_of;
 using text3 = std::array<std::string, 3>;
-
-double seconds_since(clock_type::time_point t0) {
-  return std::chrono::duration<double>(clock_type::now() - t0).count();
-}
 
 enum class problem_id { paper, sciml };
 
@@ -205,39 +192,7 @@ auto with_sciml_problem(const eulervop::scene::scene& scn, F&& f) {
   });
 }
 
-// Full-precision text of an odeint MPFR value (round-trip, like eulervop::to_text).
-std::string text_of(const odeint_mpfr& x) {
-  const unsigned digits = static_cast<unsigned>(std::ceil(x.precision() * 3.3219280948873623 * 0.30102999566398120)) + 3;
-  return x.str(static_cast<std::streamsize>(digits), std::ios_base::scientific);
-}
-std::string text_of(const eulervop::quad& x) { return eulervop::to_text(x); }
-std::string text_of(const eulervop::mpfr_real& x) { return eulervop::to_text(x); }
-
-// ---- progress ------------------------------------------------------------------------------
-class progress_printer {
- public:
-  explicit progress_printer(std::string label) : label_(std::move(label)), t0_(clock_type::now()) {}
-  void operator()(double tau) {
-    const double s = seconds_since(t0_);
-    if (s - last_ >= 2.0) {
-      std::fprintf(stderr, "  %s: tau = %.2f after %.0f s\n", label_.c_str(), tau, s);
-      last_ = s;
-    }
-  }
-
- private:
-  std::string label_;
-  clock_type::time_point t0_;
-  double last_ = 0;
-};
-
 // ---- truth ---------------------------------------------------------------------------------
-std::filesystem::path executable_dir() {
-  std::error_code ec;
-  auto p = std::filesystem::canonical("/proc/self/exe", ec);
-  return ec ? std::filesystem::current_path() : p.parent_path();
-}
-
 std::string truth_header(problem_id problem, int tau_end) {
   if (problem == problem_id::sciml)
     return "# eulervop bench_reference truth v1: integrate_reference<mpfr_real> mpfr:320 default settings;"
@@ -472,10 +427,6 @@ row run_odeint(const std::string& method, const std::string& precision_name, dou
   return r;
 }
 
-template <class V>
-auto bulirsch_stoer_maker() {
-  return [](const V& tol) { return odeint::bulirsch_stoer<std::array<V, 3>, V>(tol, tol); };
-}
 template <class V>
 auto rkf78_maker() {
   return [](const V& tol) {
