@@ -61,6 +61,7 @@ template <class T>
 struct wobble_torque {
   static constexpr bool depends_on_time = true;
   static constexpr bool depends_on_state = false;
+  static constexpr bool attitude_runs = false;  // rate-only runs (model/torque.hpp)
   T a;
   vec3<T> value(const T& t, const vec3<T>&) const {
     using std::cos;
@@ -81,6 +82,7 @@ template <class T>
 struct mixed_torque {
   static constexpr bool depends_on_time = true;
   static constexpr bool depends_on_state = true;
+  static constexpr bool attitude_runs = false;  // rate-only runs (model/torque.hpp)
   vec3<T> value(const T& t, const vec3<T>& y) const {
     using std::cos;
     using std::sin;
@@ -105,6 +107,7 @@ template <class T, bool Pieces>
 struct switched_torque {
   static constexpr bool depends_on_time = true;
   static constexpr bool depends_on_state = false;
+  static constexpr bool attitude_runs = false;  // rate-only runs (model/torque.hpp)
   T a, b;
   std::vector<T> breaks;                      // {b}
   mutable std::optional<std::size_t> pinned;  // the interval a run pinned, in its own copy
@@ -254,6 +257,7 @@ template <class T>
 struct constant_valued_time_torque {
   static constexpr bool depends_on_time = true;
   static constexpr bool depends_on_state = false;
+  static constexpr bool attitude_runs = false;  // rate-only runs (model/torque.hpp)
   vec3<T> G;
   vec3<T> value(const T&, const vec3<T>&) const { return G; }
 };
@@ -381,6 +385,7 @@ template <class T>
 struct draining_torque {
   static constexpr bool depends_on_time = true;
   static constexpr bool depends_on_state = false;
+  static constexpr bool attitude_runs = false;  // rate-only runs (model/torque.hpp)
   vec3<T> value(const T& t, const vec3<T>&) const {
     using std::cos;
     using std::sin;
@@ -510,6 +515,17 @@ TEST(VopVaryingTorque, AdaptiveRunsStepOntoTheBreakpoint) {
     EXPECT_GE(e_across, 5 * e_split);
     EXPECT_LE(r.rejected, q.rejected);
   }
+}
+
+// A torque that compiles no attitude runs (attitude_runs = false, model/torque.hpp) refuses a run
+// asked to carry q, with a reason, instead of silently dropping the attitude.
+TEST(VopVaryingTorque, ATorqueWithoutAttitudeRunsRefusesAnAttitude) {
+  const auto p = problem<double>(damping_torque<double>{0.05}, paper_Omega0);
+  eulervop::fixed_run_settings s{0.01, 10, 1};
+  s.attitude = eulervop::attitude_settings{};
+  EXPECT_THROW((void)eulervop::run_fixed(formulation::euler, eulervop::rk::method::rk4, p, s), std::invalid_argument);
+  s.attitude.reset();
+  EXPECT_EQ(eulervop::run_fixed(formulation::euler, eulervop::rk::method::rk4, p, s).steps, 10u);
 }
 
 }  // namespace

@@ -19,6 +19,9 @@
 //   interval_at(t), pin(interval) const, unpin() const: the integrators end every segment and step
 //   at a breakpoint, and pin the interval they work in, so that a segment ending on a
 //   breakpoint sees the formulas of its own side there.
+// A torque type may also say `static constexpr bool attitude_runs = false`: the double-precision
+// comparison runs (runs/comparison_run.hpp) then compile no attitude variants for it, half the
+// code of its runs. The tests' own torques, which never drive an attitude, say so.
 #pragma once
 
 #include <eulervop/core/vec3.hpp>
@@ -37,6 +40,10 @@ struct torque_traits {
 // True when the torque is one vector for the whole run.
 template <class Torque>
 inline constexpr bool is_constant_torque_v = torque_traits<Torque>::is_constant;
+
+// Whether the comparison runs compile their attitude variants for this torque (see above).
+template <class Torque>
+inline constexpr bool compiles_attitude_runs = !requires { requires !Torque::attitude_runs; };
 
 // A torque whose formulas change at breakpoints (see above).
 template <class Torque>

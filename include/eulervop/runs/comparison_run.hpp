@@ -88,6 +88,16 @@ template <class Problem>
   });
 }
 
+// The attitude variant `run`, where the torque type compiles one (model/torque.hpp,
+// compiles_attitude_runs).
+template <class Problem, class Run>
+void run_attitude(Run&& run) {
+  if constexpr (compiles_attitude_runs<typename Problem::torque_type>)
+    run();
+  else
+    throw std::invalid_argument("this torque type compiles no attitude runs (its attitude_runs is false)");
+}
+
 }  // namespace detail
 
 // Integrates the problem with formulation `f` and method `m` at fixed step in double.
@@ -102,7 +112,7 @@ run_result run_fixed(formulation f, rk::method m, const Problem& p, const fixed_
   const double bound =
       detail::explosion_bound(p.initial_state(), detail::torque_size(p, tau_end), tau_end, f == formulation::vop);
   if (s.attitude) [[unlikely]] {
-    detail::run_fixed_attitude(out, f, m, p, s, bound);
+    detail::run_attitude<Problem>([&] { detail::run_fixed_attitude(out, f, m, p, s, bound); });
     return out;
   }
   if (f == formulation::euler) {
@@ -131,7 +141,7 @@ run_result run_adaptive(formulation f, rk::method m, const Problem& p, const ada
   const double bound =
       detail::explosion_bound(p.initial_state(), detail::torque_size(p, s.tau_end), s.tau_end, f == formulation::vop);
   if (s.attitude) [[unlikely]] {
-    detail::run_adaptive_attitude(out, f, m, p, s, bound);
+    detail::run_attitude<Problem>([&] { detail::run_adaptive_attitude(out, f, m, p, s, bound); });
     return out;
   }
   rk::dispatch_pair(m, [&](auto pair) {
