@@ -160,7 +160,9 @@ std::string check_table(const check_job& job, const check_result& r) {
         "invariant drift (Eq. 7, against the reference): c1^2 max {:.3e} last {:.3e}; c2^2 max {:.3e} last {:.3e}\n",
         t.c1_drift_max, t.c1_drift_last, t.c2_drift_max, t.c2_drift_last);
   else
-    out.put("invariant drift: none (the body is integrated in the direct form of Eq. 1, where Eq. 7 does not apply)\n");
+    out.put(
+        "invariant drift: none (Eq. 7 holds only for the normalized Eq. 5, not for the direct form of Eq. 1 or the "
+        "coefficient form)\n");
   if (t.has_direction)
     out.put("error along the motion (phase): max {:.3e}; across it: max {:.3e}\n", t.max_along, t.max_across);
   if (t.attitude) {
