@@ -18,6 +18,10 @@
 #include <mpfr.h>
 
 #include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -130,6 +134,55 @@ class interval {
 
 namespace detail {
 
+// A binary128 number through three doubles (hi + mid + lo, each remainder exact in quad; 113
+// bits need at most 53 + 53 + 7), MPFI rounding outward where `out` has fewer bits.
+inline void set_exact_rounded(interval& out, __float128 x) {
+  const double hi = static_cast<double>(x);
+  if (!std::isfinite(hi)) {
+    mpfi_set_d(out.get(), hi);
+    return;
+  }
+  const __float128 r1 = x - hi;
+  const double mid = static_cast<double>(r1);
+  const __float128 r2 = r1 - mid;
+  const double lo = static_cast<double>(r2);
+  if (static_cast<__float128>(hi) + mid + lo != x || r2 != lo)
+    throw std::domain_error("set_exact: a binary128 value does not split into three doubles");
+  mpfi_set_d(out.get(), hi);
+  mpfi_add_d(out.get(), out.get(), mid);
+  mpfi_add_d(out.get(), out.get(), lo);
+}
+
+// A binary128 number from its fields (IEEE 754-2008, 3.4): sign, a 15-bit biased exponent and a
+// 112-bit fraction, so |x| = (2^112 + fraction) 2^(e - 16383 - 112), or
+// fraction 2^(1 - 16383 - 112) for e = 0. The 113-bit integer enters MPFR in two exact steps (high 49 bits, shifted, plus the
+// low 64); with at least 113 bits nothing rounds, and no temporary is allocated (the reference
+// stores thousands of these per second). Fewer bits, infinities and NaN take
+// set_exact_rounded.
+inline void set_exact_binary128(interval& out, __float128 x) {
+  static_assert(std::endian::native == std::endian::little, "binary128 fields read as little-endian words");
+  std::uint64_t w[2];
+  std::memcpy(w, &x, sizeof w);
+  const unsigned biased = static_cast<unsigned>(w[1] >> 48) & 0x7fffu;
+  if (out.bits() < 113 || biased == 0x7fffu) {
+    set_exact_rounded(out, x);
+    return;
+  }
+  std::uint64_t high = w[1] & ((std::uint64_t{1} << 48) - 1);
+  long exponent = 1 - 16383 - 112;
+  if (biased != 0) {
+    high |= std::uint64_t{1} << 48;
+    exponent = static_cast<long>(biased) - 16383 - 112;
+  }
+  mpfr_ptr left = &out.get()->left;
+  mpfr_set_ui(left, static_cast<unsigned long>(high), MPFR_RNDN);
+  mpfr_mul_2ui(left, left, 64, MPFR_RNDN);
+  mpfr_add_ui(left, left, static_cast<unsigned long>(w[0]), MPFR_RNDN);
+  mpfr_mul_2si(left, left, exponent, MPFR_RNDN);
+  if (w[1] >> 63) mpfr_neg(left, left, MPFR_RNDN);
+  mpfr_set(&out.get()->right, left, MPFR_RNDN);
+}
+
 // The exact value of x (quad or MPFR) as a point interval. Exact when `out` has at least the
 // bits of x (quad: 113); otherwise rounded outward.
 template <scalar T>
@@ -139,18 +192,7 @@ void set_exact(interval& out, const T& x) {
   } else if constexpr (std::is_same_v<T, mpfr_real>) {
     mpfi_set_fr(out.get(), x.backend().data());
   } else {
-    // binary128 = hi + mid + lo in doubles: each remainder is exact in quad, and 113 bits need
-    // at most three doubles (53 + 53 + 7). Checked, as subnormal doubles would lose bits.
-    const double hi = static_cast<double>(x);
-    const T r1 = x - T(hi);
-    const double mid = static_cast<double>(r1);
-    const T r2 = r1 - T(mid);
-    const double lo = static_cast<double>(r2);
-    if (T(hi) + T(mid) + T(lo) != x || r2 != T(lo))
-      throw std::domain_error("set_exact: a binary128 value does not split into three doubles");
-    mpfi_set_d(out.get(), hi);
-    mpfi_add_d(out.get(), out.get(), mid);
-    mpfi_add_d(out.get(), out.get(), lo);
+    set_exact_binary128(out, x.backend().value());
   }
 }
 

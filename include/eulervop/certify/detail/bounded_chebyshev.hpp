@@ -65,14 +65,16 @@ struct integrated_products {
     g_.assign(ng, 0.0);
     double magnitude = 0, from_radii = 0;
     for (const product_term& t : terms) {
-      // T_m T_n = (T_{m+n} + T_{|m-n|}) / 2
+      // T_m T_n = (T_{m+n} + T_{|m-n|}) / 2, in three runs of contiguous indices (n >= 0 to
+      // g_{m+n}, n <= m to g_{m-n}, n > m to g_{n-m}) that the compiler vectorizes.
+      double* __restrict g = g_.data();
+      const double* __restrict b = t.b.c;
       for (std::size_t m = 0; m < t.a.n; ++m) {
         const double am = 0.5 * t.sign * t.a.c[m];
-        for (std::size_t n = 0; n < t.b.n; ++n) {
-          const double p = am * t.b.c[n];
-          g_[m + n] += p;
-          g_[m > n ? m - n : n - m] += p;
-        }
+        for (std::size_t n = 0; n < t.b.n; ++n) g[m + n] += am * b[n];
+        const std::size_t below = std::min(m + 1, t.b.n);
+        for (std::size_t n = 0; n < below; ++n) g[m - n] += am * b[n];
+        for (std::size_t n = m + 1; n < t.b.n; ++n) g[n - m] += am * b[n];
       }
       const double aa = abs_sum(t.a.c, t.a.n), ba = abs_sum(t.b.c, t.b.n);
       magnitude += aa * ba;

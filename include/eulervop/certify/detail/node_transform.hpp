@@ -2,10 +2,13 @@
 // (docs/certified.md, "How", step 1): the degree-N interpolant of the values at the Lobatto nodes
 // s_j = -cos(j pi / N) has the coefficients
 //   c_k = (2/N) sum_j'' v_j T_k(s_j),  T_k(s_j) = (-1)^k cos(k j pi / N),
-// the sum's end terms halved, and c_0, c_N halved too. The matrix M of this map is enclosed once;
-// each segment's sums run on midpoints in plain MPFR, widened by a bound of their roundings.
+// the sum's end terms halved, and c_0, c_N halved too. The matrix M of this map is enclosed once
+// and put on a grid of step 2^-p (p the working bits); each segment's values go on a grid too,
+// the sums are exact integers (grid_integer.hpp), and the result is widened by a bound of the
+// two grids' steps and of one final rounding.
 #pragma once
 
+#include <eulervop/certify/detail/grid_integer.hpp>
 #include <eulervop/certify/detail/real.hpp>
 #include <eulervop/certify/interval.hpp>
 
@@ -28,38 +31,39 @@ class node_transform {
 
  private:
   std::vector<interval> enclosed_matrix() const;
+  void widen(const grid_integer& abs_sum, long shift, std::vector<interval>& c, int i);
 
   mpfr_prec_t bits_;
-  std::size_t N_, n1_;
-  // M's midpoints; (1 + 2^-40) (dM + Mmax (n + 2) 2^-p (1 + 2^-20)) with dM >= max |M - M^|
-  // (the widths) and Mmax >= max |M^|.
-  std::vector<real> Mmid_;
-  real error_scale_{64};
-  // Scratch: the folded values, a coefficient's sum and product, sum |f^_j|.
-  std::vector<real> fold_plus_, fold_minus_;
-  real sum_, product_, F_{64};
+  std::size_t N_, n1_, half_;
+  // M on the grid 2^-p: Mq_ 2^-p within dM_ of the exact M (its enclosure's width plus a step),
+  // |Mq_| 2^-p <= Mmax_ (both at 64 bits, rounded up).
+  std::vector<grid_integer> Mq_;
+  real dM_{64}, Mmax_{64};
+  // Scratch: the values on their grid, folded (sums, differences), a sum, sum |f_j| on the grid.
+  std::vector<grid_integer> vq_, fold_plus_, fold_minus_;
+  grid_integer acc_, abs_sum_;
+  real ck_, bound_{64}, term_{64}, scratch_;
 };
 
 inline node_transform::node_transform(mpfr_prec_t bits, std::size_t degree)
-    : bits_(bits), N_(degree), n1_(degree + 1), Mmid_(n1_ * n1_, real(bits)), fold_plus_(n1_ / 2, real(bits)),
-      fold_minus_(n1_ / 2, real(bits)), sum_(bits), product_(bits) {
+    : bits_(bits), N_(degree), n1_(degree + 1), half_(n1_ / 2), Mq_(n1_ * n1_, grid_integer(bits + 64)),
+      vq_(n1_, grid_integer(bits + 64)), fold_plus_(half_, grid_integer(bits + 64)),
+      fold_minus_(half_, grid_integer(bits + 64)), acc_(2 * bits + 128), abs_sum_(bits + 128), ck_(bits),
+      scratch_(bits + 64) {
   const std::vector<interval> M = enclosed_matrix();
-  real dM(64), Mmax(64), lo(bits), scratch(bits);
+  real mid(bits + 64), lo(bits + 64), width(bits + 64);
   for (std::size_t q = 0; q < n1_ * n1_; ++q) {
-    mpfi_mid(Mmid_[q].get(), M[q].get());
-    width_up(scratch, M[q], lo);
-    mpfr_max(dM.get(), dM.get(), scratch.get(), MPFR_RNDU);
-    mpfr_abs(scratch.get(), Mmid_[q].get(), MPFR_RNDU);
-    mpfr_max(Mmax.get(), Mmax.get(), scratch.get(), MPFR_RNDU);
+    mpfi_mid(mid.get(), M[q].get());
+    to_grid(Mq_[q], mid.get(), bits);
+    // |M - Mq 2^-p| <= width + |mid - Mq 2^-p| < width + 2^-p
+    width_up(width, M[q], lo);
+    mpfr_max(dM_.get(), dM_.get(), width.get(), MPFR_RNDU);
+    mpfr_abs(mid.get(), mid.get(), MPFR_RNDU);
+    mpfr_max(Mmax_.get(), Mmax_.get(), mid.get(), MPFR_RNDU);
   }
-  // n = half + 1 terms per sum.
-  mpfr_ptr e = error_scale_.get();
-  mpfr_set_ui(e, static_cast<unsigned long>(n1_ / 2 + 3), MPFR_RNDU);
-  mpfr_mul_2si(e, e, -static_cast<long>(bits), MPFR_RNDU);
-  mpfr_mul_d(e, e, 1 + std::ldexp(1.0, -20), MPFR_RNDU);
-  mpfr_mul(e, e, Mmax.get(), MPFR_RNDU);
-  mpfr_add(e, e, dM.get(), MPFR_RNDU);
-  mpfr_mul_d(e, e, 1 + std::ldexp(1.0, -40), MPFR_RNDU);
+  mpfr_set_ui_2exp(width.get(), 1, -bits, MPFR_RNDU);
+  mpfr_add(dM_.get(), dM_.get(), width.get(), MPFR_RNDU);
+  mpfr_add(Mmax_.get(), Mmax_.get(), width.get(), MPFR_RNDU);  // floor moves a value by < a step
 }
 
 // M_kj = (2/N) (-1)^k cos(k j pi / N), halved for j in {0, N} and for k in {0, N}; the angle
@@ -89,47 +93,59 @@ inline std::vector<interval> node_transform::enclosed_matrix() const {
 }
 
 // The columns j and N - j differ by the factor (-1)^k (T_k(-s) = (-1)^k T_k(s) and the nodes are
-// symmetric), so the sums and differences of mirrored values halve the products. The sums are
-// done on midpoints, rounded to nearest at the working precision p, and then widened by one
-// bound E per component:
-//   |c_k - c^_k| <= sum_j |M_kj - M^_kj| |f_j| + |M^_kj| |f_j - f^_j| + gamma_n sum |M^_kj| |f^_j|
-//               <= F^ (1 + 2^-p) (dM + Mmax ((n + 2) 2^-p (1 + 2^-20))),
-// F^ = sum |f^_j| (Higham 2002, section 3.1, for the dot products); plain MPFR operations cost
-// less than half of interval ones.
+// symmetric), so the sums and differences of mirrored values halve the products. The values go on
+// a grid of step 2^-shift under their largest (their bits below the grid rounded down), and the
+// sums are exact integers; one rounding to nearest at p bits brings each c_k back to MPFR.
 inline void node_transform::apply(const std::vector<real>& values, std::vector<interval>& c) {
-  const std::size_t half = n1_ / 2;  // pairs j < half with N - j; N even leaves j = N/2 alone
-  mpfr_ptr tmp = product_.get();
-  interval widen = interval::zero(bits_);
+  const long shift = grid_shift(values, [](const real& x) { return x.get(); }, bits_);
   for (int i = 0; i < 3; ++i) {
     const real* v = &values[i * n1_];
-    mpfr_set_ui(F_.get(), 0, MPFR_RNDU);
-    for (std::size_t j = 0; j < half; ++j) {
-      mpfr_add(fold_plus_[j].get(), v[j].get(), v[N_ - j].get(), MPFR_RNDN);
-      mpfr_sub(fold_minus_[j].get(), v[j].get(), v[N_ - j].get(), MPFR_RNDN);
-      add_abs_up(F_, fold_plus_[j].get());
-      add_abs_up(F_, fold_minus_[j].get());
+    for (std::size_t j = 0; j < n1_; ++j) to_grid(vq_[j], v[j].get(), shift);
+    mpz_set_ui(abs_sum_.get(), 0);
+    for (std::size_t j = 0; j < half_; ++j) {
+      mpz_add(fold_plus_[j].get(), vq_[j].get(), vq_[N_ - j].get());
+      mpz_sub(fold_minus_[j].get(), vq_[j].get(), vq_[N_ - j].get());
+      add_abs(abs_sum_, fold_plus_[j].get());
+      add_abs(abs_sum_, fold_minus_[j].get());
     }
-    if (n1_ % 2) add_abs_up(F_, v[half].get());
+    if (n1_ % 2) add_abs(abs_sum_, vq_[half_].get());
     for (std::size_t k = 0; k < n1_; ++k) {
-      const std::vector<real>& folded = (k % 2) ? fold_minus_ : fold_plus_;
-      mpfr_ptr ck = sum_.get();
-      mpfr_set_ui(ck, 0, MPFR_RNDN);
-      for (std::size_t j = 0; j < half; ++j) {
-        mpfr_mul(tmp, Mmid_[k * n1_ + j].get(), folded[j].get(), MPFR_RNDN);
-        mpfr_add(ck, ck, tmp, MPFR_RNDN);
-      }
-      if (n1_ % 2) {
-        mpfr_mul(tmp, Mmid_[k * n1_ + half].get(), v[half].get(), MPFR_RNDN);
-        mpfr_add(ck, ck, tmp, MPFR_RNDN);
-      }
-      mpfi_set_fr(c[i * n1_ + k].get(), ck);
+      const std::vector<grid_integer>& folded = (k % 2) ? fold_minus_ : fold_plus_;
+      const grid_integer* Mk = &Mq_[k * n1_];
+      mpz_set_ui(acc_.get(), 0);
+      for (std::size_t j = 0; j < half_; ++j) mpz_addmul(acc_.get(), Mk[j].get(), folded[j].get());
+      if (n1_ % 2) mpz_addmul(acc_.get(), Mk[half_].get(), vq_[half_].get());
+      mpfr_set_z_2exp(ck_.get(), acc_.get(), -(static_cast<long>(bits_) + shift), MPFR_RNDN);
+      mpfi_set_fr(c[i * n1_ + k].get(), ck_.get());
     }
-    mpfr_mul(F_.get(), F_.get(), error_scale_.get(), MPFR_RNDU);
-    mpfi_interv_fr(widen.get(), F_.get(), F_.get());
-    mpfi_neg(widen.get(), widen.get());
-    mpfi_put_fr(widen.get(), F_.get());  // [-E, E]
-    for (std::size_t k = 0; k < n1_; ++k) mpfi_add(c[i * n1_ + k].get(), c[i * n1_ + k].get(), widen.get());
+    widen(abs_sum_, shift, c, i);
   }
+}
+
+// The bound E of |c_k - c^_k| for component i, added to every c_k as [-E, E]. With f_j the exact
+// folded values, f^_j those on the grid (|f_j - f^_j| < 2 steps: two values rounded down; the
+// middle value alone, one), F^ = sum |f^_j| and n_f the number of folded values:
+//   |c_k - c^_k| <= sum_j |M_kj - M^_kj| |f_j| + |M^_kj| |f_j - f^_j| + 2^-p |c^_k|
+//               <= dM (F^ + 2 n_f 2^-shift) + Mmax 2 n_f 2^-shift + 2^-p Mmax F^,
+// the last term the final rounding to nearest (|c^_k| <= Mmax F^ before it).
+inline void node_transform::widen(const grid_integer& abs_sum, long shift, std::vector<interval>& c, int i) {
+  mpfr_ptr E = bound_.get(), t = term_.get();
+  const std::size_t n_f = half_ + n1_ % 2;
+  mpfr_set_ui(E, 0, MPFR_RNDU);
+  add_abs_on_grid(E, abs_sum.get(), shift, scratch_.get());  // F^
+  mpfr_set_ui_2exp(t, static_cast<unsigned long>(2 * n_f), -shift, MPFR_RNDU);  // 2 n_f steps
+  mpfr_mul(scratch_.get(), E, Mmax_.get(), MPFR_RNDU);
+  mpfr_mul_2si(scratch_.get(), scratch_.get(), -static_cast<long>(bits_), MPFR_RNDU);  // 2^-p Mmax F^
+  mpfr_add(E, E, t, MPFR_RNDU);
+  mpfr_mul(E, E, dM_.get(), MPFR_RNDU);
+  mpfr_add(E, E, scratch_.get(), MPFR_RNDU);
+  mpfr_mul(t, t, Mmax_.get(), MPFR_RNDU);
+  mpfr_add(E, E, t, MPFR_RNDU);
+  interval widen = interval::zero(bits_);
+  mpfi_interv_fr(widen.get(), E, E);
+  mpfi_neg(widen.get(), widen.get());
+  mpfi_put_fr(widen.get(), E);  // [-E, E]
+  for (std::size_t k = 0; k < n1_; ++k) mpfi_add(c[i * n1_ + k].get(), c[i * n1_ + k].get(), widen.get());
 }
 
 }  // namespace eulervop::detail

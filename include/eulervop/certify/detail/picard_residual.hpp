@@ -4,11 +4,13 @@
 // coefficients (f is quadratic, and the torque constant), so that sup |r| <= sum |r_k|.
 //
 // The products use T_m T_n = (T_{m+n} + T_{|m-n|}) / 2. Those of the large coefficients run on
-// midpoints in plain MPFR, those far below the reference's precision in double; both are widened
-// afterwards by a bound of their errors, which the integral turns into a bound of the function.
+// the midpoints put on a grid, as exact integers (grid_integer.hpp), those far below the
+// reference's precision in double; both are widened afterwards by a bound of their errors, which
+// the integral turns into a bound of the function.
 #pragma once
 
 #include <eulervop/certify/detail/bounded_chebyshev.hpp>
+#include <eulervop/certify/detail/grid_integer.hpp>
 #include <eulervop/certify/detail/real.hpp>
 #include <eulervop/certify/detail/segment_polynomial.hpp>
 #include <eulervop/certify/exact_problem.hpp>
@@ -59,8 +61,13 @@ class picard_residual {
   std::array<int, 3> a_;
   std::array<std::array<int, 2>, 3> factors_;  // the quadratic pairs, ascending
   std::vector<interval> prod_;                  // f_i, 3 x (2N + 1)
-  // Midpoints at the working precision: P, P / 2, a product's sums; the products in double.
-  std::vector<real> pmid_, pmid_half_, outmid_;
+  // Midpoints at the working precision: P, and a product's sums rounded back; P's midpoints on
+  // the grid of step 2^-shift_, a product's exact sums on the grid 2^-(2 shift_ + 1) (T_m T_n's
+  // factor 1/2), one product; the products in double.
+  std::vector<real> pmid_, outmid_;
+  std::vector<grid_integer> pq_, acc_;
+  grid_integer pair_;
+  long shift_ = 0;
   std::vector<double> gd_;
   // At 64 bits, rounded up: sum |p^_ik|, sum width(p_ik), the products' error per component.
   std::vector<real> Pabs_, Prad_, product_rem_;
@@ -75,17 +82,17 @@ inline picard_residual::picard_residual(mpfr_prec_t bits, std::size_t degree, co
     : r(3 * (2 * degree + 2), interval::zero(bits)), rsup(3, interval::zero(bits)), r1(3, interval::zero(bits)),
       r_rem(3, interval::zero(bits)), rd(3 * (2 * degree + 2), 0.0), bits_(bits), n1_(degree + 1),
       np_(2 * degree + 1), nr_(2 * degree + 2), G_(G), a_(a), prod_(3 * np_, interval::zero(bits)),
-      pmid_(3 * n1_, real(bits)), pmid_half_(3 * n1_, real(bits)), outmid_(np_, real(bits)), gd_(np_, 0.0),
+      pmid_(3 * n1_, real(bits)), outmid_(np_, real(bits)), pq_(3 * n1_, grid_integer(bits + 64)),
+      acc_(np_, grid_integer(2 * bits + 128)), pair_(2 * bits + 128), gd_(np_, 0.0),
       Pabs_(3, real(64)), Prad_(3, real(64)), product_rem_(3, real(64)), tmp_(bits), lo_(bits), hi_(bits),
       t_(interval::zero(bits)), r_scaled_(3 * nr_, interval::zero(bits)) {
   for (int i = 0; i < 3; ++i) {
     const auto [j, k] = exact_problem::quadratic_pair[i];
     factors_[i] = {std::min(j, k), std::max(j, k)};
   }
-  // (2N + 6) 2^-p (1 + 2^-20): the relative rounding of a product's sums (midpoints).
+  // 2^-p (1 + 2^-20): the relative rounding of a product's exact sums back to p bits.
   mpfr_ptr s = product_error_scale_.get();
-  mpfr_set_ui(s, static_cast<unsigned long>(2 * degree + 6), MPFR_RNDU);
-  mpfr_mul_2si(s, s, -static_cast<long>(bits), MPFR_RNDU);
+  mpfr_set_ui_2exp(s, 1, -static_cast<long>(bits), MPFR_RNDU);
   mpfr_mul_d(s, s, 1 + std::ldexp(1.0, -20), MPFR_RNDU);
 }
 
@@ -99,7 +106,9 @@ inline void picard_residual::compute(const segment_polynomial& P) {
   }
 }
 
-// p^ = mid p, |p - p^| <= width: Pabs >= sum |p^_k| and Prad >= sum width(p_k) per component.
+// p^ = mid p, |p - p^| <= width, and q = p^ on the grid 2^-shift_ (under the largest p^, p bits
+// deep; |p^ - q| < a step): Pabs >= sum |q_k| and Prad >= sum |p_k - q_k| per component, each
+// with n1 steps added to the midpoints' sums.
 inline void picard_residual::midpoints(const segment_polynomial& P) {
   for (int c = 0; c < 3; ++c) {
     mpfr_set_ui(Pabs_[c].get(), 0, MPFR_RNDU);
@@ -107,25 +116,32 @@ inline void picard_residual::midpoints(const segment_polynomial& P) {
     for (std::size_t k = 0; k < n1_; ++k) {
       const std::size_t q = c * n1_ + k;
       mpfi_mid(pmid_[q].get(), P.p[q].get());
-      mpfr_mul_2si(pmid_half_[q].get(), pmid_[q].get(), -1, MPFR_RNDN);  // exact
       add_abs_up(Pabs_[c], pmid_[q].get());
       width_up(hi_, P.p[q], lo_);
       mpfr_add(Prad_[c].get(), Prad_[c].get(), hi_.get(), MPFR_RNDU);
     }
   }
+  shift_ = grid_shift(pmid_, [](const real& x) { return x.get(); }, bits_);
+  for (std::size_t q = 0; q < 3 * n1_; ++q) to_grid(pq_[q], pmid_[q].get(), shift_);
+  mpfr_ptr steps = bound_scratch_.get();
+  mpfr_set_ui_2exp(steps, static_cast<unsigned long>(n1_), -shift_, MPFR_RNDU);
+  for (int c = 0; c < 3; ++c) {
+    mpfr_add(Pabs_[c].get(), Pabs_[c].get(), steps, MPFR_RNDU);
+    mpfr_add(Prad_[c].get(), Prad_[c].get(), steps, MPFR_RNDU);
+  }
 }
 
-// prod_ row i = a_i P_j P_k, on midpoints; the products far below the precision of the reference
-// (|a_m| |b_n| < 2^-(bits - 54) of the state squared) in double. Returns a bound of the double
-// products' total error: the sums have at most 2 (N+1) terms each, the exact coefficients differ
-// from cd by crad, and an underflow allowance covers results near zero.
+// prod_ row i = a_i P_j P_k: on the grid, exact; the products far below the precision of the
+// reference (|a_m| |b_n| < 2^-(bits - 77) of the state squared) in double. Returns a bound of the
+// double products' total error: the sums have at most 2 (N+1) terms each, the exact coefficients
+// differ from cd by crad, and an underflow allowance covers results near zero.
 inline double picard_residual::multiply(const segment_polynomial& P, int i) {
   interval* out = &prod_[i * np_];
   const int ca = factors_[i][0], cb = factors_[i][1];
-  const real* A = &pmid_half_[ca * n1_];  // a^_m / 2: T_m T_n's factor 1/2
-  const real* B = &pmid_[cb * n1_];
+  const grid_integer* A = &pq_[ca * n1_];
+  const grid_integer* B = &pq_[cb * n1_];
   const double* cmag = P.cmag.data();
-  for (std::size_t k = 0; k < np_; ++k) mpfr_set_ui(outmid_[k].get(), 0, MPFR_RNDN);
+  for (std::size_t k = 0; k < np_; ++k) mpz_set_ui(acc_[k].get(), 0);
   std::fill(gd_.begin(), gd_.end(), 0.0);
   double rem = 0, small = 0;
   std::size_t in_double = 0;
@@ -141,23 +157,26 @@ inline double picard_residual::multiply(const segment_polynomial& P, int i) {
         rem += cmag[ca * n1_ + m] * P.crad[cb * n1_ + n] + P.crad[ca * n1_ + m] * cmag[cb * n1_ + n];
         continue;
       }
-      mpfr_mul(tmp_.get(), A[m].get(), B[n].get(), MPFR_RNDN);
-      mpfr_add(outmid_[m + n].get(), outmid_[m + n].get(), tmp_.get(), MPFR_RNDN);
-      mpfr_add(outmid_[d].get(), outmid_[d].get(), tmp_.get(), MPFR_RNDN);
+      mpz_mul(pair_.get(), A[m].get(), B[n].get());
+      mpz_add(acc_[m + n].get(), acc_[m + n].get(), pair_.get());
+      mpz_add(acc_[d].get(), acc_[d].get(), pair_.get());
     }
-  // Times a_i, exact (-1, 0 or 1).
+  // Back to p bits (one rounding each), times a_i, exact (-1, 0 or 1).
   for (std::size_t k = 0; k < np_; ++k) {
+    mpfr_set_z_2exp(outmid_[k].get(), acc_[k].get(), -(2 * shift_ + 1), MPFR_RNDN);
     mpfr_mul_si(outmid_[k].get(), outmid_[k].get(), a_[i], MPFR_RNDN);
     mpfi_set_fr(out[k].get(), outmid_[k].get());
-    if (gd_[k] != 0) mpfi_add_d(out[k].get(), out[k].get(), a_[i] * gd_[k]);
+    if (gd_[k] != 0) add_double(out[k], a_[i] * gd_[k], tmp_);
   }
   return in_double ? (gamma_of(2 * n1_ + 2) * 2 * small + rem + underflow_allowance(4 * n1_ * n1_)) * (1 + 1e-12)
                    : 0.0;
 }
 
-// Summed over the coefficients of one product, the midpoint products' error is at most
-// A B' + A' B + A' B' + (2N + 6) 2^-p (1 + 2^-20) A B, with A = sum |a^_m|, A' = sum width(a_m)
-// (the same for b); |a_i| <= 1 leaves it a bound of a_i's multiple.
+// Summed over the coefficients of one product, the grid products' error is at most
+// A B' + A' B + A' B' + 2^-p (1 + 2^-20) A B, with A = sum |q_m|, A' = sum |a_m - q_m| (the same
+// for b): sum_k |g_k - g^_k| <= sum_mn |a_m b_n - q_m r_n| (each pair's two halves), and the
+// rounding of each exact sum to p bits is at most 2^-p |g^_k|, sum_k |g^_k| <= A B. |a_i| <= 1
+// leaves it a bound of a_i's multiple.
 inline void picard_residual::product_error(int i, double rem_double) {
   const int ca = factors_[i][0], cb = factors_[i][1];
   real& e = product_rem_[i];

@@ -10,6 +10,7 @@
 #include <mpfr.h>
 
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 namespace eulervop::detail {
@@ -64,11 +65,37 @@ inline void width_up(real& out, const interval& x, real& lo) {
   mpfr_sub(out.get(), out.get(), lo.get(), MPFR_RNDU);
 }
 
-// x's midpoint rounded to double, and an upper bound of max |x - d| over the interval: its
-// width plus an ulp of d (the midpoint's own roundings are below half an ulp each), plus
-// denorm_min for a d that underflows. `lo`, `hi`: scratch numbers at x's bits or more.
+// x += d, rounded outward: d enters through `scratch` (53 bits or more, so exactly), which
+// spares the temporary number that mpfi_add_d allocates on every call.
+inline void add_double(interval& x, double d, real& scratch) {
+  mpfr_set_d(scratch.get(), d, MPFR_RNDN);
+  mpfi_add_fr(x.get(), x.get(), scratch.get());
+}
+
+// out = an interval holding the exact sum of the n doubles x[0..n): their sum in
+// double, widened by gamma_(n-1) sum |x_k| (Higham 2002, section 3.1; sums of doubles do not
+// underflow), the bound itself rounded up by a relative 1e-12. One interval operation instead of
+// n exact additions, for sums whose last bits do not matter (the variational matrix and the
+// integral term at a segment's end, certifier.hpp).
+inline void enclose_double_sum(interval& out, const double* x, std::size_t n, interval& scratch) {
+  double sum = 0, magnitude = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    sum += x[k];
+    magnitude += std::abs(x[k]);
+  }
+  const double nu = static_cast<double>(n) * std::numeric_limits<double>::epsilon() / 2;
+  const double error = nu / (1 - nu) * magnitude * (1 + 1e-12);
+  mpfi_set_d(out.get(), sum);
+  mpfi_interv_d(scratch.get(), -error, error);
+  mpfi_add(out.get(), out.get(), scratch.get());
+}
+
+// A double d near x, and an upper bound of max |x - d| over the interval: x's width plus an ulp
+// of d, plus denorm_min for a d that underflows. d is the right end rounded to nearest (within
+// half an ulp of it), read in place: mpfi_get_d would allocate a midpoint on every call. `lo`,
+// `hi`: scratch numbers at x's bits or more.
 inline double to_double(const interval& x, double& radius, real& lo, real& hi) {
-  const double d = mpfi_get_d(x.get());
+  const double d = mpfr_get_d(&x.get()->right, MPFR_RNDN);
   width_up(hi, x, lo);
   radius = (mpfr_get_d(hi.get(), MPFR_RNDU) + std::abs(d) * std::numeric_limits<double>::epsilon() +
             std::numeric_limits<double>::denorm_min()) *
