@@ -28,7 +28,7 @@ namespace eulervop::detail {
 class signed_integral_term {
  public:
   signed_integral_term(mpfr_prec_t bits, std::size_t degree)
-      : u1(3, interval::zero(bits)), eps(interval::zero(bits)), nr_(2 * degree + 2), ud_(3 * nr_),
+      : u1(3, interval::zero(bits)), eps(interval::zero(bits)), nr_(2 * degree + 2), ud_(3 * nr_), next_(3 * nr_),
         w_(3 * nr_), scratch_(interval::zero(bits)) {}
 
   void compute(const segment_polynomial& P, const picard_residual& r, const jacobian_rows& rows,
@@ -48,7 +48,7 @@ class signed_integral_term {
 
   std::size_t nr_;
   std::array<std::size_t, 3> short_length_{};
-  std::vector<double> ud_, w_;  // u_num (3 x nr), u_num + r
+  std::vector<double> ud_, next_, w_;  // u_num (3 x nr), the next iterate, u_num + r
   interval scratch_;
 };
 
@@ -65,14 +65,14 @@ inline void signed_integral_term::compute(const segment_polynomial& P, const pic
   mpfi_mul_2si(eps.get(), eps.get(), -r.r_scale);
 }
 
-// The iteration needs u to a few digits only, so it drops P's coefficients below 1e-7 of the
+// The iteration needs u to a few digits only, so it drops P's coefficients below 1e-9 of the
 // largest (the final residual uses them all).
 inline void signed_integral_term::shorten(const segment_polynomial& P) {
   for (int c = 0; c < 3; ++c) {
     double big = 0;
     for (std::size_t k = 0; k < P.n1; ++k) big = std::max(big, std::abs(P.cd[c * P.n1 + k]));
     std::size_t n = P.n1;
-    while (n > 1 && std::abs(P.cd[c * P.n1 + n - 1]) < 1e-7 * big) --n;
+    while (n > 1 && std::abs(P.cd[c * P.n1 + n - 1]) < 1e-9 * big) --n;
     short_length_[c] = n;
   }
 }
@@ -90,25 +90,22 @@ inline void signed_integral_term::J_times(const segment_polynomial& P, const jac
   sums.compute(hl, terms);
 }
 
-// Gauss-Seidel order: each component's new coefficients enter the next component's product at
-// once, which saves a few of the sweeps that plain Picard iteration needs.
 inline void signed_integral_term::iterate(const segment_polynomial& P, const picard_residual& r,
                                           const jacobian_rows& rows, double hl, integrated_products& sums) {
   std::fill(ud_.begin(), ud_.end(), 0.0);
-  std::copy(r.rd.begin(), r.rd.end(), w_.begin());
   for (int it = 0; it < 60; ++it) {
+    for (std::size_t q = 0; q < 3 * nr_; ++q) w_[q] = ud_[q] + r.rd[q];
     double change = 0, size = 0;
     for (int i = 0; i < 3; ++i) {
       J_times(P, rows, i, w_.data(), {0, 0, 0}, false, hl, sums);
       for (std::size_t k = 0; k < nr_; ++k) {  // truncated to r's length
         const std::size_t q = i * nr_ + k;
-        const double next = sums.coeffs[k];
-        change = std::max(change, std::abs(next - ud_[q]));
-        size = std::max(size, std::abs(next));
-        ud_[q] = next;
-        w_[q] = next + r.rd[q];
+        change = std::max(change, std::abs(sums.coeffs[k] - ud_[q]));
+        size = std::max(size, std::abs(sums.coeffs[k]));
+        next_[q] = sums.coeffs[k];
       }
     }
+    ud_.swap(next_);
     if (!std::isfinite(change)) P.fail(outcome_kind::certify_non_finite);
     if (change <= 1e-5 * size) break;  // enough: the residual bound covers the rest
   }
