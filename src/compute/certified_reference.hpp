@@ -3,6 +3,7 @@
 // include/eulervop/certify/).
 #pragma once
 
+#include "compute/certify_pipeline.hpp"
 #include "compute/scene_library.hpp"
 
 #include <eulervop/certify/certifier.hpp>
@@ -16,8 +17,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <functional>
 #include <optional>
 #include <string>
+#include <thread>
 #include <variant>
 
 #include <mpfr.h>
@@ -71,6 +74,14 @@ inline void require_certifiable(const scene& s, const eulervop::precision& p) {
         e->u.text));
 }
 
+// The threads that prepare a certificate's segments (certify_pipeline.hpp): the machine's
+// cores, at most 4, as the integration and the in-order part then set the pace; none on one
+// core, where the certificate runs in the integration's thread.
+inline unsigned certify_workers() {
+  const unsigned cores = std::thread::hardware_concurrency();
+  return cores >= 2 ? std::min(cores, 4u) : 0;
+}
+
 // An upper bound as a decimal with three significant digits, rounded up ("2.35e-27").
 inline std::string upper_text(const interval& x) {
   mpfr_t hi;
@@ -85,17 +96,40 @@ inline std::string upper_text(const interval& x) {
 }
 
 // The certificate of one streamed run: created at the first segment (which tells the degree).
+// With `workers` > 0 it runs on threads (certify_pipeline.hpp); rows then go through row().
 class run_certificate {
  public:
-  run_certificate(const scene& s, const eulervop::precision& p) : scene_(s), bits_(certify_bits(p)) {
+  run_certificate(const scene& s, const eulervop::precision& p, unsigned workers)
+      : scene_(s), bits_(certify_bits(p)), workers_(workers) {
     if (s.is_physical()) omega_.emplace(exact_scaling_of(s, bits_));
   }
 
   template <scalar T>
   void add_segment(const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
-    if (!cert_) cert_.emplace(bits_, nodes.size() - 1, exact_problem_of(scene_, bits_));
-    cert_->add_segment(seg);
+    if (!cert_) {
+      cert_.emplace(bits_, nodes.size() - 1, exact_problem_of(scene_, bits_));
+      if (workers_ > 0) pipeline_.emplace(*cert_, workers_);
+    }
+    if (pipeline_)
+      pipeline_->add_segment(seg);
+    else
+      cert_->add_segment(seg);
   }
+  // Runs `task` (a row: it may call radius or physical_radii) once every segment added before
+  // it is checked, and before any added after it.
+  void row(std::function<void()> task) {
+    if (pipeline_)
+      pipeline_->add_row(std::move(task));
+    else
+      task();
+  }
+  // Waits for every segment and row (rethrowing the first failure).
+  void finish() {
+    if (pipeline_) pipeline_->finish();
+  }
+  // Stops the threads, dropping what has not run (for a run that is abandoned).
+  void close() { pipeline_.reset(); }
+
   // The radius of a row printed as `cells` (the three state texts), at tau.
   template <scalar T>
   std::string radius(const T& tau, const std::array<std::string, 3>& cells) {
@@ -119,8 +153,10 @@ class run_certificate {
  private:
   const scene& scene_;
   mpfr_prec_t bits_;
+  unsigned workers_;
   std::optional<certifier> cert_;
   std::optional<omega_radius> omega_;
+  std::optional<certify_pipeline> pipeline_;  // last: stopped before the certifier goes
 };
 
 }  // namespace eulervop::app

@@ -21,6 +21,10 @@
 //      exp(int mu).
 // A row inside a segment gets row_enclosure.hpp's bound; a physical scene's rows in rad/s,
 // omega_radius.hpp's.
+//
+// Steps 1, 3 and 4 and the bounds of J do not depend on the segments before (prepared_segment);
+// only e(a), the a-priori bound and the box do (certifier::advance). A caller may prepare
+// segments on other threads and advance them in order; add_segment does both in turn.
 #pragma once
 
 #include <eulervop/certify/detail/a_priori_bound.hpp>
@@ -45,10 +49,54 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace eulervop {
+
+// The part of one segment's check that does not depend on the segments before it (steps 1, 3
+// and 4 above, and the bounds of J): P enclosed, its residual, Phi and u. It owns all its scratch,
+// so checks of different segments may be prepared on different threads.
+class prepared_segment {
+ public:
+  prepared_segment(mpfr_prec_t bits, std::size_t degree, const detail::node_transform& transform,
+                const exact_problem& problem, const detail::jacobian_rows& rows);
+
+  // Fails (numerical_failure, certification_failed) on a value that is not finite.
+  template <scalar T>
+  void prepare(const chebyshev_segment<T>& seg);
+
+  detail::segment_polynomial P;
+  detail::picard_residual residual;
+  detail::segment_bounds bounds;  // mu, jmax, rsup2 here; rho_a, R and ell in certifier::advance
+  detail::variational_matrix phi;
+  detail::signed_integral_term u;
+
+ private:
+  exact_problem problem_;
+  detail::jacobian_rows rows_;
+  detail::node_transform transform_;
+  detail::integrated_products sums_;
+};
+
+inline prepared_segment::prepared_segment(mpfr_prec_t bits, std::size_t degree, const detail::node_transform& transform,
+                                    const exact_problem& problem, const detail::jacobian_rows& rows)
+    : P(bits, degree), residual(bits, degree, problem.torque.G, unit_coefficients(problem)), bounds(bits), phi(bits),
+      u(bits, degree), problem_(problem), rows_(rows), transform_(transform) {}
+
+template <scalar T>
+void prepared_segment::prepare(const chebyshev_segment<T>& seg) {
+  P.place(seg);
+  P.load(seg);
+  P.enclose(transform_);
+  residual.compute(P);
+  bounds.linear(problem_, P, residual.rsup);
+  residual.to_doubles();
+  const detail::linear_growth growth = bounds.growth(P);
+  phi.compute(P, rows_, growth, sums_);
+  u.compute(P, residual, rows_, growth, sums_);
+}
 
 class certifier {
  public:
@@ -63,12 +111,25 @@ class certifier {
   // Checks the next accepted segment of the reference (in order) and moves the error bound to
   // its end. Throws numerical_failure (certification_failed) where the bound cannot be proven.
   template <scalar T>
-  void add_segment(const chebyshev_segment<T>& seg);
+  void add_segment(const chebyshev_segment<T>& seg) {
+    if (!spare_) spare_ = make_segment();
+    spare_->prepare(seg);
+    spare_ = advance(std::move(spare_));
+  }
+
+  // The same in two parts, for callers that prepare on other threads: an empty check (safe to
+  // call from any thread, as it only reads what the constructor set), and the next segment's
+  // prepared check, in order. advance returns the previous segment's check, for reuse (null at
+  // the first). Rows then refer to the latest advanced segment.
+  std::unique_ptr<prepared_segment> make_segment() const {
+    return std::make_unique<prepared_segment>(bits_, degree_, transform_, problem_, jacobian_);
+  }
+  std::unique_ptr<prepared_segment> advance(std::unique_ptr<prepared_segment> prepared);
 
   // The enclosure at tau in the latest segment.
   template <scalar T>
   row_enclosure enclose(const T& tau) const {
-    return detail::enclose_row(tau, problem_, P_, bounds_);
+    return detail::enclose_row(tau, problem_, current_->P, current_->bounds);
   }
 
   // An upper bound of |y(tau) - printed|_2 (Eq. 20's norm), for tau in the latest segment, the
@@ -90,17 +151,13 @@ class certifier {
  private:
   template <class Torque>
   static exact_problem with_constant_torque(const euler_problem<interval, Torque>& problem);
-  void validate_segment();
 
+  mpfr_prec_t bits_;
+  std::size_t degree_;
   exact_problem problem_;
   detail::jacobian_rows jacobian_;
-  detail::node_transform transform_;
-  detail::segment_polynomial P_;
-  detail::picard_residual residual_;
-  detail::segment_bounds bounds_;
-  detail::integrated_products product_sum_;
-  detail::variational_matrix phi_;
-  detail::signed_integral_term u_;
+  detail::node_transform transform_;  // copied into every check
+  std::unique_ptr<prepared_segment> current_, spare_;
   detail::lohner_box box_;
   // The joins: P(b) of the previous segment and b, exactly.
   std::vector<interval> prev_end_;
@@ -112,11 +169,10 @@ class certifier {
 template <class Torque>
   requires is_constant_torque_v<Torque>
 certifier::certifier(mpfr_prec_t bits, std::size_t degree, const euler_problem<interval, Torque>& problem)
-    : problem_(with_constant_torque(problem)), jacobian_(detail::jacobian_pattern(unit_coefficients(problem_))),
-      transform_(bits, degree), P_(bits, degree),
-      residual_(bits, degree, problem_.torque.G, unit_coefficients(problem_)), bounds_(bits), phi_(bits),
-      u_(bits, degree), box_(bits), prev_end_(3, interval::zero(bits)), prev_b_(interval::zero(bits)),
-      ball_(interval::zero(bits)), scratch_(interval::zero(bits)), max_radius_(interval::zero(bits)) {}
+    : bits_(bits), degree_(degree), problem_(with_constant_torque(problem)),
+      jacobian_(detail::jacobian_pattern(unit_coefficients(problem_))), transform_(bits, degree), spare_(make_segment()),
+      box_(bits), prev_end_(3, interval::zero(bits)), prev_b_(interval::zero(bits)), ball_(interval::zero(bits)),
+      scratch_(interval::zero(bits)), max_radius_(interval::zero(bits)) {}
 
 // The problem with its torque as the one vector it is.
 template <class Torque>
@@ -131,44 +187,35 @@ exact_problem certifier::with_constant_torque(const euler_problem<interval, Torq
   return p;
 }
 
-template <scalar T>
-void certifier::add_segment(const chebyshev_segment<T>& seg) {
-  P_.place(seg);
+inline std::unique_ptr<prepared_segment> certifier::advance(std::unique_ptr<prepared_segment> prepared) {
+  prepared_segment& c = *prepared;
+  detail::segment_polynomial& P = c.P;
   // The segment must start exactly where the previous one ended (a + 2 hl, exact at these bits).
-  if (started_ && !detail::same_point(prev_b_, P_.a)) P_.fail(outcome_kind::certify_segment_gap);
-  P_.load(seg);
-  validate_segment();
-}
-
-inline void certifier::validate_segment() {
-  P_.enclose(transform_);
+  if (started_ && !detail::same_point(prev_b_, P.a)) P.fail(outcome_kind::certify_segment_gap);
   // The error at the start: the scene's exact initial state minus P(a), or the previous box
   // plus the jump between the two segments' polynomials there (TwoSum compensation leaves one).
   if (!started_) {
-    box_.start(problem_.Omega0, P_);
+    box_.start(problem_.Omega0, P);
   } else {
     for (int i = 0; i < 3; ++i) {
-      mpfi_sub(prev_end_[i].get(), prev_end_[i].get(), P_.X0[i].get());
-      mpfi_sub(prev_end_[i].get(), prev_end_[i].get(), P_.v[i * P_.n1].get());
+      mpfi_sub(prev_end_[i].get(), prev_end_[i].get(), P.X0[i].get());
+      mpfi_sub(prev_end_[i].get(), prev_end_[i].get(), P.v[i * P.n1].get());
     }
     box_.join(prev_end_);
   }
-  box_.norm(bounds_.rho_a);
-  residual_.compute(P_);
-  bounds_.compute(problem_, P_, residual_.rsup);
-  residual_.to_doubles();
-  const detail::linear_growth growth = bounds_.growth(P_);
-  phi_.compute(P_, jacobian_, growth, product_sum_);
-  u_.compute(P_, residual_, jacobian_, growth, product_sum_);
+  box_.norm(c.bounds.rho_a);
+  c.bounds.a_priori(problem_, P);
   // The local part's ball: the quadratic term, and the errors of Phi (times |e(a)|) and of u.
-  mpfi_mul(ball_.get(), phi_.eps.get(), bounds_.rho_a.get());
-  mpfi_add(ball_.get(), ball_.get(), bounds_.ell.get());
-  mpfi_add(ball_.get(), ball_.get(), u_.eps.get());
+  mpfi_mul(ball_.get(), c.phi.eps.get(), c.bounds.rho_a.get());
+  mpfi_add(ball_.get(), ball_.get(), c.bounds.ell.get());
+  mpfi_add(ball_.get(), ball_.get(), c.u.eps.get());
   detail::to_symmetric_hull(ball_, scratch_);
-  box_.step(phi_.Phi1, residual_.r1, u_.u1, ball_, P_);
-  for (int i = 0; i < 3; ++i) mpfi_add(prev_end_[i].get(), P_.X0[i].get(), P_.v[i * P_.n1 + P_.N].get());
-  mpfi_add(prev_b_.get(), P_.a.get(), P_.h.get());
+  box_.step(c.phi.Phi1, c.residual.r1, c.u.u1, ball_, P);
+  for (int i = 0; i < 3; ++i) mpfi_add(prev_end_[i].get(), P.X0[i].get(), P.v[i * P.n1 + P.N].get());
+  mpfi_add(prev_b_.get(), P.a.get(), P.h.get());
   started_ = true;
+  std::swap(current_, prepared);
+  return prepared;
 }
 
 }  // namespace eulervop

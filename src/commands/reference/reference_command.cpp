@@ -76,6 +76,9 @@ reference_run stream_rows(const reference_job& job, const T& tau_end, const samp
   std::optional<physical_scaling<T>> scale;
   if (job.layout == reference_layout::physical) scale.emplace(scaling_of<T>(job.scn));
   reference_csv_row_writer rows([&](std::string_view chunk) { rows_out.write(chunk); });
+  // The certificate's threads write rows: they stop before `rows` goes, even on an exception.
+  const std::unique_ptr<run_certificate, void (*)(run_certificate*)> closing(
+      certificate, [](run_certificate* c) { if (c) c->close(); });
   segment_sink<T> certify_segment;
   if (certificate)
     certify_segment = [&](const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
@@ -85,8 +88,10 @@ reference_run stream_rows(const reference_job& job, const T& tau_end, const samp
     switch (job.layout) {
       case reference_layout::normalized:
         if (certificate) {
-          const std::array<std::string, 3> cells = {to_text(Om[0]), to_text(Om[1]), to_text(Om[2])};
-          rows.certified_row(times.tau[i], cells, certificate->radius(times.tau[i], cells));
+          std::array<std::string, 3> cells = {to_text(Om[0]), to_text(Om[1]), to_text(Om[2])};
+          certificate->row([&rows, certificate, tau = times.tau[i], cells = std::move(cells)] {
+            rows.certified_row(tau, cells, certificate->radius(tau, cells));
+          });
         } else {
           rows.row(times.tau[i], Om);
         }
@@ -94,10 +99,13 @@ reference_run stream_rows(const reference_job& job, const T& tau_end, const samp
       case reference_layout::physical:
         if (certificate) {
           const vec3<T> om = scale->omega_of_Omega(Om);
-          const std::array<std::string, 3> Omega_cells = {to_text(Om[0]), to_text(Om[1]), to_text(Om[2])};
-          const std::array<std::string, 3> omega_cells = {to_text(om[0]), to_text(om[1]), to_text(om[2])};
-          rows.certified_row(times.tau[i], Omega_cells, times.t[i], omega_cells,
-                             certificate->physical_radii(times.tau[i], times.t[i], Omega_cells, omega_cells));
+          std::array<std::string, 3> Omega_cells = {to_text(Om[0]), to_text(Om[1]), to_text(Om[2])};
+          std::array<std::string, 3> omega_cells = {to_text(om[0]), to_text(om[1]), to_text(om[2])};
+          certificate->row([&rows, certificate, tau = times.tau[i], t = times.t[i], Omega_cells = std::move(Omega_cells),
+                            omega_cells = std::move(omega_cells)] {
+            rows.certified_row(tau, Omega_cells, t, omega_cells,
+                               certificate->physical_radii(tau, t, Omega_cells, omega_cells));
+          });
         } else {
           rows.row(times.tau[i], Om, times.t[i], scale->omega_of_Omega(Om));
         }
@@ -110,6 +118,7 @@ reference_run stream_rows(const reference_job& job, const T& tau_end, const samp
   const reference_run run = with_problem<T>(job.scn, [&](const auto& problem) {
     return integrate_streaming<T>(problem, tau_end, times.tau, job.settings, "reference", on_sample, certify_segment);
   });
+  if (certificate) certificate->finish();
   rows.flush();
   return run;
 }
@@ -174,7 +183,7 @@ reference_metadata run_in(const reference_job& job, scratch_file& rows_out) {
   std::vector<vec3<T>> kept;
   std::vector<quaternion<T>> kept_q;
   std::optional<run_certificate> certificate;
-  if (job.certify) certificate.emplace(job.scn, job.precision);
+  if (job.certify) certificate.emplace(job.scn, job.precision, certify_workers());
   const bool attitude = job.scn.has_attitude();
   const reference_run run =
       attitude ? stream_attitude_rows<T>(job, tau_end, times, rows_out, job.verify ? &kept : nullptr,

@@ -24,9 +24,10 @@ struct segment_bounds {
       : rho_a(interval::zero(bits)), mu(interval::zero(bits)), jmax(interval::zero(bits)), rsup2(interval::zero(bits)),
         R(interval::zero(bits)), ell(interval::zero(bits)), C_(interval::zero(bits)), t_(interval::zero(bits)) {}
 
-  // mu, jmax, rsup2, R and ell for P with the residual bounds `rsup` (fails when no a-priori
-  // bound closes); rho_a must hold |e(a)|.
-  void compute(const exact_problem& problem, const segment_polynomial& P, const std::vector<interval>& rsup);
+  // mu, jmax and rsup2 for P with the residual bounds `rsup`: they do not depend on e(a).
+  void linear(const exact_problem& problem, const segment_polynomial& P, const std::vector<interval>& rsup);
+  // R and ell, once rho_a holds |e(a)| (fails when no a-priori bound closes).
+  void a_priori(const exact_problem& problem, const segment_polynomial& P);
   // The doubles of the linear parts (variational matrix, integral term).
   linear_growth growth(const segment_polynomial& P) const {
     return {mpfi_get_d(P.hl.get()), magnitude_up(mu), magnitude_up(jmax), magnitude_up(P.h)};
@@ -43,8 +44,8 @@ struct segment_bounds {
   interval C_, t_;
 };
 
-inline void segment_bounds::compute(const exact_problem& problem, const segment_polynomial& P,
-                                    const std::vector<interval>& rsup) {
+inline void segment_bounds::linear(const exact_problem& problem, const segment_polynomial& P,
+                                   const std::vector<interval>& rsup) {
   const interval_precision_scope scope(P.bits);
   mu = log_norm_bound(problem, P.psup);
   jmax = jacobian_norm_bound(problem, P.psup);
@@ -54,7 +55,10 @@ inline void segment_bounds::compute(const exact_problem& problem, const segment_
     mpfi_add(rsup2.get(), rsup2.get(), t_.get());
   }
   mpfi_sqrt(rsup2.get(), rsup2.get());
+}
 
+inline void segment_bounds::a_priori(const exact_problem& problem, const segment_polynomial& P) {
+  const interval_precision_scope scope(P.bits);
   mpfi_add(C_.get(), rho_a.get(), rsup2.get());
   mpfi_mul(t_.get(), jmax.get(), P.h.get());
   mpfi_exp(t_.get(), t_.get());

@@ -1,0 +1,204 @@
+// The certificate of a streamed reference, on threads (docs/certified.md, "Threads"). While the
+// reference integrates on, `workers` threads prepare the segments it has accepted (the checks
+// that do not depend on earlier segments, certify/certifier.hpp: prepared_segment), and one more
+// thread takes everything that depends on order, in order: it advances the certificate through
+// the prepared segments and runs the row tasks (a row's radius and its line of output) between
+// them. So the output is the same bytes as checking and writing on one thread.
+//
+// At most a few segments are in flight: the integration waits when the certificate falls behind,
+// so memory does not grow with the span. The first failure (of a preparation, in segment order,
+// or of an advance or a row) stops the pipeline and is rethrown to the caller at its next call.
+#pragma once
+
+#include <eulervop/certify/certifier.hpp>
+#include <eulervop/core/scalar.hpp>
+#include <eulervop/reference/segment.hpp>
+
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <exception>
+#include <functional>
+#include <future>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <utility>
+#include <variant>
+#include <vector>
+
+namespace eulervop::app {
+
+class certify_pipeline {
+ public:
+  certify_pipeline(certifier& cert, unsigned workers);
+  ~certify_pipeline();
+  certify_pipeline(const certify_pipeline&) = delete;
+  certify_pipeline& operator=(const certify_pipeline&) = delete;
+
+  // The next accepted segment (copied; prepared on a worker).
+  template <scalar T>
+  void add_segment(const chebyshev_segment<T>& seg);
+  // A task that runs after every segment added before it, and before any added after it.
+  void add_row(std::function<void()> task);
+  // Waits until everything added has run; rethrows the first failure.
+  void finish();
+
+ private:
+  using prepared = std::future<std::unique_ptr<prepared_segment>>;
+  using item = std::variant<prepared, std::function<void()>>;
+
+  std::unique_ptr<prepared_segment> take_check();
+  void push(item next, bool is_segment);
+  void throw_if_failed();
+  void work();      // a worker: preparations, in the order given
+  void sequence();  // the order-dependent part
+
+  certifier& cert_;
+  std::size_t max_in_flight_;
+  std::mutex mutex_;
+  // Each waits for its own condition, so that a change wakes only who can act on it.
+  std::condition_variable job_ready_, item_ready_, item_done_;
+  std::deque<std::packaged_task<std::unique_ptr<prepared_segment>()>> jobs_;
+  std::deque<item> items_;
+  std::vector<std::unique_ptr<prepared_segment>> spare_checks_;
+  std::size_t segments_in_flight_ = 0;
+  bool stop_ = false, busy_ = false;
+  std::exception_ptr failure_;
+  std::vector<std::thread> workers_;
+  std::thread sequencer_;
+};
+
+inline certify_pipeline::certify_pipeline(certifier& cert, unsigned workers)
+    : cert_(cert), max_in_flight_(32 * static_cast<std::size_t>(workers) + 2) {
+  for (unsigned w = 0; w < workers; ++w) workers_.emplace_back([this] { work(); });
+  sequencer_ = std::thread([this] { sequence(); });
+}
+
+inline certify_pipeline::~certify_pipeline() {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  job_ready_.notify_all();
+  item_ready_.notify_all();
+  item_done_.notify_all();
+  for (std::thread& t : workers_) t.join();
+  {
+    // Preparations that never ran leave broken promises, which wake the sequencer.
+    const std::lock_guard<std::mutex> lock(mutex_);
+    jobs_.clear();
+  }
+  item_ready_.notify_all();
+  sequencer_.join();
+}
+
+template <scalar T>
+void certify_pipeline::add_segment(const chebyshev_segment<T>& seg) {
+  throw_if_failed();
+  std::packaged_task<std::unique_ptr<prepared_segment>()> job(
+      [this, seg, check = take_check()]() mutable {
+        check->prepare(seg);
+        return std::move(check);
+      });
+  prepared result = job.get_future();
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    item_done_.wait(lock, [this] { return segments_in_flight_ < max_in_flight_ || failure_ || stop_; });
+    jobs_.push_back(std::move(job));
+  }
+  job_ready_.notify_one();
+  push(std::move(result), true);
+}
+
+inline void certify_pipeline::add_row(std::function<void()> task) {
+  throw_if_failed();
+  push(std::move(task), false);
+}
+
+inline void certify_pipeline::finish() {
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    item_done_.wait(lock, [this] { return (items_.empty() && !busy_) || failure_; });
+  }
+  throw_if_failed();
+}
+
+inline std::unique_ptr<prepared_segment> certify_pipeline::take_check() {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (!spare_checks_.empty()) {
+      std::unique_ptr<prepared_segment> check = std::move(spare_checks_.back());
+      spare_checks_.pop_back();
+      return check;
+    }
+  }
+  return cert_.make_segment();
+}
+
+inline void certify_pipeline::push(item next, bool is_segment) {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    items_.push_back(std::move(next));
+    if (is_segment) ++segments_in_flight_;
+  }
+  item_ready_.notify_one();
+}
+
+inline void certify_pipeline::throw_if_failed() {
+  std::exception_ptr failure;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    failure = failure_;
+  }
+  if (failure) std::rethrow_exception(failure);
+}
+
+inline void certify_pipeline::work() {
+  for (;;) {
+    std::packaged_task<std::unique_ptr<prepared_segment>()> job;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      job_ready_.wait(lock, [this] { return !jobs_.empty() || stop_; });
+      if (stop_) return;
+      job = std::move(jobs_.front());
+      jobs_.pop_front();
+    }
+    job();  // its exception goes to the future, which the sequencer reads in order
+  }
+}
+
+inline void certify_pipeline::sequence() {
+  for (;;) {
+    item next;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      item_ready_.wait(lock, [this] { return !items_.empty() || stop_; });
+      if (items_.empty() || failure_) return;
+      next = std::move(items_.front());
+      items_.pop_front();
+      busy_ = true;
+    }
+    std::unique_ptr<prepared_segment> spare;
+    std::exception_ptr failure;
+    try {
+      if (auto* segment = std::get_if<prepared>(&next))
+        spare = cert_.advance(segment->get());
+      else
+        std::get<std::function<void()>>(next)();
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      if (std::holds_alternative<prepared>(next)) --segments_in_flight_;
+      if (spare) spare_checks_.push_back(std::move(spare));
+      if (failure && !failure_) failure_ = failure;
+      busy_ = false;
+    }
+    item_done_.notify_all();
+    if (failure) return;
+  }
+}
+
+}  // namespace eulervop::app
