@@ -51,6 +51,31 @@ TEST(Certify, RowsCarryARadiusAndTheHeaderItsMaximum) {
     EXPECT_EQ(std::vector<std::string>(rows[i].begin(), rows[i].begin() + 4), plain_rows[i]);
 }
 
+// In MPFR too the rows are those of the plain run: the certificate's threads write them, and the
+// times must be formatted at the run's precision, not at a thread's default.
+TEST(Certify, MpfrRowsAreThoseOfThePlainRun) {
+  temp_dir dir;
+  const std::vector<std::string> common = {"--precision", "mpfr:256", "--tau-end", "2", "--samples", "7"};
+  std::vector<std::string> certified = {"reference", "--certify", "--out", "c.csv"}, plain = {"reference", "--out", "p.csv"};
+  certified.insert(certified.end(), common.begin(), common.end());
+  plain.insert(plain.end(), common.begin(), common.end());
+  ASSERT_EQ(run(dir.path(), certified).exit_code, 0);
+  ASSERT_EQ(run(dir.path(), plain).exit_code, 0);
+  const auto rows_of = [&](const char* file) {
+    std::vector<std::vector<std::string>> rows;
+    for (const std::string& l : lines_of(read_file(dir.path() / file)))
+      if (!l.empty() && l[0] != '#' && !l.starts_with("tau,")) rows.push_back(cells_of(l));
+    return rows;
+  };
+  const auto c = rows_of("c.csv"), p = rows_of("p.csv");
+  ASSERT_EQ(c.size(), 7u);
+  ASSERT_EQ(p.size(), 7u);
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    ASSERT_EQ(c[i].size(), 5u);
+    EXPECT_EQ(std::vector<std::string>(c[i].begin(), c[i].begin() + 4), p[i]) << "row " << i;
+  }
+}
+
 TEST(Certify, UnsupportedCombinationsAreOneLineErrors) {
   temp_dir dir;
   expect_one_line_error(run(dir.path(), {"reference", "--certify", "--precision", "double", "--out", "x.csv"}),

@@ -69,7 +69,7 @@ std::vector<std::string> radii(unsigned workers,
     sampler(s, nodes);
     if (!cert) {
       cert.emplace(working_bits, nodes.size() - 1, exact);
-      if (workers > 0) pipeline.emplace(*cert, workers);
+      if (workers > 0) pipeline.emplace(*cert, workers, 4 * workers);
     }
     if (pipeline) pipeline->add_segment(s); else cert->add_segment(s);
   });

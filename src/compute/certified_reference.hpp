@@ -24,6 +24,7 @@
 #include <variant>
 
 #include <mpfr.h>
+#include <sched.h>
 
 namespace eulervop::app {
 
@@ -74,11 +75,14 @@ inline void require_certifiable(const scene& s, const eulervop::precision& p) {
         e->u.text));
 }
 
-// The threads that prepare a certificate's segments (certify_pipeline.hpp): the machine's
-// cores, at most 4, as the integration and the in-order part then set the pace; none on one
-// core, where the certificate runs in the integration's thread.
+// The threads that prepare a certificate's segments (certify_pipeline.hpp): the cores this
+// process may run on (its affinity, so that `taskset -c 0` means one), at most 4, as the
+// integration and the in-order part then set the pace; none on one core, where the certificate
+// runs in the integration's thread.
 inline unsigned certify_workers() {
-  const unsigned cores = std::thread::hardware_concurrency();
+  unsigned cores = std::thread::hardware_concurrency();
+  cpu_set_t allowed;
+  if (sched_getaffinity(0, sizeof allowed, &allowed) == 0) cores = static_cast<unsigned>(CPU_COUNT(&allowed));
   return cores >= 2 ? std::min(cores, 4u) : 0;
 }
 
@@ -108,7 +112,7 @@ class run_certificate {
   void add_segment(const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
     if (!cert_) {
       cert_.emplace(bits_, nodes.size() - 1, exact_problem_of(scene_, bits_));
-      if (workers_ > 0) pipeline_.emplace(*cert_, workers_);
+      if (workers_ > 0) pipeline_.emplace(*cert_, workers_, segments_in_flight(nodes.size()));
     }
     if (pipeline_)
       pipeline_->add_segment(seg);
@@ -151,6 +155,15 @@ class run_certificate {
   }
 
  private:
+  // Segments the pipeline may hold: as many as about 16 MB of checks allow (a check of n1 nodes
+  // at b bits takes about 26 n1 b bytes, measured: 0.2 MB in quad), at least 2 per worker and
+  // 2 more, at most 32 per worker (beyond, the runs got no faster).
+  std::size_t segments_in_flight(std::size_t n1) const {
+    const double check_bytes = 26.0 * static_cast<double>(n1) * static_cast<double>(bits_);
+    const auto fit = static_cast<std::size_t>(16e6 / check_bytes);
+    return std::clamp<std::size_t>(fit, 2 * workers_ + 2, 32 * workers_ + 2);
+  }
+
   const scene& scene_;
   mpfr_prec_t bits_;
   unsigned workers_;

@@ -5,8 +5,8 @@
 // the prepared segments and runs the row tasks (a row's radius and its line of output) between
 // them. So the output is the same bytes as checking and writing on one thread.
 //
-// At most a few segments are in flight: the integration waits when the certificate falls behind,
-// so memory does not grow with the span. The first failure (of a preparation, in segment order,
+// At most `max_in_flight` segments are in flight: the integration waits when the certificate
+// falls behind, so memory does not grow with the span. The first failure (of a preparation, in segment order,
 // or of an advance or a row) stops the pipeline and is rethrown to the caller at its next call.
 #pragma once
 
@@ -14,6 +14,7 @@
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/reference/segment.hpp>
 
+#include <algorithm>
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -31,7 +32,7 @@ namespace eulervop::app {
 
 class certify_pipeline {
  public:
-  certify_pipeline(certifier& cert, unsigned workers);
+  certify_pipeline(certifier& cert, unsigned workers, std::size_t max_in_flight);
   ~certify_pipeline();
   certify_pipeline(const certify_pipeline&) = delete;
   certify_pipeline& operator=(const certify_pipeline&) = delete;
@@ -69,10 +70,20 @@ class certify_pipeline {
   std::thread sequencer_;
 };
 
-inline certify_pipeline::certify_pipeline(certifier& cert, unsigned workers)
-    : cert_(cert), max_in_flight_(32 * static_cast<std::size_t>(workers) + 2) {
-  for (unsigned w = 0; w < workers; ++w) workers_.emplace_back([this] { work(); });
-  sequencer_ = std::thread([this] { sequence(); });
+// The threads take the caller's MPFR precision (a thread-local setting): the rows format their
+// times in it, as on the caller's thread.
+inline certify_pipeline::certify_pipeline(certifier& cert, unsigned workers, std::size_t max_in_flight)
+    : cert_(cert), max_in_flight_(std::max<std::size_t>(max_in_flight, 1)) {
+  const unsigned digits10 = mpfr_real::thread_default_precision();
+  for (unsigned w = 0; w < workers; ++w)
+    workers_.emplace_back([this, digits10] {
+      mpfr_real::thread_default_precision(digits10);
+      work();
+    });
+  sequencer_ = std::thread([this, digits10] {
+    mpfr_real::thread_default_precision(digits10);
+    sequence();
+  });
 }
 
 inline certify_pipeline::~certify_pipeline() {
@@ -96,11 +107,12 @@ inline certify_pipeline::~certify_pipeline() {
 template <scalar T>
 void certify_pipeline::add_segment(const chebyshev_segment<T>& seg) {
   throw_if_failed();
-  std::packaged_task<std::unique_ptr<prepared_segment>()> job(
-      [this, seg, check = take_check()]() mutable {
-        check->prepare(seg);
-        return std::move(check);
-      });
+  // The worker takes (or builds) the check: building one costs more than a segment's copy.
+  std::packaged_task<std::unique_ptr<prepared_segment>()> job([this, seg] {
+    std::unique_ptr<prepared_segment> check = take_check();
+    check->prepare(seg);
+    return check;
+  });
   prepared result = job.get_future();
   {
     std::unique_lock<std::mutex> lock(mutex_);

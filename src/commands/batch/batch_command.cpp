@@ -114,6 +114,7 @@ int run_batch(const batch_options& o, std::ostream& standard_output) {
   const std::vector<scene_task> tasks = tasks_of(o, shard);
 
   batch_settings s{*o.out_dir, o.report, o.reference, passed_flags_text(o.reference)};
+  s.reference.certify_one_thread = jobs > 1;  // the scenes' threads already share the cores
   std::error_code ec;
   fs::create_directories(s.out_dir, ec);
   if (ec || !fs::is_directory(s.out_dir))

@@ -44,6 +44,7 @@ struct reference_job {
   bool verify = false;
   bool certify = false;
   bool omit_timing = false;          // no "# wall_seconds" lines
+  unsigned certify_workers = 0;      // threads that prepare the certificate's segments
   std::string command;               // the "# command:" line, if any
   std::string overrides;             // the flags that changed the scene, for the metadata
 };
@@ -59,6 +60,7 @@ reference_job make_job(const reference_options& o) {
   job.layout = reference_layout_of(job.scn);
   job.verify = o.verify;
   job.certify = o.certify;
+  job.certify_workers = o.certify_one_thread ? 0 : certify_workers();
   if (job.certify) require_certifiable(job.scn, job.precision);
   job.omit_timing = o.omit_timing;
   job.command = o.command;
@@ -183,7 +185,7 @@ reference_metadata run_in(const reference_job& job, scratch_file& rows_out) {
   std::vector<vec3<T>> kept;
   std::vector<quaternion<T>> kept_q;
   std::optional<run_certificate> certificate;
-  if (job.certify) certificate.emplace(job.scn, job.precision, certify_workers());
+  if (job.certify) certificate.emplace(job.scn, job.precision, job.certify_workers);
   const bool attitude = job.scn.has_attitude();
   const reference_run run =
       attitude ? stream_attitude_rows<T>(job, tau_end, times, rows_out, job.verify ? &kept : nullptr,

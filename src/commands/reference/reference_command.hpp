@@ -24,6 +24,7 @@ struct reference_options {
   // Not flags: set by main() and by `batch`.
   std::string command;       // "# command: ..." (the argv that made the file, without --out); none if empty
   bool omit_timing = false;  // leave out the "# wall_seconds" lines (batch: byte-identical reruns)
+  bool certify_one_thread = false;  // --certify on one thread (batch --jobs > 1: scenes share the cores)
 };
 
 // The switches of `reference`, which `batch` passes on to every scene's run.
