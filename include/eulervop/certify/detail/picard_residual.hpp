@@ -74,7 +74,7 @@ class picard_residual {
   real bound_scratch_{64}, product_error_scale_{64};
   real tmp_, lo_, hi_;  // scratch at the working precision
   interval t_;
-  std::vector<interval> r_scaled_;
+  std::vector<interval> r_scaled_, hl_over_2k_;
 };
 
 inline picard_residual::picard_residual(mpfr_prec_t bits, std::size_t degree, const vec3<interval>& G,
@@ -85,7 +85,7 @@ inline picard_residual::picard_residual(mpfr_prec_t bits, std::size_t degree, co
       pmid_(3 * n1_, real(bits)), outmid_(np_, real(bits)), pq_(3 * n1_, grid_integer(bits + 64)),
       acc_(np_, grid_integer(2 * bits + 128)), pair_(2 * bits + 128), gd_(np_, 0.0),
       Pabs_(3, real(64)), Prad_(3, real(64)), product_rem_(3, real(64)), tmp_(bits), lo_(bits), hi_(bits),
-      t_(interval::zero(bits)), r_scaled_(3 * nr_, interval::zero(bits)) {
+      t_(interval::zero(bits)), r_scaled_(3 * nr_, interval::zero(bits)), hl_over_2k_(nr_, interval::zero(bits)) {
   for (int i = 0; i < 3; ++i) {
     const auto [j, k] = exact_problem::quadratic_pair[i];
     factors_[i] = {std::min(j, k), std::max(j, k)};
@@ -97,6 +97,12 @@ inline picard_residual::picard_residual(mpfr_prec_t bits, std::size_t degree, co
 }
 
 inline void picard_residual::compute(const segment_polynomial& P) {
+  // hl / (2k) for k >= 2 (hl for k = 1, and the halving of f_2 there), once for the three
+  // components: one interval product per coefficient instead of a division and a product.
+  for (std::size_t k = 1; k < nr_; ++k) {
+    mpfi_set(hl_over_2k_[k].get(), P.hl.get());
+    if (k > 1) mpfi_div_ui(hl_over_2k_[k].get(), hl_over_2k_[k].get(), static_cast<unsigned long>(2 * k));
+  }
   midpoints(P);
   for (int i = 0; i < 3; ++i) {
     product_error(i, multiply(P, i));
@@ -194,6 +200,7 @@ inline void picard_residual::product_error(int i, double rem_double) {
 
 // F = int_{-1}^s f: b_1 = a_0 - a_2/2, b_k = (a_{k-1} - a_{k+1}) / (2k), b_0 so that F(-1) = 0.
 // Then r = v_0 - q + hl F (q the increment polynomial, q(-1) = v_0 exactly: node 0 is s = -1).
+// hl b_k is formed directly as (a_{k-1} - a_{k+1}) times the enclosure of hl / (2k).
 inline void picard_residual::integrate(const segment_polynomial& P, int i) {
   const interval* f = &prod_[i * np_];
   interval* out = &r[i * nr_];
@@ -204,29 +211,30 @@ inline void picard_residual::integrate(const segment_polynomial& P, int i) {
       if (k == 1) mpfi_mul_2si(t_.get(), t_.get(), -1);
       mpfi_sub(out[k].get(), out[k].get(), t_.get());
     }
-    if (k > 1) mpfi_div_ui(out[k].get(), out[k].get(), static_cast<unsigned long>(2 * k));
+    mpfi_mul(out[k].get(), out[k].get(), hl_over_2k_[k].get());
   }
   mpfi_set_ui(out[0].get(), 0);
   for (std::size_t k = 1; k < nr_; ++k) {
     if (k % 2) mpfi_add(out[0].get(), out[0].get(), out[k].get());
     else mpfi_sub(out[0].get(), out[0].get(), out[k].get());
   }
-  for (std::size_t k = 0; k < nr_; ++k) mpfi_mul(out[k].get(), out[k].get(), P.hl.get());
   for (std::size_t k = 0; k < n1_; ++k) mpfi_sub(out[k].get(), out[k].get(), P.c[i * n1_ + k].get());
   mpfi_add(out[0].get(), out[0].get(), P.v[i * n1_].get());
 }
 
-// sup |r| <= sum |r_k|; r(1) = sum r_k; both widened by the inexact products' error, integrated:
+// sup |r| <= sum |r_k| (a point: the sum of the magnitudes rounded up); r(1) = sum r_k; both
+// widened by the inexact products' error, integrated:
 // |hl int_{-1}^s e| <= 2 |hl| rem.
 inline void picard_residual::bound(const segment_polynomial& P, int i) {
   const interval* ri = &r[i * nr_];
-  mpfi_set_ui(rsup[i].get(), 0);
+  mpfr_set_ui(lo_.get(), 0, MPFR_RNDU);  // sum_k max |r_k|, rounded up
   mpfi_set_ui(r1[i].get(), 0);
   for (std::size_t k = 0; k < nr_; ++k) {
-    mpfi_abs(t_.get(), ri[k].get());
-    mpfi_add(rsup[i].get(), rsup[i].get(), t_.get());
+    mpfi_mag(hi_.get(), ri[k].get());
+    mpfr_add(lo_.get(), lo_.get(), hi_.get(), MPFR_RNDU);
     mpfi_add(r1[i].get(), r1[i].get(), ri[k].get());
   }
+  mpfi_set_fr(rsup[i].get(), lo_.get());
   mpfi_set_fr(t_.get(), product_rem_[i].get());
   mpfi_mul(t_.get(), t_.get(), P.hl.get());
   mpfi_mul_2si(t_.get(), t_.get(), 1);

@@ -98,12 +98,13 @@ inline void segment_polynomial::enclose(node_transform& transform) {
   transform.apply(vmid, c);
   for (std::size_t q = 0; q < 3 * n1; ++q) mpfi_set(p[q].get(), c[q].get());
   for (int i = 0; i < 3; ++i) mpfi_add(p[i * n1].get(), p[i * n1].get(), X0[i].get());
-  for (int i = 0; i < 3; ++i) {
-    mpfi_set_ui(psup[i].get(), 0);
+  for (int i = 0; i < 3; ++i) {  // a point: the sum of the magnitudes, rounded up
+    mpfr_set_ui(lo_.get(), 0, MPFR_RNDU);
     for (std::size_t k = 0; k < n1; ++k) {
-      mpfi_abs(t_.get(), p[i * n1 + k].get());
-      mpfi_add(psup[i].get(), psup[i].get(), t_.get());
+      mpfi_mag(hi_.get(), p[i * n1 + k].get());
+      mpfr_add(lo_.get(), lo_.get(), hi_.get(), MPFR_RNDU);
     }
+    mpfi_set_fr(psup[i].get(), lo_.get());
   }
   coefficient_doubles();
 }

@@ -80,15 +80,21 @@ inline void variational_matrix::iterate(const segment_polynomial& P, double hl) 
           F_[l * 9 + i * 3 + j] = acc;
         }
     double change = 0, size = 0;
-    for (std::size_t l = 0; l < m1_; ++l)
+    for (std::size_t l = 0; l < m1_; ++l) {
+      // The nine entries side by side (each still summed over k in order), so that the
+      // compiler vectorizes across them.
+      double acc[9] = {};
+      for (std::size_t k = 0; k < m1_; ++k) {
+        const double s = basis_.integral[l * m1_ + k];
+        for (int q = 0; q < 9; ++q) acc[q] += s * F_[k * 9 + q];
+      }
       for (int q = 0; q < 9; ++q) {
-        double acc = 0;
-        for (std::size_t k = 0; k < m1_; ++k) acc += basis_.integral[l * m1_ + k] * F_[k * 9 + q];
-        const double next = ((q % 4 == 0) ? 1.0 : 0.0) + hl * acc;
+        const double next = ((q % 4 == 0) ? 1.0 : 0.0) + hl * acc[q];
         change = std::max(change, std::abs(next - Phi_[l * 9 + q]));
         size = std::max(size, std::abs(next));
         Phi_[l * 9 + q] = next;
       }
+    }
     if (!std::isfinite(change)) P.fail(outcome_kind::certify_non_finite);
     if (change <= 1e-10 * size) break;  // its error multiplies |e(a)|: ten digits are plenty
   }
