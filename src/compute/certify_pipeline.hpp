@@ -6,8 +6,9 @@
 // them. So the output is the same bytes as checking and writing on one thread.
 //
 // At most `max_in_flight` segments are in flight: the integration waits when the certificate
-// falls behind, so memory does not grow with the span. The first failure (of a preparation, in segment order,
-// or of an advance or a row) stops the pipeline and is rethrown to the caller at its next call.
+// falls behind, so memory does not grow with the span. The first failure (of a preparation, in
+// segment order, or of an advance or a row) stops the pipeline and is rethrown to the caller at
+// its next call.
 #pragma once
 
 #include <eulervop/certify/certifier.hpp>

@@ -51,6 +51,12 @@ class picard_residual {
  private:
   void midpoints(const segment_polynomial& P);
   double multiply(const segment_polynomial& P, int i);
+  template <std::size_t L>
+  double multiply_on_limbs(const segment_polynomial& P, int i);
+  template <class IntegerPair>
+  double pairs(const segment_polynomial& P, int i, IntegerPair&& integer_pair);
+  template <class ExactSum>
+  double finish_product(int i, double rem, ExactSum&& exact_sum);
   void product_error(int i, double rem_double);
   void integrate(const segment_polynomial& P, int i);
   void bound(const segment_polynomial& P, int i);
@@ -67,6 +73,11 @@ class picard_residual {
   std::vector<real> pmid_, outmid_;
   std::vector<grid_integer> pq_, acc_;
   grid_integer pair_;
+  // The same on at most 8 limbs (limbs_ per number; the sums on 2 limbs_ + 1) where they fit, with
+  // the limb loops unrolled (grid_integer.hpp, limbs); GMP's integers otherwise.
+  std::size_t limbs_;
+  bool on_limbs_ = false;
+  std::vector<mp_limb_t> pl_, pneg_, lacc_;
   long shift_ = 0;
   std::vector<double> gd_;
   // At 64 bits, rounded up: sum |p^_ik|, sum width(p_ik), the products' error per component.
@@ -83,7 +94,9 @@ inline picard_residual::picard_residual(mpfr_prec_t bits, std::size_t degree, co
       r_rem(3, interval::zero(bits)), rd(3 * (2 * degree + 2), 0.0), bits_(bits), n1_(degree + 1),
       np_(2 * degree + 1), nr_(2 * degree + 2), G_(G), a_(a), prod_(3 * np_, interval::zero(bits)),
       pmid_(3 * n1_, real(bits)), outmid_(np_, real(bits)), pq_(3 * n1_, grid_integer(bits + 64)),
-      acc_(np_, grid_integer(2 * bits + 128)), pair_(2 * bits + 128), gd_(np_, 0.0),
+      acc_(np_, grid_integer(2 * bits + 128)), pair_(2 * bits + 128),
+      limbs_((static_cast<std::size_t>(bits) + 64) / 64), pl_(3 * n1_ * limbs_), pneg_(3 * n1_),
+      lacc_(np_ * (2 * limbs_ + 1)), gd_(np_, 0.0),
       Pabs_(3, real(64)), Prad_(3, real(64)), product_rem_(3, real(64)), tmp_(bits), lo_(bits), hi_(bits),
       t_(interval::zero(bits)), r_scaled_(3 * nr_, interval::zero(bits)), hl_over_2k_(nr_, interval::zero(bits)) {
   for (int i = 0; i < 3; ++i) {
@@ -129,6 +142,9 @@ inline void picard_residual::midpoints(const segment_polynomial& P) {
   }
   shift_ = grid_shift(pmid_, [](const real& x) { return x.get(); }, bits_);
   for (std::size_t q = 0; q < 3 * n1_; ++q) to_grid(pq_[q], pmid_[q].get(), shift_);
+  on_limbs_ = limbs_ <= 8;  // |q| <= 2^bits < 2^(64 limbs_): always fits
+  for (std::size_t q = 0; on_limbs_ && q < 3 * n1_; ++q)
+    on_limbs_ = limbs::load(pq_[q].get(), limbs_, &pl_[q * limbs_], pneg_[q]);
   mpfr_ptr steps = bound_scratch_.get();
   mpfr_set_ui_2exp(steps, static_cast<unsigned long>(n1_), -shift_, MPFR_RNDU);
   for (int c = 0; c < 3; ++c) {
@@ -137,17 +153,62 @@ inline void picard_residual::midpoints(const segment_polynomial& P) {
   }
 }
 
-// prod_ row i = a_i P_j P_k: on the grid, exact; the products far below the precision of the
-// reference (|a_m| |b_n| < 2^-(bits - 77) of the state squared) in double. Returns a bound of the
-// double products' total error: the sums have at most 2 (N+1) terms each, the exact coefficients
-// differ from cd by crad, and an underflow allowance covers results near zero.
+// prod_ row i = a_i P_j P_k, on the grid (exact) and in double (pairs); returns the bound of the
+// double part's error.
 inline double picard_residual::multiply(const segment_polynomial& P, int i) {
-  interval* out = &prod_[i * np_];
-  const int ca = factors_[i][0], cb = factors_[i][1];
-  const grid_integer* A = &pq_[ca * n1_];
-  const grid_integer* B = &pq_[cb * n1_];
-  const double* cmag = P.cmag.data();
+  switch (on_limbs_ ? limbs_ : 0) {
+    case 1: return multiply_on_limbs<1>(P, i);
+    case 2: return multiply_on_limbs<2>(P, i);
+    case 3: return multiply_on_limbs<3>(P, i);
+    case 4: return multiply_on_limbs<4>(P, i);
+    case 5: return multiply_on_limbs<5>(P, i);
+    case 6: return multiply_on_limbs<6>(P, i);
+    case 7: return multiply_on_limbs<7>(P, i);
+    case 8: return multiply_on_limbs<8>(P, i);
+    default: break;
+  }
+  const grid_integer* A = &pq_[factors_[i][0] * n1_];
+  const grid_integer* B = &pq_[factors_[i][1] * n1_];
   for (std::size_t k = 0; k < np_; ++k) mpz_set_ui(acc_[k].get(), 0);
+  const double rem = pairs(P, i, [&](std::size_t m, std::size_t n, std::size_t d) {
+    mpz_mul(pair_.get(), A[m].get(), B[n].get());
+    mpz_add(acc_[m + n].get(), acc_[m + n].get(), pair_.get());
+    mpz_add(acc_[d].get(), acc_[d].get(), pair_.get());
+  });
+  return finish_product(i, rem, [&](std::size_t k, mpfr_ptr y, long shift) {
+    mpfr_set_z_2exp(y, acc_[k].get(), -shift, MPFR_RNDN);
+  });
+}
+
+template <std::size_t L>
+double picard_residual::multiply_on_limbs(const segment_polynomial& P, int i) {
+  constexpr std::size_t W = 2 * L + 1;
+  const mp_limb_t* A = &pl_[factors_[i][0] * n1_ * L];
+  const mp_limb_t* B = &pl_[factors_[i][1] * n1_ * L];
+  const mp_limb_t* A_neg = &pneg_[factors_[i][0] * n1_];
+  const mp_limb_t* B_neg = &pneg_[factors_[i][1] * n1_];
+  std::fill(lacc_.begin(), lacc_.begin() + np_ * W, 0);
+  const double rem = pairs(P, i, [&](std::size_t m, std::size_t n, std::size_t d) {
+    mp_limb_t product[2 * L];
+    limbs::product<L>(&A[m * L], &B[n * L], product);
+    const mp_limb_t negative = A_neg[m] ^ B_neg[n];
+    limbs::accumulate<L>(&lacc_[(m + n) * W], product, negative);
+    limbs::accumulate<L>(&lacc_[d * W], product, negative);
+  });
+  return finish_product(i, rem, [&](std::size_t k, mpfr_ptr y, long shift) {
+    limbs::round_to(&lacc_[k * W], W, y, shift);
+  });
+}
+
+// Runs over the pairs (m, n) of product i: those far below the precision of the reference
+// (|a_m| |b_n| < 2^-(bits - 77) of the state squared) in double, the others by `integer_pair`
+// (m, n, |m - n|) on the grid. Returns a bound of the double products' total error: the sums have
+// at most 2 (N+1) terms each, the exact coefficients differ from cd by crad, and an underflow
+// allowance covers results near zero.
+template <class IntegerPair>
+double picard_residual::pairs(const segment_polynomial& P, int i, IntegerPair&& integer_pair) {
+  const int ca = factors_[i][0], cb = factors_[i][1];
+  const double* cmag = P.cmag.data();
   std::fill(gd_.begin(), gd_.end(), 0.0);
   double rem = 0, small = 0;
   std::size_t in_double = 0;
@@ -163,19 +224,33 @@ inline double picard_residual::multiply(const segment_polynomial& P, int i) {
         rem += cmag[ca * n1_ + m] * P.crad[cb * n1_ + n] + P.crad[ca * n1_ + m] * cmag[cb * n1_ + n];
         continue;
       }
-      mpz_mul(pair_.get(), A[m].get(), B[n].get());
-      mpz_add(acc_[m + n].get(), acc_[m + n].get(), pair_.get());
-      mpz_add(acc_[d].get(), acc_[d].get(), pair_.get());
+      integer_pair(m, n, d);
     }
-  // Back to p bits (one rounding each), times a_i, exact (-1, 0 or 1).
-  for (std::size_t k = 0; k < np_; ++k) {
-    mpfr_set_z_2exp(outmid_[k].get(), acc_[k].get(), -(2 * shift_ + 1), MPFR_RNDN);
-    mpfr_mul_si(outmid_[k].get(), outmid_[k].get(), a_[i], MPFR_RNDN);
-    mpfi_set_fr(out[k].get(), outmid_[k].get());
-    if (gd_[k] != 0) add_double(out[k], a_[i] * gd_[k], tmp_);
-  }
   return in_double ? (gamma_of(2 * n1_ + 2) * 2 * small + rem + underflow_allowance(4 * n1_ * n1_)) * (1 + 1e-12)
                    : 0.0;
+}
+
+// prod_ row i from the exact sums on the grid 2^-(2 shift + 1) (`exact_sum(k, y, shift)` rounds
+// sum k to nearest into y) and the double ones: back to p bits (one rounding each), times a_i,
+// exact (-1, 0 or 1). Returns `rem`.
+template <class ExactSum>
+double picard_residual::finish_product(int i, double rem, ExactSum&& exact_sum) {
+  interval* out = &prod_[i * np_];
+  for (std::size_t k = 0; k < np_; ++k) {
+    mpfr_ptr y = outmid_[k].get();
+    exact_sum(k, y, 2 * shift_ + 1);
+    if (a_[i] < 0) mpfr_neg(y, y, MPFR_RNDN);
+    if (a_[i] == 0) mpfr_set_ui(y, 0, MPFR_RNDN);
+    if (gd_[k] == 0) {
+      mpfi_set_fr(out[k].get(), y);
+      continue;
+    }
+    // y + a_i gd_k with the end points rounded outward (the double enters exactly).
+    mpfr_set_d(tmp_.get(), a_[i] * gd_[k], MPFR_RNDN);
+    mpfr_add(&out[k].get()->left, y, tmp_.get(), MPFR_RNDD);
+    mpfr_add(&out[k].get()->right, y, tmp_.get(), MPFR_RNDU);
+  }
+  return rem;
 }
 
 // Summed over the coefficients of one product, the grid products' error is at most

@@ -65,13 +65,6 @@ inline void width_up(real& out, const interval& x, real& lo) {
   mpfr_sub(out.get(), out.get(), lo.get(), MPFR_RNDU);
 }
 
-// x += d, rounded outward: d enters through `scratch` (53 bits or more, so exactly), which
-// spares the temporary number that mpfi_add_d allocates on every call.
-inline void add_double(interval& x, double d, real& scratch) {
-  mpfr_set_d(scratch.get(), d, MPFR_RNDN);
-  mpfi_add_fr(x.get(), x.get(), scratch.get());
-}
-
 // out = an interval holding the exact sum of the n doubles x[0..n): their sum in
 // double, widened by gamma_(n-1) sum |x_k| (Higham 2002, section 3.1; sums of doubles do not
 // underflow), the bound itself rounded up by a relative 1e-12. One interval operation instead of
