@@ -32,6 +32,9 @@ class node_transform {
  private:
   std::vector<interval> enclosed_matrix() const;
   void widen(const grid_integer& abs_sum, long shift, std::vector<interval>& c, int i);
+  bool load_folds();
+  template <std::size_t L>
+  void sums_on_limbs(long shift, std::vector<interval>& c, int i);
 
   mpfr_prec_t bits_;
   std::size_t N_, n1_, half_;
@@ -43,6 +46,10 @@ class node_transform {
   std::vector<grid_integer> vq_, fold_plus_, fold_minus_;
   grid_integer acc_, abs_sum_;
   real ck_, bound_{64}, term_{64}, scratch_;
+  // M and the folded values on `limbs_` limbs (0: GMP's integers; grid_integer.hpp, limbs), the
+  // folded values in the order plus, minus, middle.
+  std::size_t limbs_ = 0;
+  std::vector<mp_limb_t> Ml_, Mneg_, fl_, fneg_, lacc_;
 };
 
 inline node_transform::node_transform(mpfr_prec_t bits, std::size_t degree)
@@ -64,6 +71,17 @@ inline node_transform::node_transform(mpfr_prec_t bits, std::size_t degree)
   mpfr_set_ui_2exp(width.get(), 1, -bits, MPFR_RNDU);
   mpfr_add(dM_.get(), dM_.get(), width.get(), MPFR_RNDU);
   mpfr_add(Mmax_.get(), Mmax_.get(), width.get(), MPFR_RNDU);  // floor moves a value by < a step
+  // Folded values have at most bits + 2 bits (two values of at most bits + 1 bits, summed).
+  const std::size_t limbs = (static_cast<std::size_t>(bits) + 2 + 63) / 64;
+  if (limbs > 8) return;
+  Ml_.resize(n1_ * n1_ * limbs);
+  Mneg_.resize(n1_ * n1_);
+  for (std::size_t q = 0; q < n1_ * n1_; ++q)
+    if (!limbs::load(Mq_[q].get(), limbs, &Ml_[q * limbs], Mneg_[q])) return;
+  limbs_ = limbs;
+  fl_.resize((2 * half_ + 1) * limbs);
+  fneg_.resize(2 * half_ + 1);
+  lacc_.resize(2 * limbs + 1);
 }
 
 // M_kj = (2/N) (-1)^k cos(k j pi / N), halved for j in {0, N} and for k in {0, N}; the angle
@@ -109,6 +127,20 @@ inline void node_transform::apply(const std::vector<real>& values, std::vector<i
       add_abs(abs_sum_, fold_minus_[j].get());
     }
     if (n1_ % 2) add_abs(abs_sum_, vq_[half_].get());
+    if (limbs_ > 0 && load_folds()) {
+      switch (limbs_) {
+        case 1: sums_on_limbs<1>(shift, c, i); break;
+        case 2: sums_on_limbs<2>(shift, c, i); break;
+        case 3: sums_on_limbs<3>(shift, c, i); break;
+        case 4: sums_on_limbs<4>(shift, c, i); break;
+        case 5: sums_on_limbs<5>(shift, c, i); break;
+        case 6: sums_on_limbs<6>(shift, c, i); break;
+        case 7: sums_on_limbs<7>(shift, c, i); break;
+        default: sums_on_limbs<8>(shift, c, i); break;
+      }
+      widen(abs_sum_, shift, c, i);
+      continue;
+    }
     for (std::size_t k = 0; k < n1_; ++k) {
       const std::vector<grid_integer>& folded = (k % 2) ? fold_minus_ : fold_plus_;
       const grid_integer* Mk = &Mq_[k * n1_];
@@ -119,6 +151,39 @@ inline void node_transform::apply(const std::vector<real>& values, std::vector<i
       mpfi_set_fr(c[i * n1_ + k].get(), ck_.get());
     }
     widen(abs_sum_, shift, c, i);
+  }
+}
+
+// The folded values into fl_ (false if one needs more than limbs_ limbs).
+inline bool node_transform::load_folds() {
+  for (std::size_t j = 0; j < half_; ++j)
+    if (!limbs::load(fold_plus_[j].get(), limbs_, &fl_[j * limbs_], fneg_[j]) ||
+        !limbs::load(fold_minus_[j].get(), limbs_, &fl_[(half_ + j) * limbs_], fneg_[half_ + j]))
+      return false;
+  return n1_ % 2 == 0 || limbs::load(vq_[half_].get(), limbs_, &fl_[2 * half_ * limbs_], fneg_[2 * half_]);
+}
+
+// c_k for component i from the folded values on L limbs: the same exact sums as with GMP.
+template <std::size_t L>
+void node_transform::sums_on_limbs(long shift, std::vector<interval>& c, int i) {
+  constexpr std::size_t W = 2 * L + 1;
+  mp_limb_t* acc = lacc_.data();
+  for (std::size_t k = 0; k < n1_; ++k) {
+    const std::size_t folded = (k % 2) ? half_ : 0;  // minus or plus
+    std::fill(acc, acc + W, 0);
+    mp_limb_t product[2 * L];
+    for (std::size_t j = 0; j < half_; ++j) {
+      const std::size_t q = k * n1_ + j, f = folded + j;
+      limbs::product<L>(&Ml_[q * L], &fl_[f * L], product);
+      limbs::accumulate<L>(acc, product, Mneg_[q] ^ fneg_[f]);
+    }
+    if (n1_ % 2) {
+      const std::size_t q = k * n1_ + half_, f = 2 * half_;
+      limbs::product<L>(&Ml_[q * L], &fl_[f * L], product);
+      limbs::accumulate<L>(acc, product, Mneg_[q] ^ fneg_[f]);
+    }
+    limbs::round_to(acc, W, ck_.get(), static_cast<long>(bits_) + shift);
+    mpfi_set_fr(c[i * n1_ + k].get(), ck_.get());
   }
 }
 
