@@ -1,9 +1,10 @@
-// Numbers on a common grid, as GMP integers: the certificate's two large linear maps (the
-// transform of the node values, node_transform.hpp, and the products of the Picard residual,
-// picard_residual.hpp) put their inputs on a grid of step 2^-shift, so that every product and
-// sum after that is an exact integer operation. Only two steps err, and both are bounded where
-// they are used: the entry onto the grid (rounding down, by less than one step) and the exit to
-// MPFR (one rounding to nearest at the working precision, at most 2^-p of the result).
+// Numbers on a common grid, as integers (GMP's, or the fixed-size limb arrays below): the
+// certificate's two large linear maps (the transform of the node values, node_transform.hpp, and
+// the products of the Picard residual, picard_residual.hpp) put their inputs on a grid of step
+// 2^-shift, so that every product and sum after that is an exact integer operation. Only two
+// steps err, and both are bounded where they are used: the entry onto the grid (rounding down,
+// by less than one step) and the exit to MPFR (one rounding to nearest at the working precision,
+// at most 2^-p of the result).
 //
 // Why: MPFR sums of terms of unequal size spend most of their time aligning and normalising
 // (the coefficients decay by tens of orders of magnitude across a segment); integers on one grid
