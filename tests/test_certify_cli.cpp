@@ -16,6 +16,14 @@ namespace {
 
 using namespace eulervop::cli_test;
 
+// The data rows of a reference CSV in `dir` (no metadata, no header), as cells.
+std::vector<std::vector<std::string>> data_rows(const fs::path& dir, const std::string& file) {
+  std::vector<std::vector<std::string>> rows;
+  for (const std::string& l : lines_of(read_file(dir / file)))
+    if (!l.empty() && l[0] != '#' && !l.starts_with("tau,")) rows.push_back(cells_of(l));
+  return rows;
+}
+
 TEST(Certify, RowsCarryARadiusAndTheHeaderItsMaximum) {
   temp_dir dir;
   const run_result r = run(dir.path(), {"reference", "--certify", "--tau-end", "5", "--samples", "11", "--out", "c.csv"});
@@ -43,9 +51,7 @@ TEST(Certify, RowsCarryARadiusAndTheHeaderItsMaximum) {
   // The rows themselves are those of the run without --certify.
   const run_result plain = run(dir.path(), {"reference", "--tau-end", "5", "--samples", "11", "--out", "p.csv"});
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
-  std::vector<std::vector<std::string>> plain_rows;
-  for (const std::string& l : lines_of(read_file(dir.path() / "p.csv")))
-    if (!l.empty() && l[0] != '#' && !l.starts_with("tau,")) plain_rows.push_back(cells_of(l));
+  const std::vector<std::vector<std::string>> plain_rows = data_rows(dir.path(), "p.csv");
   ASSERT_EQ(plain_rows.size(), rows.size());
   for (std::size_t i = 0; i < rows.size(); ++i)
     EXPECT_EQ(std::vector<std::string>(rows[i].begin(), rows[i].begin() + 4), plain_rows[i]);
@@ -61,13 +67,7 @@ TEST(Certify, MpfrRowsAreThoseOfThePlainRun) {
   plain.insert(plain.end(), common.begin(), common.end());
   ASSERT_EQ(run(dir.path(), certified).exit_code, 0);
   ASSERT_EQ(run(dir.path(), plain).exit_code, 0);
-  const auto rows_of = [&](const char* file) {
-    std::vector<std::vector<std::string>> rows;
-    for (const std::string& l : lines_of(read_file(dir.path() / file)))
-      if (!l.empty() && l[0] != '#' && !l.starts_with("tau,")) rows.push_back(cells_of(l));
-    return rows;
-  };
-  const auto c = rows_of("c.csv"), p = rows_of("p.csv");
+  const auto c = data_rows(dir.path(), "c.csv"), p = data_rows(dir.path(), "p.csv");
   ASSERT_EQ(c.size(), 7u);
   ASSERT_EQ(p.size(), 7u);
   for (std::size_t i = 0; i < c.size(); ++i) {
@@ -160,13 +160,7 @@ TEST(Certify, PhysicalSceneOmegaWithinRadiusOmega) {
   ASSERT_EQ(q.exit_code, 0) << q.err;
   const run_result m = run(dir.path(), {"reference", scene, "--precision", "mpfr:256", "--samples", "61", "--out", "m.csv"});
   ASSERT_EQ(m.exit_code, 0) << m.err;
-  auto rows_of = [&](const std::string& file) {
-    std::vector<std::vector<std::string>> rows;
-    for (const std::string& l : lines_of(read_file(dir.path() / file)))
-      if (!l.empty() && l[0] != '#' && !l.starts_with("tau,")) rows.push_back(cells_of(l));
-    return rows;
-  };
-  const auto qr = rows_of("q.csv"), mr = rows_of("m.csv");
+  const auto qr = data_rows(dir.path(), "q.csv"), mr = data_rows(dir.path(), "m.csv");
   ASSERT_EQ(qr.size(), 61u);
   ASSERT_EQ(mr.size(), 61u);
   eulervop::mpfr_precision_scope scope(256);

@@ -170,7 +170,7 @@ template <class Torque>
   requires is_constant_torque_v<Torque>
 certifier::certifier(mpfr_prec_t bits, std::size_t degree, const euler_problem<interval, Torque>& problem)
     : bits_(bits), degree_(degree), problem_(with_constant_torque(problem)),
-      jacobian_(detail::jacobian_pattern(unit_coefficients(problem_))), transform_(bits, degree), spare_(make_segment()),
+      jacobian_(detail::jacobian_pattern(unit_coefficients(problem_))), transform_(bits, degree),
       box_(bits), prev_end_(3, interval::zero(bits)), prev_b_(interval::zero(bits)), ball_(interval::zero(bits)),
       scratch_(interval::zero(bits)), max_radius_(interval::zero(bits)) {}
 

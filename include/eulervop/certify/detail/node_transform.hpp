@@ -127,17 +127,8 @@ inline void node_transform::apply(const std::vector<real>& values, std::vector<i
       add_abs(abs_sum_, fold_minus_[j].get());
     }
     if (n1_ % 2) add_abs(abs_sum_, vq_[half_].get());
-    if (limbs_ > 0 && load_folds()) {
-      switch (limbs_) {
-        case 1: sums_on_limbs<1>(shift, c, i); break;
-        case 2: sums_on_limbs<2>(shift, c, i); break;
-        case 3: sums_on_limbs<3>(shift, c, i); break;
-        case 4: sums_on_limbs<4>(shift, c, i); break;
-        case 5: sums_on_limbs<5>(shift, c, i); break;
-        case 6: sums_on_limbs<6>(shift, c, i); break;
-        case 7: sums_on_limbs<7>(shift, c, i); break;
-        default: sums_on_limbs<8>(shift, c, i); break;
-      }
+    if (limbs_ > 0 && load_folds() &&
+        limbs::with_limb_count(limbs_, [&](auto L) { sums_on_limbs<decltype(L)::value>(shift, c, i); })) {
       widen(abs_sum_, shift, c, i);
       continue;
     }

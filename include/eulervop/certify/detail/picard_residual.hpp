@@ -156,21 +156,14 @@ inline void picard_residual::midpoints(const segment_polynomial& P) {
 // prod_ row i = a_i P_j P_k, on the grid (exact) and in double (pairs); returns the bound of the
 // double part's error.
 inline double picard_residual::multiply(const segment_polynomial& P, int i) {
-  switch (on_limbs_ ? limbs_ : 0) {
-    case 1: return multiply_on_limbs<1>(P, i);
-    case 2: return multiply_on_limbs<2>(P, i);
-    case 3: return multiply_on_limbs<3>(P, i);
-    case 4: return multiply_on_limbs<4>(P, i);
-    case 5: return multiply_on_limbs<5>(P, i);
-    case 6: return multiply_on_limbs<6>(P, i);
-    case 7: return multiply_on_limbs<7>(P, i);
-    case 8: return multiply_on_limbs<8>(P, i);
-    default: break;
-  }
+  double rem = 0;
+  if (on_limbs_ &&
+      limbs::with_limb_count(limbs_, [&](auto L) { rem = multiply_on_limbs<decltype(L)::value>(P, i); }))
+    return rem;
   const grid_integer* A = &pq_[factors_[i][0] * n1_];
   const grid_integer* B = &pq_[factors_[i][1] * n1_];
   for (std::size_t k = 0; k < np_; ++k) mpz_set_ui(acc_[k].get(), 0);
-  const double rem = pairs(P, i, [&](std::size_t m, std::size_t n, std::size_t d) {
+  rem = pairs(P, i, [&](std::size_t m, std::size_t n, std::size_t d) {
     mpz_mul(pair_.get(), A[m].get(), B[n].get());
     mpz_add(acc_[m + n].get(), acc_[m + n].get(), pair_.get());
     mpz_add(acc_[d].get(), acc_[d].get(), pair_.get());

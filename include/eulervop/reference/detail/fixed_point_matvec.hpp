@@ -9,6 +9,7 @@
 // Kulisch's long accumulator, rounded to the wide type once at the end.
 #pragma once
 
+#include <eulervop/core/limb_arithmetic.hpp>
 #include <eulervop/core/scalar.hpp>
 
 #include <boost/multiprecision/gmp.hpp>
@@ -202,17 +203,8 @@ class fixed_point_matrix<mpfr_real> {
   void multiply(const mpfr_real* x, mpfr_real* y, std::size_t first_row = 0) {
     const long x_shift = shift_for(x, cols_);
     for (std::size_t k = 0; k < cols_; ++k) to_fixed(x[k], x_shift, &x_[k * limbs_], x_negative_[k]);
-    switch (limbs_) {
-      case 1: return unrolled_rows<1>(first_row, x_shift, y);
-      case 2: return unrolled_rows<2>(first_row, x_shift, y);
-      case 3: return unrolled_rows<3>(first_row, x_shift, y);
-      case 4: return unrolled_rows<4>(first_row, x_shift, y);
-      case 5: return unrolled_rows<5>(first_row, x_shift, y);
-      case 6: return unrolled_rows<6>(first_row, x_shift, y);
-      case 7: return unrolled_rows<7>(first_row, x_shift, y);
-      case 8: return unrolled_rows<8>(first_row, x_shift, y);
-      default: return wide_rows(first_row, x_shift, y);
-    }
+    const auto unrolled = [&](auto L) { unrolled_rows<decltype(L)::value>(first_row, x_shift, y); };
+    if (!limbs::with_limb_count(limbs_, unrolled)) wide_rows(first_row, x_shift, y);
   }
 
  private:
@@ -291,14 +283,7 @@ class fixed_point_matrix<mpfr_real> {
   // y = sum_ 2^-shift for the two's-complement integer in the first n limbs of sum_
   // (overwritten), rounded to nearest.
   void round_sum(std::size_t n, mpfr_real& y, long shift) {
-    mp_limb_t* sum = sum_.data();
-    const bool negative = sum[n - 1] >> 63;
-    if (negative) mpn_neg(sum, sum, static_cast<mp_size_t>(n));
-    mp_size_t size = static_cast<mp_size_t>(n);
-    while (size > 0 && sum[size - 1] == 0) --size;
-    mpz_t view;
-    mpz_srcptr z = mpz_roinit_n(view, sum, negative ? -size : size);
-    mpfr_set_z_2exp(y.backend().data(), z, -shift, MPFR_RNDN);
+    limbs::round_to(sum_.data(), n, y.backend().data(), shift);
   }
 
   // The power of two that brings the largest |v| of the span just below 2^fraction_bits (0 for
