@@ -1,5 +1,5 @@
 // The reference's attitude (reference/attitude_cascade.hpp) against the exact torque-free motion
-// (model/torque_free_attitude.hpp), and its invariant.
+// (vop/torque_free_attitude.hpp), and its invariant.
 //
 // Truth: the closed form (Landau's precession angle through Boost.Math's elliptic integral of the
 // third kind; itself checked against MPFR Taylor integrations of the 7-state system in
@@ -25,7 +25,7 @@
 //     margin of 50).
 //   - the inertial angular momentum q (I omega) q* of the quad reference, torque-free: constant to
 //     <= 1e-31 relative (measured about 1e-32).
-#include <eulervop/model/torque_free_attitude.hpp>
+#include <eulervop/vop/torque_free_attitude.hpp>
 #include <eulervop/oracle.hpp>
 #include <eulervop/reference/integrate.hpp>
 

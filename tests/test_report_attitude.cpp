@@ -5,7 +5,7 @@
 // attitude error on a torque-free body is q's own truncation, the outputs' columns and keys.
 #include "cli_test_support.hpp"
 
-#include "compute/comparison_runs.hpp"
+#include <eulervop/runs/comparison_run.hpp>
 
 #include <eulervop/core/quaternion.hpp>
 #include <eulervop/model/euler_problem.hpp>

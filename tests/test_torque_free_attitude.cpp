@@ -1,4 +1,4 @@
-// Tests of include/eulervop/model/torque_free_attitude.hpp: the closed-form torque-free motion,
+// Tests of include/eulervop/vop/torque_free_attitude.hpp: the closed-form torque-free motion,
 // rates and attitude, against an independent integration of the 7-state system.
 //
 // Truth. The 7-state system I_i w_i' = (I_j - I_k) w_j w_k, q' = 1/2 q (x) (0, w) (body axes as
@@ -68,7 +68,7 @@
 // rotation by 120 degrees about (1, 1, 1), q_R = (1, 1, 1, 1)/2) and (2.2, 1.1, 3.3) (axes e2, e1,
 // -e3: a rotation by 180 degrees about (1, 1, 0), q_R = (0, 1, 1, 0)/sqrt 2), with w0' = R w0 and
 // q0' = q0 (x) conj(q_R); they are compared with the generic body's truth mapped the same way.
-#include <eulervop/model/torque_free_attitude.hpp>
+#include <eulervop/vop/torque_free_attitude.hpp>
 
 #include <eulervop/core/quaternion.hpp>
 #include <eulervop/core/scalar.hpp>

@@ -4,6 +4,7 @@
 #include "compute/run_names.hpp"
 #include "io/shell_word.hpp"
 
+#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 namespace eulervop::app {

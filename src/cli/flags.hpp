@@ -11,7 +11,7 @@
 #include "compute/scene_library.hpp"
 #include "compute/step_rule.hpp"
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/precision.hpp>
 #include <eulervop/rk/tableaux.hpp>
 #include <eulervop/runs/formulation.hpp>
 #include <eulervop/runs/run_result.hpp>

@@ -8,7 +8,7 @@
 
 #include "compute/scene_library.hpp"
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/precision.hpp>
 #include <eulervop/reference/settings.hpp>
 
 #include <optional>

@@ -7,12 +7,12 @@
 #include "compute/scene_library.hpp"
 
 #include <eulervop/certify/certifier.hpp>
-#include <eulervop/certify/exact_problem.hpp>
 #include <eulervop/certify/interval.hpp>
 #include <eulervop/certify/omega_radius.hpp>
 #include <eulervop/certify/row_enclosure.hpp>
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/reference/segment.hpp>
+#include <eulervop/scene/scene_exact_problem.hpp>
 
 #include <fmt/format.h>
 

@@ -1,6 +1,6 @@
 #include "compute/formulation_probe.hpp"
 
-#include "compute/comparison_runs.hpp"
+#include <eulervop/runs/comparison_run.hpp>
 #include "compute/scene_library.hpp"
 
 #include <eulervop/rk/tableaux.hpp>

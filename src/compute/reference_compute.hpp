@@ -8,7 +8,7 @@
 // with_problem): the commands that call them do not instantiate the integrator again.
 #pragma once
 
-#include "io/progress_line.hpp"
+#include "compute/progress.hpp"
 #include "compute/scene_library.hpp"
 #include "compute/with_scalar.hpp"
 
@@ -30,6 +30,7 @@
 #include <cmath>
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -53,13 +54,12 @@ struct dense_reference {
   double wall_seconds = 0;
 };
 
-// Runs integrate(progress), a function of a progress_callback, under a progress line labelled
-// `label` (none when empty) that goes to `total`; returns the wall time.
+// Runs integrate(progress), a function of a progress_callback, under a progress display labelled
+// `label` (none when empty) that goes to `total` (progress.hpp); returns the wall time.
 template <class Integrate>
 double run_with_progress(const std::string& label, double total, Integrate&& integrate) {
   const auto start = std::chrono::steady_clock::now();
-  std::optional<progress_line> progress;
-  if (!label.empty()) progress.emplace(label, total);
+  const std::unique_ptr<progress_display> progress = label.empty() ? nullptr : open_progress(label, total);
   integrate([&](double tau) {
     if (progress) progress->update(tau);
   });

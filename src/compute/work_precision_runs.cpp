@@ -1,6 +1,6 @@
 #include "compute/work_precision_runs.hpp"
 
-#include "compute/comparison_runs.hpp"
+#include <eulervop/runs/comparison_run.hpp>
 #include "compute/reference_compute.hpp"
 #include "compute/scene_library.hpp"
 #include "compute/task_pool.hpp"

@@ -4,7 +4,7 @@
 
 #include "compute/work_precision_grid.hpp"
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/precision.hpp>
 #include <eulervop/reference/settings.hpp>
 #include <eulervop/runs/formulation.hpp>
 #include <eulervop/runs/run_result.hpp>

@@ -23,7 +23,7 @@ namespace eulervop {
 
 class omega_radius {
  public:
-  // `scaling`: Eqs. 2-4 of the scene's decimals (exact_scaling_of).
+  // `scaling`: Eqs. 2-4 of the scene's decimals (scene/scene_exact_problem.hpp: exact_scaling_of).
   explicit omega_radius(physical_scaling<interval> scaling)
       : scaling_(std::move(scaling)), max_(interval::zero(scaling_.tau_rate().bits())) {}
 

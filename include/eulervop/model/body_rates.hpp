@@ -1,7 +1,7 @@
 // The body rates that turn the attitude (docs/attitude.md), from the integrator's state.
 #pragma once
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/core/vec3.hpp>
 #include <eulervop/model/physical_scaling.hpp>
 #include <eulervop/model/principal_axes.hpp>

@@ -3,7 +3,7 @@
 #pragma once
 
 #include <eulervop/model/euler_problem.hpp>
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 
 #include <cmath>
 

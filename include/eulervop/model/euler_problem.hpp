@@ -37,11 +37,6 @@ inline void direct_rhs(const vec3<T>& a, const vec3<T>& w, const vec3<T>& g, vec
   dw[2] = g[2] + a[2] * (w[0] * w[1]);
 }
 
-enum class equation_form {
-  normalized,  // Eq. 5
-  direct,      // Eq. 1 in the body's axes
-};
-
 // The coefficients a of Eq. 5 in the form of Eq. 1.
 template <class T>
 vec3<T> normalized_coefficients() {
@@ -138,13 +133,6 @@ T remainder_bound(const euler_problem<T, Torque>& p, const T& x) {
   return largest_coefficient(p) * x / sqrt(T(3));
 }
 
-// Problems of Euler's equations: the reference integrator's quadratic fast paths need the
-// coefficients a and the torque's traits.
-template <class P>
-concept euler_form_problem = problem<P> && P::dimension == 3 && requires(const P& p) {
-  { p.a } -> std::convertible_to<const vec3<typename P::value_type>&>;
-  { p.form } -> std::convertible_to<equation_form>;
-  p.torque;
-};
+static_assert(euler_form_problem<euler_problem<double>>);
 
 }  // namespace eulervop

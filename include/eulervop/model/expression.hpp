@@ -11,7 +11,7 @@
 // scene/decimal.hpp).
 #pragma once
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/core/vec3.hpp>
 
 #include <bit>
@@ -112,25 +112,6 @@ inline std::size_t checked_stack_depth(const expression& e) {
   return most;
 }
 
-// pi correctly rounded in T, at T's current precision.
-template <scalar T>
-T pi_in() {
-  if constexpr (std::is_same_v<T, double>) {
-    return std::numbers::pi_v<double>;
-  } else if constexpr (std::is_same_v<T, quad>) {
-    // libquadmath's M_PIq, a __float128 literal of 37 significant digits: within 1e-37 of pi,
-    // far below half an ulp of binary128 at pi (2e-34), so it rounds as pi itself does
-    // (tests/test_expression.cpp compares it with pi from 100 digits).
-    return quad(M_PIq);
-  } else {
-    // MPFR's own constant, correctly rounded at the value's precision (the thread's default
-    // precision, set by mpfr_precision_scope): any precision, never a double or a fixed string.
-    T pi;
-    mpfr_const_pi(pi.backend().data(), MPFR_RNDN);
-    return pi;
-  }
-}
-
 // x = -x, in place (the negation of a Boost number without a temporary).
 template <scalar T>
 void negate_in_place(T& x) {
@@ -162,7 +143,7 @@ class compiled_expression {
       if (!v) throw std::invalid_argument("expression constant does not convert: " + c);
       constants_.push_back(std::move(*v));
     }
-    pi_ = detail::pi_in<T>();
+    pi_ = pi_in<T>();
     // Every slot is created now, at the current precision, and only assigned to afterwards.
     values_.assign(depth, T(0));
     partials_.assign(depth, vec3<T>{T(0), T(0), T(0)});

@@ -20,7 +20,7 @@
 #pragma once
 
 #include <eulervop/core/numerical_failure.hpp>
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/core/vec3.hpp>
 #include <eulervop/model/expression.hpp>
 #include <eulervop/model/physical_scaling.hpp>
@@ -213,7 +213,6 @@ class expression_torque {
   // The value of component i, or numerical_failure when it is not finite.
   T checked(const term& c, T v, int i, const T& ts, const T& t) const {
     using std::isfinite;
-    using boost::multiprecision::isfinite;
     if (isfinite(v)) [[likely]]
       return v;
     char at[96];

@@ -8,13 +8,13 @@
 //     reference integrator's double-precision correction and its residual updates rest on it;
 //   - a torque that depends on neither the time nor the state is one vector, read once per run.
 //
-// The interface of a torque type Torque over the number type T:
+// The interface of a torque type over the number type T is the concept `torque` below:
 //   static constexpr bool depends_on_time, depends_on_state;
 //   value(t, y) -> vec3<T> (or a reference to one): g at time t and state y;
 //   add_jacobian(t, y, J): J[i][k] += d g_i / d y_k (only when it depends on the state);
-//   convert_torque<U>(torque), found by argument-dependent lookup: the same torque over U (the
-//   reference integrator evaluates its first residual in double).
-// A torque with breakpoints (piecewise_torque, expression_torque.hpp) also gives
+//   convert_torque<double>(torque), found by argument-dependent lookup: the same torque in double
+//   (the reference integrator evaluates its first residual in double).
+// A torque with breakpoints (the concept piecewise_torque, expression_torque.hpp) also gives
 //   breakpoints() -> the increasing times where its formulas change;
 //   interval_at(t), pin(interval) const, unpin() const: the integrators end every segment and step
 //   at a breakpoint, and pin the interval they work in, so that a segment ending on a
@@ -26,6 +26,8 @@
 
 #include <eulervop/core/vec3.hpp>
 
+#include <array>
+#include <concepts>
 #include <cstddef>
 
 namespace eulervop {
@@ -35,6 +37,16 @@ struct torque_traits {
   static constexpr bool depends_on_time = Torque::depends_on_time;
   static constexpr bool depends_on_state = Torque::depends_on_state;
   static constexpr bool is_constant = !depends_on_time && !depends_on_state;
+};
+
+// A torque type G over the number type T (the interface above).
+template <class G, class T>
+concept torque = requires(const G& g, const T& t, const vec3<T>& y, std::array<vec3<T>, 3>& J) {
+  { G::depends_on_time } -> std::convertible_to<bool>;
+  { G::depends_on_state } -> std::convertible_to<bool>;
+  { g.value(t, y) } -> std::convertible_to<vec3<T>>;
+  convert_torque<double>(g);
+  requires !G::depends_on_state || requires { g.add_jacobian(t, y, J); };
 };
 
 // True when the torque is one vector for the whole run.

@@ -1,8 +1,13 @@
 // The reference solution of a problem in one call: the dense output on the whole span, or the
 // samples at times known in advance in constant memory.
+//
+// The compiled kernels (kernels/cells.hpp) hold these for every scalar and torque of the program;
+// with EULERVOP_COMPILED_KERNELS defined they are declared extern at the foot of this file.
 #pragma once
 
 #include <eulervop/core/quaternion.hpp>
+#include <eulervop/kernels/cells.hpp>
+#include <eulervop/model/expression_torque.hpp>
 #include <eulervop/reference/attitude_cascade.hpp>
 #include <eulervop/reference/chebyshev_picard.hpp>
 
@@ -90,5 +95,32 @@ dense_trajectory<T, 7> integrate_attitude(const euler_problem<T, Torque>& proble
   if (attitude) *attitude = cascade.stats();
   return dense_trajectory<T, 7>(std::move(segs), nodes_kept);
 }
+
+// The cells of one scalar T and torque G<T> (kernels/cells.hpp): EXTERN is `extern` to declare
+// them, empty to define them. The rates alone:
+#define EULERVOP_REFERENCE_CELL(EXTERN, T, G)                                                                   \
+  EXTERN template dense_trajectory<T> integrate_reference(const euler_problem<T, G<T>>&, const T&,              \
+                                                          const picard_settings&, const progress_callback&,    \
+                                                          picard_stats*);                                      \
+  EXTERN template void integrate_reference_samples(const euler_problem<T, G<T>>&, const T&, const std::vector<T>&, \
+                                                   const typename segment_sampler<T>::emit_function&,          \
+                                                   const picard_settings&, const progress_callback&,           \
+                                                   picard_stats*, const segment_sink<T>&);
+// ... and with the attitude beside them:
+#define EULERVOP_REFERENCE_ATTITUDE_CELL(EXTERN, T, G)                                                           \
+  EXTERN template attitude_stats integrate_attitude_samples(                                                     \
+      const euler_problem<T, G<T>>&, const body_rates<T>&, const quaternion<T>&, const T&, const std::vector<T>&, \
+      const typename segment_sampler<T, 7>::emit_function&, const picard_settings&, const progress_callback&,     \
+      picard_stats*);                                                                                            \
+  EXTERN template dense_trajectory<T, 7> integrate_attitude(const euler_problem<T, G<T>>&, const body_rates<T>&, \
+                                                            const quaternion<T>&, const T&, const picard_settings&, \
+                                                            picard_stats*, attitude_stats*);
+#ifdef EULERVOP_COMPILED_KERNELS
+#define EULERVOP_EXTERN_REFERENCE_CELLS_(T, G) \
+  EULERVOP_REFERENCE_CELL(extern, T, G)        \
+  EULERVOP_REFERENCE_ATTITUDE_CELL(extern, T, G)
+EULERVOP_FOR_EACH_SCALAR_AND_TORQUE(EULERVOP_EXTERN_REFERENCE_CELLS_)
+#undef EULERVOP_EXTERN_REFERENCE_CELLS_
+#endif
 
 }  // namespace eulervop

@@ -13,7 +13,7 @@
 #pragma once
 
 #include <eulervop/core/outcome.hpp>
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/rk/detail/compensated_sum.hpp>
 #include <eulervop/rk/embedded_rk.hpp>
 #include <eulervop/rk/error_norm.hpp>

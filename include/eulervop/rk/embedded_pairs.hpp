@@ -13,7 +13,7 @@
 // h sum_j e_j (k_j - k_1), sum_j e_j = 0 (embedded_rk.hpp), and their non-zero pattern.
 #pragma once
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/rk/detail/butcher_dop853.hpp>
 #include <eulervop/rk/method.hpp>
 #include <eulervop/rk/tableaux.hpp>

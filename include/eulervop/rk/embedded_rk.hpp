@@ -8,7 +8,7 @@
 // exact and the controller then takes the largest step allowed.
 #pragma once
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/rk/detail/compensated_sum.hpp>
 #include <eulervop/rk/detail/stage_loop.hpp>
 #include <eulervop/rk/error_norm.hpp>

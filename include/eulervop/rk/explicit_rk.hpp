@@ -8,7 +8,7 @@
 // time, once per run.
 #pragma once
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/rk/detail/compensated_sum.hpp>
 #include <eulervop/rk/detail/stage_loop.hpp>
 #include <eulervop/rk/state_traits.hpp>

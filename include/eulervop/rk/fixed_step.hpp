@@ -4,7 +4,7 @@
 #pragma once
 
 #include <eulervop/core/outcome.hpp>
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/rk/explicit_rk.hpp>
 #include <eulervop/rk/state_traits.hpp>
 #include <eulervop/rk/tableaux.hpp>

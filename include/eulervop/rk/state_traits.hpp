@@ -7,7 +7,7 @@
 // Other types: specialize eulervop::rk::state_traits<State>.
 #pragma once
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 
 #include <boost/pfr.hpp>
 

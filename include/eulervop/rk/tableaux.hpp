@@ -7,7 +7,7 @@
 // (detail/stage_loop.hpp) drops the zero terms.
 #pragma once
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/rk/detail/butcher_dop853.hpp>
 #include <eulervop/rk/method.hpp>
 

@@ -20,20 +20,22 @@
 // Attitude (settings.hpp, attitude_settings): every formulation then also carries q,
 // dq/dtau = 1/2 q (x) (0, body rates), on the same stages as its rates or elements, sampled beside
 // them in run_result::q (detail/attitude.hpp, docs/attitude-runs.md). The rates are bit for bit
-// those of the run without it. The rate-only runs are separate instantiations, compiled as before.
+// those of the run without it. The rate-only runs are separate instantiations.
+//
+// Each (formulation, fixed or adaptive, rates or attitude) is a cell (detail/run_cells.hpp): the
+// compiled kernels hold the cells of the program's torques (kernels/cells.hpp), declared extern
+// below when EULERVOP_COMPILED_KERNELS is defined.
 #pragma once
 
 #include <eulervop/core/vec3.hpp>
+#include <eulervop/kernels/cells.hpp>
 #include <eulervop/model/euler_problem.hpp>
+#include <eulervop/model/expression_torque.hpp>
 #include <eulervop/model/torque.hpp>
-#include <eulervop/rk/embedded_pairs.hpp>
 #include <eulervop/rk/method.hpp>
-#include <eulervop/rk/tableaux.hpp>
 #include <eulervop/runs/detail/divergence.hpp>
-#include <eulervop/runs/detail/euler_runs.hpp>
+#include <eulervop/runs/detail/run_cells.hpp>
 #include <eulervop/runs/detail/run_torque.hpp>
-#include <eulervop/runs/detail/vop_adaptive_run.hpp>
-#include <eulervop/runs/detail/vop_fixed_run.hpp>
 #include <eulervop/runs/formulation.hpp>
 #include <eulervop/runs/run_result.hpp>
 #include <eulervop/runs/settings.hpp>
@@ -59,37 +61,17 @@ void require_normalized(formulation f, const Problem& p) {
                             "form of Eq. 1 (two moments equal or nearly so)");
 }
 
-// The runs with attitude (s.attitude set): out of line, apart from the rate-only ones.
-template <class Problem>
-[[gnu::noinline]] void run_fixed_attitude(run_result& out, formulation f, rk::method m, const Problem& p,
-                                          const fixed_run_settings& s, double bound) {
-  if (f == formulation::euler) {
-    run_euler_fixed<Problem, true>(out, p, s, bound);
-    return;
+// Calls cell(std::integral_constant<formulation, F>) for the formulation f.
+template <class Cell>
+void dispatch_formulation(formulation f, Cell&& cell) {
+  switch (f) {
+    case formulation::euler: cell(std::integral_constant<formulation, formulation::euler>{}); break;
+    case formulation::vop: cell(std::integral_constant<formulation, formulation::vop>{}); break;
+    case formulation::vop_theta: cell(std::integral_constant<formulation, formulation::vop_theta>{}); break;
   }
-  rk::dispatch_method(m, [&](auto tag) {
-    if (f == formulation::vop)
-      vop_fixed_run<decltype(tag), false, Problem, true>(out, p, s, bound)();
-    else
-      vop_fixed_run<decltype(tag), true, Problem, true>(out, p, s, bound)();
-  });
 }
 
-template <class Problem>
-[[gnu::noinline]] void run_adaptive_attitude(run_result& out, formulation f, rk::method m, const Problem& p,
-                                             const adaptive_run_settings& s, double bound) {
-  rk::dispatch_pair(m, [&](auto pair) {
-    using Pair = decltype(pair);
-    switch (f) {
-      case formulation::euler: run_euler_adaptive<Pair, Problem, true>(out, p, s, bound); break;
-      case formulation::vop: vop_adaptive_run<Pair, false, Problem, true>(out, p, s, bound)(); break;
-      case formulation::vop_theta: vop_adaptive_run<Pair, true, Problem, true>(out, p, s, bound)(); break;
-    }
-  });
-}
-
-// The attitude variant `run`, where the torque type compiles one (model/torque.hpp,
-// compiles_attitude_runs).
+// The attitude cell, where the torque type compiles one (model/torque.hpp, compiles_attitude_runs).
 template <class Problem, class Run>
 void run_attitude(Run&& run) {
   if constexpr (compiles_attitude_runs<typename Problem::torque_type>)
@@ -111,19 +93,11 @@ run_result run_fixed(formulation f, rk::method m, const Problem& p, const fixed_
   const double tau_end = p.initial_time() + s.h * static_cast<double>(s.n_steps);
   const double bound =
       detail::explosion_bound(p.initial_state(), detail::torque_size(p, tau_end), tau_end, f == formulation::vop);
-  if (s.attitude) [[unlikely]] {
-    detail::run_attitude<Problem>([&] { detail::run_fixed_attitude(out, f, m, p, s, bound); });
-    return out;
-  }
-  if (f == formulation::euler) {
-    detail::run_euler_fixed(out, p, s, bound);
-    return out;
-  }
-  rk::dispatch_method(m, [&](auto tag) {
-    if (f == formulation::vop)
-      detail::vop_fixed_run<decltype(tag), false, Problem>(out, p, s, bound)();
+  detail::dispatch_formulation(f, [&](auto form) {
+    if (s.attitude) [[unlikely]]
+      detail::run_attitude<Problem>([&] { detail::run_fixed_cell<Problem, decltype(form)::value, true>(out, m, p, s, bound); });
     else
-      detail::vop_fixed_run<decltype(tag), true, Problem>(out, p, s, bound)();
+      detail::run_fixed_cell<Problem, decltype(form)::value, false>(out, m, p, s, bound);
   });
   return out;
 }
@@ -140,19 +114,38 @@ run_result run_adaptive(formulation f, rk::method m, const Problem& p, const ada
   detail::require_normalized(f, p);
   const double bound =
       detail::explosion_bound(p.initial_state(), detail::torque_size(p, s.tau_end), s.tau_end, f == formulation::vop);
-  if (s.attitude) [[unlikely]] {
-    detail::run_attitude<Problem>([&] { detail::run_adaptive_attitude(out, f, m, p, s, bound); });
-    return out;
-  }
-  rk::dispatch_pair(m, [&](auto pair) {
-    using Pair = decltype(pair);
-    switch (f) {
-      case formulation::euler: detail::run_euler_adaptive<Pair>(out, p, s, bound); break;
-      case formulation::vop: detail::vop_adaptive_run<Pair, false, Problem>(out, p, s, bound)(); break;
-      case formulation::vop_theta: detail::vop_adaptive_run<Pair, true, Problem>(out, p, s, bound)(); break;
-    }
+  detail::dispatch_formulation(f, [&](auto form) {
+    if (s.attitude) [[unlikely]]
+      detail::run_attitude<Problem>([&] { detail::run_adaptive_cell<Problem, decltype(form)::value, true>(out, m, p, s, bound); });
+    else
+      detail::run_adaptive_cell<Problem, decltype(form)::value, false>(out, m, p, s, bound);
   });
   return out;
 }
+
+// The cells of one torque G<double> (kernels/cells.hpp): formulation FORM, rates only or with
+// the attitude, at a fixed step or under error control. EXTERN is `extern` to declare them, empty
+// to define them.
+#define EULERVOP_RUN_FIXED_CELL(EXTERN, G, FORM, ATTITUDE)                                                  \
+  EXTERN template void detail::run_fixed_cell<euler_problem<double, G<double>>, formulation::FORM, ATTITUDE>(  \
+      run_result&, rk::method, const euler_problem<double, G<double>>&, const fixed_run_settings&, double);
+#define EULERVOP_RUN_ADAPTIVE_CELL(EXTERN, G, FORM, ATTITUDE)                                                  \
+  EXTERN template void detail::run_adaptive_cell<euler_problem<double, G<double>>, formulation::FORM, ATTITUDE>( \
+      run_result&, rk::method, const euler_problem<double, G<double>>&, const adaptive_run_settings&, double);
+#define EULERVOP_RUN_CELL_(EXTERN, G, FORM, ATTITUDE)  \
+  EULERVOP_RUN_FIXED_CELL(EXTERN, G, FORM, ATTITUDE) \
+  EULERVOP_RUN_ADAPTIVE_CELL(EXTERN, G, FORM, ATTITUDE)
+#define EULERVOP_EXTERN_RUN_CELLS_(G, ...)        \
+  EULERVOP_RUN_CELL_(extern, G, euler, false)     \
+  EULERVOP_RUN_CELL_(extern, G, vop, false)       \
+  EULERVOP_RUN_CELL_(extern, G, vop_theta, false) \
+  EULERVOP_RUN_CELL_(extern, G, euler, true)      \
+  EULERVOP_RUN_CELL_(extern, G, vop, true)        \
+  EULERVOP_RUN_CELL_(extern, G, vop_theta, true)
+#ifdef EULERVOP_COMPILED_KERNELS
+EULERVOP_KERNEL_TORQUES(EULERVOP_EXTERN_RUN_CELLS_, )
+#endif
+#undef EULERVOP_EXTERN_RUN_CELLS_
+#undef EULERVOP_RUN_CELL_
 
 }  // namespace eulervop

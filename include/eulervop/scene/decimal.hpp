@@ -5,7 +5,7 @@
 // as text and converted once, in the target type, by to_scalar<T>.
 #pragma once
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/model/expression.hpp>
 
 #include <memory>

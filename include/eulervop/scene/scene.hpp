@@ -13,7 +13,7 @@
 #include <eulervop/scene/decimal.hpp>
 #include <eulervop/scene/input_error.hpp>
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/model/torque_law.hpp>
 
 #include <array>

@@ -15,7 +15,7 @@
 #include <eulervop/model/integrals.hpp>
 #include <eulervop/model/physical_scaling.hpp>
 #include <eulervop/core/quaternion.hpp>
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/model/body_rates.hpp>
 
 #include <boost/math/special_functions/jacobi_elliptic.hpp>

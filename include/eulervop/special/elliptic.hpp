@@ -67,7 +67,7 @@
 // assign(), and keep the objects alive in hot loops).
 #pragma once
 
-#include "eulervop/core/scalar.hpp"
+#include <eulervop/core/scalar_traits.hpp>
 
 #include <boost/math/constants/constants.hpp>
 

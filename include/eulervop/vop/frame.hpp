@@ -26,7 +26,7 @@
 // (runs/detail/vop_run_state.hpp) step across them with Eq. 5 and re-derive the elements.
 #pragma once
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/core/vec3.hpp>
 #include <eulervop/special/elliptic.hpp>
 #include <eulervop/vop/phase.hpp>

@@ -2,7 +2,7 @@
 // per unit u, and its reduction to one turn.
 #pragma once
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/special/elliptic.hpp>
 
 #include <boost/math/constants/constants.hpp>

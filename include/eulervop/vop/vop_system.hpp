@@ -2,7 +2,7 @@
 // the frame of the elements' regime (frame.hpp, where the minor-axis regime's form is derived).
 #pragma once
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/core/vec3.hpp>
 #include <eulervop/special/elliptic.hpp>
 #include <eulervop/vop/detail/vop_equations.hpp>

@@ -8,6 +8,7 @@
 #include "compute/scene_library.hpp"
 #include "io/progress_line.hpp"
 
+#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include <algorithm>

@@ -18,7 +18,7 @@
 
 #include "commands/reference/reference_command.hpp"
 
-#include <CLI/CLI.hpp>
+#include "cli/cli11_fwd.hpp"
 
 #include <optional>
 #include <ostream>

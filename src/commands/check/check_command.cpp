@@ -6,6 +6,8 @@
 #include "commands/check/check_job.hpp"
 #include "commands/check/check_output.hpp"
 
+#include <CLI/CLI.hpp>
+
 namespace eulervop::app {
 
 void add_check_flags(CLI::App& sub, check_options& o) {

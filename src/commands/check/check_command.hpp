@@ -17,7 +17,7 @@
 // failure of the reference.
 #pragma once
 
-#include <CLI/CLI.hpp>
+#include "cli/cli11_fwd.hpp"
 
 #include <optional>
 #include <ostream>

@@ -7,7 +7,7 @@
 #include "commands/check/check_command.hpp"
 #include "compute/scene_library.hpp"
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/precision.hpp>
 #include <eulervop/reference/settings.hpp>
 
 #include <optional>

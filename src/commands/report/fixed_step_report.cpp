@@ -1,6 +1,6 @@
 #include "commands/report/fixed_step_report.hpp"
 
-#include "compute/comparison_runs.hpp"
+#include <eulervop/runs/comparison_run.hpp>
 #include "commands/report/fixed_step_output.hpp"
 #include "commands/report/report_output.hpp"
 #include "compute/reference_compute.hpp"

@@ -5,7 +5,7 @@
 
 #include "cli/scene_overrides.hpp"
 
-#include <CLI/CLI.hpp>
+#include "cli/cli11_fwd.hpp"
 
 #include <optional>
 #include <ostream>

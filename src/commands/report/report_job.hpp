@@ -9,7 +9,7 @@
 #include "compute/step_rule.hpp"
 #include "io/reference_csv.hpp"
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/precision.hpp>
 #include <eulervop/reference/settings.hpp>
 #include <eulervop/rk/tableaux.hpp>
 #include <eulervop/runs/formulation.hpp>

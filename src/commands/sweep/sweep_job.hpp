@@ -7,7 +7,7 @@
 #include "compute/work_precision_grid.hpp"
 #include "compute/work_precision_runs.hpp"
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/precision.hpp>
 #include <eulervop/reference/settings.hpp>
 
 #include <array>

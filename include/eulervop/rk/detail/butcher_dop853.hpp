@@ -21,7 +21,7 @@
 //     1e-30 * (span) * |f|, whatever the precision. The tests measure it.
 #pragma once
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 
 #include <array>
 #include <cmath>

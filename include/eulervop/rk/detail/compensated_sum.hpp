@@ -10,7 +10,7 @@
 #pragma once
 
 #include <eulervop/core/error_free.hpp>
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 
 namespace eulervop::rk::detail {
 

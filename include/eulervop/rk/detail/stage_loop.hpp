@@ -10,7 +10,7 @@
 // force-inlined: a call that is not inlined spills the registers of the whole step.
 #pragma once
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/rk/state_traits.hpp>
 #include <eulervop/rk/tableaux.hpp>
 

@@ -2,7 +2,7 @@
 // modulus data cached per modulus.
 #pragma once
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/special/elliptic.hpp>
 #include <eulervop/vop/phase.hpp>
 

@@ -2,7 +2,7 @@
 // it: the bookkeeping shared by vop_system.hpp and vop_theta_system.hpp.
 #pragma once
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/core/vec3.hpp>
 
 #include <limits>

@@ -14,7 +14,7 @@
 // The constant form keeps its code exactly as before (its outputs are byte-identical).
 #pragma once
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/core/vec3.hpp>
 #include <eulervop/special/elliptic.hpp>
 #include <eulervop/special/jacobi_theta.hpp>

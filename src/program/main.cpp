@@ -6,10 +6,11 @@
 // `check`, where 1 means "the trajectory is outside the tolerance".
 // `batch` runs every scene and then exits 2 if any scene had bad input, else 3 if any had a
 // numerical failure (batch_command.hpp).
-#include "cli/command_registry.hpp"
+#include "program/command_registry.hpp"
 #include "cli/command_text.hpp"
 #include "cli/exit_codes.hpp"
 #include "compute/scene_library.hpp"
+#include "io/progress_line.hpp"
 
 #include <eulervop/core/numerical_failure.hpp>
 
@@ -18,6 +19,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <memory>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -68,6 +70,10 @@ int run(const ev::command& c, const std::string& command_line) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // compute/ reports its progress through compute/progress.hpp; on a terminal it is this line.
+  ev::set_progress_display([](const std::string& label, double total, const std::string& unit) {
+    return std::make_unique<ev::progress_line>(label, total, unit);
+  });
   CLI::App app{"eulervop: Euler's equations by variation of parameters, and their high-precision reference"};
   app.set_version_flag("--version", EULERVOP_VERSION);
   app.require_subcommand(1);

@@ -2,7 +2,7 @@
 // options) and what runs it. main() offers them in this order and runs the one given.
 #pragma once
 
-#include <CLI/CLI.hpp>
+#include "cli/cli11_fwd.hpp"
 
 #include <functional>
 #include <ostream>

@@ -56,7 +56,7 @@
 #pragma once
 
 #include <eulervop/core/quaternion.hpp>
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/core/vec3.hpp>
 #include <eulervop/model/physical_scaling.hpp>
 #include <eulervop/model/principal_axes.hpp>

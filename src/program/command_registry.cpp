@@ -1,4 +1,4 @@
-#include "cli/command_registry.hpp"
+#include "program/command_registry.hpp"
 
 #include "commands/batch/batch_command.hpp"
 #include "commands/check/check_command.hpp"
