@@ -5,7 +5,7 @@
 
 #include "compute/scene_library.hpp"
 
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 
 #include <cstddef>
 #include <string>

@@ -5,7 +5,7 @@
 #include "compute/scene_library.hpp"
 
 #include <eulervop/core/quaternion.hpp>
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/core/vec3.hpp>
 
 #include <optional>

@@ -11,7 +11,7 @@
 #include "io/csv_rows.hpp"
 
 #include <eulervop/core/quaternion.hpp>
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/model/euler_problem.hpp>
 
 #include <fmt/format.h>

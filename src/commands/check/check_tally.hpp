@@ -10,7 +10,7 @@
 
 #include <eulervop/core/numerical_failure.hpp>
 #include <eulervop/core/quaternion.hpp>
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/model/error_measure.hpp>
 #include <eulervop/model/euler_problem.hpp>
 

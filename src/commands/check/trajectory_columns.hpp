@@ -8,7 +8,7 @@
 #include "io/csv_rows.hpp"
 
 #include <eulervop/core/quaternion.hpp>
-#include <eulervop/core/scalar.hpp>
+#include <eulervop/core/scalar_traits.hpp>
 
 #include <array>
 #include <cstddef>

@@ -49,7 +49,7 @@ inline attitude_state join(const vec3<double>& y, const quaternion<double>& q) {
 }
 
 // dq/dtau = 1/2 q (x) (0, W) into ds[3..6], q from s.
-[[gnu::always_inline]] inline void put_attitude_rate(const attitude_state& s, const vec3<double>& W,
+inline void put_attitude_rate(const attitude_state& s, const vec3<double>& W,
                                                      attitude_state& ds) {
   const quaternion<double> d = attitude_rate(quat(s), W);
   ds[3] = d.w;
@@ -61,7 +61,7 @@ inline attitude_state join(const vec3<double>& y, const quaternion<double>& q) {
 // A VOP run's state, y or (y, q), leaves the elements' domain at t (vop_run_state::leave_elements):
 // y becomes Omega with its compensation zero; q and its compensation stay.
 template <class Run, class S>
-[[gnu::always_inline]] inline void leave_elements_of(Run& run, double t, S& state, S& comp) {
+inline void leave_elements_of(Run& run, double t, S& state, S& comp) {
   if constexpr (std::is_same_v<S, attitude_state>) {
     set_head(state, run.leave_elements(t, head(state)));
     set_head(comp, vec3<double>{0, 0, 0});
@@ -95,7 +95,7 @@ struct direct_attitude_system {
   Problem problem;
   body_rates<double> rates;
 
-  [[gnu::always_inline]] void operator()(const attitude_state& s, attitude_state& ds, const double& t) const {
+  void operator()(const attitude_state& s, attitude_state& ds, const double& t) const {
     const vec3<double> y = head(s);
     vec3<double> dy;
     problem.rhs(t, y, dy);
@@ -118,7 +118,7 @@ struct element_attitude_system {
   Run& run;
   const body_rates<double>& rates;
 
-  [[gnu::always_inline]] void operator()(const attitude_state& s, attitude_state& ds, const double& t) {
+  void operator()(const attitude_state& s, attitude_state& ds, const double& t) {
     const vec3<double> y = head(s);
     vec3<double> dy;
     run.system()(y, dy, t);

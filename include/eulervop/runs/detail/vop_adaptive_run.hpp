@@ -139,7 +139,7 @@ class vop_adaptive_run {
   // h the next step), retry (h shorter, or the representation changed) or stopped (out_.status).
   // `end` is the end of the current interval (tau_end, or a breakpoint), which a last step reaches
   // exactly.
-  [[gnu::always_inline]] attempt_result advance(S& state, S& comp, step_clock& at, double& h, double h_try,
+  attempt_result advance(S& state, S& comp, step_clock& at, double& h, double h_try,
                                                 bool last, double end) {
     if (!(h_try > 16 * std::numeric_limits<double>::epsilon() * std::abs(at.t)) || !std::isfinite(h_try)) {
       out_.status = {std::isfinite(h_try) ? outcome_kind::step_underflow : outcome_kind::non_finite, at.t};
@@ -177,7 +177,7 @@ class vop_adaptive_run {
 
   // The embedded step of h of the current representation from (t, state) (error norm in err).
   // False when an element step left the elements' domain.
-  [[gnu::always_inline]] bool attempt(const S& state, const S& comp, double t, double h, S& next, S& comp_next,
+  bool attempt(const S& state, const S& comp, double t, double h, S& next, S& comp_next,
                                       double& err) {
     if (run_.in_elements()) {
       if constexpr (Attitude) {
@@ -194,7 +194,7 @@ class vop_adaptive_run {
   }
   // After an accepted step: band entry or exit (a new representation is primed afresh), the
   // derivative at the new state (FSAL), the sample.
-  [[gnu::always_inline]] void accept(S& state, S& comp, const step_clock& at) {
+  void accept(S& state, S& comp, const step_clock& at) {
     const bool was_elements = run_.in_elements();
     if (after_step(at.t, state, comp)) [[unlikely]] {
       controller_.reset();
@@ -220,7 +220,7 @@ class vop_adaptive_run {
     prime(state, t);
   }
   // vop_run_state::after_step on the elements or Omega (q unchanged).
-  [[gnu::always_inline]] bool after_step(double t, S& state, S& comp) {
+  bool after_step(double t, S& state, S& comp) {
     if constexpr (Attitude) {
       V y = head(state), c = head(comp);
       const bool changed = run_.after_step(t, y, c);
@@ -231,7 +231,7 @@ class vop_adaptive_run {
       return run_.after_step(t, state, comp);
     }
   }
-  [[gnu::always_inline]] void sample(const step_clock& at, const S& state) {
+  void sample(const step_clock& at, const S& state) {
     if constexpr (Attitude) samples_.put(at.n, at.t, at.t_lo, run_.Omega(head(state)), quat(state));
     else samples_.put(at.n, at.t, at.t_lo, run_.Omega(state));
   }

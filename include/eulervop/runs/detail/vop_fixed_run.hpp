@@ -105,7 +105,7 @@ class vop_fixed_run {
  private:
   // One step of h of the current representation from (t, state). False when an element step left
   // the elements' domain: the caller redoes it with Eq. 5.
-  [[gnu::always_inline]] bool step(const S& state, double t, double h, S& next, S& comp_next) {
+  bool step(const S& state, double t, double h, S& next, S& comp_next) {
     if (run_.in_elements()) {
       if constexpr (Attitude) {
         element_attitude_system<vop_run_state<Theta, Torque>> sys{run_, euler_.rates};
@@ -135,9 +135,9 @@ class vop_fixed_run {
   }
   // An element step left the elements' domain: the state at t becomes Omega (compensation zero;
   // q and its compensation stay).
-  [[gnu::always_inline]] void leave_elements(double t, S& state, S& comp) { leave_elements_of(run_, t, state, comp); }
+  void leave_elements(double t, S& state, S& comp) { leave_elements_of(run_, t, state, comp); }
   // vop_run_state::after_step on the elements or Omega (q unchanged).
-  [[gnu::always_inline]] void after_step(double t, S& state, S& comp) {
+  void after_step(double t, S& state, S& comp) {
     if constexpr (Attitude) {
       V y = head(state), c = head(comp);
       run_.after_step(t, y, c);

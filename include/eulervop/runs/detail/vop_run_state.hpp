@@ -108,7 +108,7 @@ class vop_run_state {
   // elements (detail/attitude.hpp): sn, cn, dn by the theta route in double where the element
   // system takes it (k <= theta_max_k), else by the AGM; NaN outside 0 <= c1 < c2, where the
   // element system flags the step anyway (it is then redone with Eq. 5).
-  [[gnu::always_inline]] V stage_Omega(const V& y) const {
+  V stage_Omega(const V& y) const {
     const double c1 = y[0], c2 = y[1];
     if (!(c1 >= 0 && c1 < c2)) [[unlikely]] {
       const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -146,7 +146,7 @@ class vop_run_state {
   // After an accepted step ending at tau: phase reduction, band entry or exit. Returns true if
   // the representation changed (state and comp are then the new one's; a caller with FSAL must
   // re-prime).
-  [[gnu::always_inline]] bool after_step(double tau, V& state, V& comp) {
+  bool after_step(double tau, V& state, V& comp) {
     if (elements_) {
       if constexpr (Theta) reduce_phase(state[2], turns_);
       if constexpr (varying) gnorm_ = norm(sys_.last_torque());  // the step's last stage (header note)
