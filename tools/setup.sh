@@ -7,6 +7,7 @@ packages=(
   libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   googletest libgtest-dev libbenchmark-dev
   parallel  # the tests run the GNU parallel recipes of docs/batch.md
+  python3   # tools/check_layers.py (the test `layers`)
 )
 [[ "${EULERVOP_WITH_PLOTS:-0}" == 1 ]] && packages+=(python3-matplotlib)
 missing=()
