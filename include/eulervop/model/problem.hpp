@@ -36,8 +36,8 @@ enum class equation_form {
 };
 
 template <class P>
-concept euler_form_problem = problem<P> && P::dimension == 3 && torque<typename P::torque_type, typename P::value_type> &&
-                             requires(const P& p) {
+concept euler_form_problem = problem<P> && P::dimension == 3 &&
+                             torque<typename P::torque_type, typename P::value_type> && requires(const P& p) {
                                { p.a } -> std::convertible_to<const vec3<typename P::value_type>&>;
                                { p.form } -> std::convertible_to<equation_form>;
                                { p.torque } -> std::convertible_to<const typename P::torque_type&>;

@@ -94,10 +94,11 @@ run_result run_fixed(formulation f, rk::method m, const Problem& p, const fixed_
   const double bound =
       detail::explosion_bound(p.initial_state(), detail::torque_size(p, tau_end), tau_end, f == formulation::vop);
   detail::dispatch_formulation(f, [&](auto form) {
+    constexpr formulation F = decltype(form)::value;
     if (s.attitude) [[unlikely]]
-      detail::run_attitude<Problem>([&] { detail::run_fixed_cell<Problem, decltype(form)::value, true>(out, m, p, s, bound); });
+      detail::run_attitude<Problem>([&] { detail::run_fixed_cell<Problem, F, true>(out, m, p, s, bound); });
     else
-      detail::run_fixed_cell<Problem, decltype(form)::value, false>(out, m, p, s, bound);
+      detail::run_fixed_cell<Problem, F, false>(out, m, p, s, bound);
   });
   return out;
 }
@@ -115,10 +116,11 @@ run_result run_adaptive(formulation f, rk::method m, const Problem& p, const ada
   const double bound =
       detail::explosion_bound(p.initial_state(), detail::torque_size(p, s.tau_end), s.tau_end, f == formulation::vop);
   detail::dispatch_formulation(f, [&](auto form) {
+    constexpr formulation F = decltype(form)::value;
     if (s.attitude) [[unlikely]]
-      detail::run_attitude<Problem>([&] { detail::run_adaptive_cell<Problem, decltype(form)::value, true>(out, m, p, s, bound); });
+      detail::run_attitude<Problem>([&] { detail::run_adaptive_cell<Problem, F, true>(out, m, p, s, bound); });
     else
-      detail::run_adaptive_cell<Problem, decltype(form)::value, false>(out, m, p, s, bound);
+      detail::run_adaptive_cell<Problem, F, false>(out, m, p, s, bound);
   });
   return out;
 }
