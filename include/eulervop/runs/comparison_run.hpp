@@ -42,6 +42,7 @@
 
 #include <concepts>
 #include <stdexcept>
+#include <type_traits>
 
 namespace eulervop {
 
@@ -61,23 +62,25 @@ void require_normalized(formulation f, const Problem& p) {
                             "form of Eq. 1 (two moments equal or nearly so)");
 }
 
-// Calls cell(std::integral_constant<formulation, F>) for the formulation f.
-template <class Cell>
-void dispatch_formulation(formulation f, Cell&& cell) {
+// Calls cell(std::integral_constant<formulation, F>, std::bool_constant<Attitude>) for the
+// formulation f, with the attitude when `attitude` is set (and the torque type compiles attitude
+// runs: model/torque.hpp, compiles_attitude_runs; std::invalid_argument otherwise).
+template <class Problem, class Cell>
+void dispatch_cell(formulation f, bool attitude, Cell&& cell) {
+  const auto with_attitude = [&](auto form) {
+    if (!attitude) [[likely]] {
+      cell(form, std::false_type{});
+    } else if constexpr (compiles_attitude_runs<typename Problem::torque_type>) {
+      cell(form, std::true_type{});
+    } else {
+      throw std::invalid_argument("this torque type compiles no attitude runs (its attitude_runs is false)");
+    }
+  };
   switch (f) {
-    case formulation::euler: cell(std::integral_constant<formulation, formulation::euler>{}); break;
-    case formulation::vop: cell(std::integral_constant<formulation, formulation::vop>{}); break;
-    case formulation::vop_theta: cell(std::integral_constant<formulation, formulation::vop_theta>{}); break;
+    case formulation::euler: with_attitude(std::integral_constant<formulation, formulation::euler>{}); break;
+    case formulation::vop: with_attitude(std::integral_constant<formulation, formulation::vop>{}); break;
+    case formulation::vop_theta: with_attitude(std::integral_constant<formulation, formulation::vop_theta>{}); break;
   }
-}
-
-// The attitude cell, where the torque type compiles one (model/torque.hpp, compiles_attitude_runs).
-template <class Problem, class Run>
-void run_attitude(Run&& run) {
-  if constexpr (compiles_attitude_runs<typename Problem::torque_type>)
-    run();
-  else
-    throw std::invalid_argument("this torque type compiles no attitude runs (its attitude_runs is false)");
 }
 
 }  // namespace detail
@@ -93,12 +96,8 @@ run_result run_fixed(formulation f, rk::method m, const Problem& p, const fixed_
   const double tau_end = p.initial_time() + s.h * static_cast<double>(s.n_steps);
   const double bound =
       detail::explosion_bound(p.initial_state(), detail::torque_size(p, tau_end), tau_end, f == formulation::vop);
-  detail::dispatch_formulation(f, [&](auto form) {
-    constexpr formulation F = decltype(form)::value;
-    if (s.attitude) [[unlikely]]
-      detail::run_attitude<Problem>([&] { detail::run_fixed_cell<Problem, F, true>(out, m, p, s, bound); });
-    else
-      detail::run_fixed_cell<Problem, F, false>(out, m, p, s, bound);
+  detail::dispatch_cell<Problem>(f, s.attitude.has_value(), [&](auto form, auto attitude) {
+    detail::run_fixed_cell<Problem, decltype(form)::value, decltype(attitude)::value>(out, m, p, s, bound);
   });
   return out;
 }
@@ -115,12 +114,8 @@ run_result run_adaptive(formulation f, rk::method m, const Problem& p, const ada
   detail::require_normalized(f, p);
   const double bound =
       detail::explosion_bound(p.initial_state(), detail::torque_size(p, s.tau_end), s.tau_end, f == formulation::vop);
-  detail::dispatch_formulation(f, [&](auto form) {
-    constexpr formulation F = decltype(form)::value;
-    if (s.attitude) [[unlikely]]
-      detail::run_attitude<Problem>([&] { detail::run_adaptive_cell<Problem, F, true>(out, m, p, s, bound); });
-    else
-      detail::run_adaptive_cell<Problem, F, false>(out, m, p, s, bound);
+  detail::dispatch_cell<Problem>(f, s.attitude.has_value(), [&](auto form, auto attitude) {
+    detail::run_adaptive_cell<Problem, decltype(form)::value, decltype(attitude)::value>(out, m, p, s, bound);
   });
   return out;
 }
