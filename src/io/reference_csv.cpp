@@ -148,7 +148,7 @@ std::string reference_csv_header(const reference_metadata& m, reference_layout l
       line("tau,Omega1,Omega2,Omega3{}", m.certified_max_error ? ",radius" : "");
       break;
     case reference_layout::physical:
-      line("tau,Omega1,Omega2,Omega3,t,omega1,omega2,omega3{}{}", q,
+      line("t,omega1,omega2,omega3{},tau,Omega1,Omega2,Omega3{}", q,
            m.certified_max_error ? ",radius,radius_omega" : "");
       break;
     case reference_layout::direct: line("t,omega1,omega2,omega3{}", q); break;

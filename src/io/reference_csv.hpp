@@ -60,9 +60,10 @@ std::string attitude_convention(const eulervop::precision& p);
 // "mpfr:256 (effective_bits=257)": the precision as the metadata states it.
 std::string precision_text(const eulervop::precision& p);
 
-// The columns of a reference file: tau and Omega; then t and omega for a physical scene; t and
-// omega alone for a body integrated in the direct form of Eq. 1, which has no tau or Omega; t and
-// y for a scene in the coefficient form.
+// The columns of a reference file: tau and Omega for a normalized scene; for a physical scene, its
+// own terms first (t and omega, q0..q3 with an attitude), then tau and Omega; t and omega alone
+// for a body integrated in the direct form of Eq. 1, which has no tau or Omega; t and y for a
+// scene in the coefficient form.
 enum class reference_layout { normalized, physical, direct, coefficient };
 
 // The layout of the scene's reference file: the one place that decides it.
@@ -83,13 +84,13 @@ class reference_csv_row_writer {
     cells(tau, Omega);
     end_row();
   }
-  // A physical scene's row: the normalized state, then the time in seconds and omega in rad/s.
-  // (A row of the direct form is the one-state row, with t and omega.)
+  // A physical scene's row: the time in seconds and omega in rad/s (the scene's own terms), then
+  // the normalized state. (A row of the direct form is the one-state row, with t and omega.)
   template <scalar T>
   void row(const T& tau, const vec3<T>& Omega, const T& t, const vec3<T>& omega) {
-    cells(tau, Omega);
-    buffer_.push_back(',');
     cells(t, omega);
+    buffer_.push_back(',');
+    cells(tau, Omega);
     end_row();
   }
   // A row with the attitude: the row above, then q0..q3.
@@ -99,12 +100,13 @@ class reference_csv_row_writer {
     quaternion_cells(q);
     end_row();
   }
+  // A physical scene's row with the attitude: t, omega, q0..q3, then the normalized state.
   template <scalar T>
   void row(const T& tau, const vec3<T>& Omega, const T& t, const vec3<T>& omega, const quaternion<T>& q) {
-    cells(tau, Omega);
-    buffer_.push_back(',');
     cells(t, omega);
     quaternion_cells(q);
+    buffer_.push_back(',');
+    cells(tau, Omega);
     end_row();
   }
   // A certified row of the normalized layout: tau, the state as the texts `cells` (already
@@ -114,13 +116,13 @@ class reference_csv_row_writer {
     fmt::format_to(std::back_inserter(buffer_), "{},{},{},{},{}", to_text(tau), cells[0], cells[1], cells[2], radius);
     end_row();
   }
-  // A certified row of the physical layout: then t, omega's cells, the radius of Omega and that
-  // of omega.
+  // A certified row of the physical layout: t and omega's cells, tau and Omega's, then the radius
+  // of Omega and that of omega.
   template <scalar T>
   void certified_row(const T& tau, const std::array<std::string, 3>& Omega_cells, const T& t,
                      const std::array<std::string, 3>& omega_cells, const std::array<std::string, 2>& radii) {
-    fmt::format_to(std::back_inserter(buffer_), "{},{},{},{},{},{},{},{},{},{}", to_text(tau), Omega_cells[0],
-                   Omega_cells[1], Omega_cells[2], to_text(t), omega_cells[0], omega_cells[1], omega_cells[2],
+    fmt::format_to(std::back_inserter(buffer_), "{},{},{},{},{},{},{},{},{},{}", to_text(t), omega_cells[0],
+                   omega_cells[1], omega_cells[2], to_text(tau), Omega_cells[0], Omega_cells[1], Omega_cells[2],
                    radii[0], radii[1]);
     end_row();
   }
@@ -184,8 +186,13 @@ class reference_csv_reader {
   // (reference_layout::direct), whose state it is.
   template <scalar T>
   vec3<T> Omega() const {
-    return {rows_.number(Omega_[0]).template to_scalar<T>(), rows_.number(Omega_[1]).template to_scalar<T>(),
-            rows_.number(Omega_[2]).template to_scalar<T>()};
+    return columns<T>(Omega_);
+  }
+  // The current row's cells in three columns, as numbers in T.
+  template <scalar T>
+  vec3<T> columns(const std::array<std::size_t, 3>& c) const {
+    return {rows_.number(c[0]).template to_scalar<T>(), rows_.number(c[1]).template to_scalar<T>(),
+            rows_.number(c[2]).template to_scalar<T>()};
   }
 
  private:

@@ -113,13 +113,20 @@ check_result check_rows(const check_job& job, reference_csv_reader& ref, const P
   const std::size_t ref_time =
       cols.physical ? ref.column("t", " (the trajectory has physical times; the reference is normalized)")
                     : ref.column("tau");
-  std::optional<physical_scaling<T>> scale;
   if (cols.physical && cols.state == "omega" && !ref.rows().column("omega1").has_value())
     throw input_error(fmt::format("{}: the trajectory has omega1..3, the reference has not", rows.where()));
-  if (cols.physical && ref.rows().column("tau")) scale.emplace(scaling_of_reference<T>(ref));
+  // Physical columns against a physical reference with tau and Omega: compared in rad/s against
+  // the file's omega columns, with its Omega for the normalized measure.
+  compared_variables<T> vars;
+  std::optional<std::array<std::size_t, 3>> ref_omega;
+  if (cols.physical && ref.rows().column("tau")) {
+    vars = compared_variables<T>(scaling_of_reference<T>(ref));
+    ref_omega = {ref.column("omega1"), ref.column("omega2"), ref.column("omega3")};
+  }
 
   check_result r;
   r.time_name = cols.time_name;
+  r.terms = terms_of(cols, cols.state == "omega", vars.physical());
   // The attitude: the reference's q0..q3 (a file of a scene with [initial] q), compared when the
   // trajectory has them too.
   r.t.reference_attitude = ref.rows().column("q0").has_value();
@@ -128,8 +135,8 @@ check_result check_rows(const check_job& job, reference_csv_reader& ref, const P
   r.t.attitude = cols.q.has_value();
   std::optional<std::array<std::size_t, 4>> ref_q;
   if (r.t.attitude) ref_q = {ref.column("q0"), ref.column("q1"), ref.column("q2"), ref.column("q3")};
-  // A certified reference: each row's radius (of Omega, the state compared here).
-  const std::optional<std::size_t> radius_column = ref.rows().column("radius");
+  // A certified reference: each row's radius, of the state compared (radius_omega of omega).
+  const std::optional<std::size_t> radius_column = ref.rows().column(vars.physical() ? "radius_omega" : "radius");
   r.t.certified = radius_column.has_value();
   errors_writer out(job.errors_out);
   out.header(cols.time_name, r.t.certified, r.t.attitude);
@@ -141,12 +148,10 @@ check_result check_rows(const check_job& job, reference_csv_reader& ref, const P
     std::optional<std::array<decimal, 4>> a;
     if (cols.q) a = reader.attitude();
     cursor.seek(time, rows, cols.time_name);
-    vec3<T> Om = {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
-    T tau = time.template to_scalar<T>();
-    if (scale) {
-      Om = scale->Omega_of_omega(Om);
-      tau = scale->tau_of_t(tau);
-    }
+    const vec3<T> traj = {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
+    const T tau = vars.tau_of(time.template to_scalar<T>());
+    const row_states<T> states = ref_omega ? vars.states(ref.template Omega<T>(), ref.template columns<T>(*ref_omega), traj)
+                                           : vars.states(ref.template Omega<T>(), traj);
     std::optional<decimal> radius;
     if (radius_column) radius = ref.rows().number(*radius_column);
     std::optional<attitude_pair<T>> q;
@@ -156,7 +161,7 @@ check_result check_rows(const check_job& job, reference_csv_reader& ref, const P
       q = attitude_pair<T>{quaternion_of<T>({f.number(c[0]), f.number(c[1]), f.number(c[2]), f.number(c[3])}),
                            quaternion_of<T>(*a)};
     }
-    record<T>(job, r.t, out, rows.line(), time, ref.template Omega<T>(), Om, problem, tau, radius, q ? &*q : nullptr);
+    record<T>(job, r.t, out, rows.line(), time, states, vars, problem, tau, radius, q ? &*q : nullptr);
   }
   if (!r.t.rows) throw input_error(fmt::format("{}: no data rows", rows.where()));
   out.commit();

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <optional>
 #include <vector>
@@ -17,28 +18,17 @@ namespace eulervop::app {
 
 namespace {
 
-// The trajectory's time and state in the scene's tau and Omega (from t and omega in rad/s for
-// physical columns, Eqs. 2-4).
+// The variables the trajectory is compared in: its own (compared_variables.hpp).
 template <scalar T>
-class scene_variables {
- public:
-  // `physical`: the columns are t and omega (or t and y, which are the coefficient form's own).
-  scene_variables(const scene& s, bool physical) : physical_(physical && s.is_physical()) {
-    if (s.is_physical()) scale_.emplace(scaling_of<T>(s));
-  }
-  T tau(const decimal& x) const {
-    const T v = x.template to_scalar<T>();
-    return physical_ ? scale_->tau_of_t(v) : v;
-  }
-  vec3<T> Omega(const std::array<decimal, 3>& d) const {
-    const vec3<T> v = {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
-    return physical_ ? scale_->Omega_of_omega(v) : v;
-  }
+compared_variables<T> variables_of(const scene& s, const trajectory_columns& cols) {
+  if (cols.physical && s.is_physical()) return compared_variables<T>(scaling_of<T>(s));
+  return {};
+}
 
- private:
-  bool physical_;
-  std::optional<physical_scaling<T>> scale_;
-};
+template <scalar T>
+vec3<T> vec3_of(const std::array<decimal, 3>& d) {
+  return {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
+}
 
 // The trajectory's columns, which the scene must be able to compare: physical times need a
 // physical scene, and a body in the direct form has no tau or Omega.
@@ -76,10 +66,10 @@ trajectory_times<T> read_times(const check_job& job) {
   std::ifstream in = open_input_file("trajectory", job.trajectory_path);
   csv_rows rows(in, "trajectory " + job.trajectory_path);
   trajectory_times<T> out{scene_columns(job, rows), {}};
-  const scene_variables<T> vars(job.scn, out.cols.physical);
+  const compared_variables<T> vars = variables_of<T>(job.scn, out.cols);
   row_reader reader{rows, out.cols};
   while (rows.next()) {
-    out.tau.push_back(vars.tau(reader.time()));
+    out.tau.push_back(vars.tau_of(reader.time().template to_scalar<T>()));
     reader.values();
     if (out.cols.q) reader.attitude();
   }
@@ -87,14 +77,17 @@ trajectory_times<T> read_times(const check_job& job) {
   return out;
 }
 
-void describe_scene_reference(const check_job& job, double tau_end, const reference_run& ref, check_result& r) {
+// `end`: the last row's time, as the file states it (`time_name` = end).
+void describe_scene_reference(const check_job& job, const std::string& time_name, const std::string& end,
+                              double tau_end, const reference_run& ref, check_result& r) {
   const scene& s = job.scn;
-  r.reference_text = fmt::format("scene {} ({}, computed to tau = {:.6g} in {:.2f} s, {} segments)", s.name,
-                                 job.precision.name(), tau_end, ref.wall_seconds, ref.stats.segments);
+  r.reference_text = fmt::format("scene {} ({}, computed to {} = {} in {:.2f} s, {} segments)", s.name,
+                                 job.precision.name(), time_name, end, ref.wall_seconds, ref.stats.segments);
   r.reference_json = {{"source", "scene"},
                       {"path", job.reference_path},
                       {"scene", s.name},
                       {"precision", job.precision.name()},
+                      {"time_end", std::strtod(end.c_str(), nullptr)},
                       {"tau_end", tau_end},
                       {"seconds", ref.wall_seconds},
                       {"segments", ref.stats.segments}};
@@ -114,10 +107,11 @@ check_result check_in(const check_job& job) {
   T tau_end = taus.back();
   if (!(tau_end > 0)) tau_end = T(1);  // a trajectory at tau = 0 only
   errors_writer out(job.errors_out);    // an unwritable path fails before the integration
-  const scene_variables<T> vars(job.scn, cols.physical);
+  const compared_variables<T> vars = variables_of<T>(job.scn, cols);
 
   check_result r;
   r.time_name = cols.time_name;
+  r.terms = terms_of(cols, job.scn.is_physical(), vars.physical());
   r.t.reference_attitude = job.scn.has_attitude();
   r.t.attitude = cols.q.has_value();
   out.header(cols.time_name, false, r.t.attitude);
@@ -132,11 +126,11 @@ check_result check_in(const check_job& job) {
     const auto compare = [&](std::size_t i, const vec3<T>& Omega_ref, const quaternion<T>* q_ref) {
       if (!rows.next()) throw changed();
       const decimal time = reader.time();
-      if (vars.tau(time) != taus[i]) throw changed();
-      const vec3<T> Om = vars.Omega(reader.values());
+      if (vars.tau_of(time.template to_scalar<T>()) != taus[i]) throw changed();
+      const row_states<T> states = vars.states(Omega_ref, vec3_of<T>(reader.values()));
       std::optional<attitude_pair<T>> q;
       if (q_ref) q = attitude_pair<T>{*q_ref, quaternion_of<T>(reader.attitude())};
-      record<T>(job, r.t, out, rows.line(), time, Omega_ref, Om, &motion, taus[i], std::nullopt, q ? &*q : nullptr);
+      record<T>(job, r.t, out, rows.line(), time, states, vars, &motion, taus[i], std::nullopt, q ? &*q : nullptr);
     };
     if (cols.q)
       return integrate_attitude_streaming<T>(
@@ -147,7 +141,7 @@ check_result check_in(const check_job& job) {
   });
   if (rows.next()) throw changed();
   out.commit();
-  describe_scene_reference(job, static_cast<double>(tau_end), ref, r);
+  describe_scene_reference(job, cols.time_name, r.t.last_time, static_cast<double>(tau_end), ref, r);
   return r;
 }
 

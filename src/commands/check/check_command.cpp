@@ -23,12 +23,20 @@ void add_check_flags(CLI::App& sub, check_options& o) {
                 o.columns);
   add_text_flag(sub, {"--precision", "P", "Scene only: double, quad or mpfr:BITS (default: the scene's [reference])"},
                 o.precision);
-  add_text_flag(sub, {"--tol", "ABS", "Pass if every row's Eq. 20 error <= ABS (+ R |Omega_ref| with --rel-tol)"},
+  add_text_flag(sub,
+                {"--tol", "ABS",
+                 "Pass if every row's error (two-norm of the rates, in the trajectory's units: rad/s for "
+                 "t,omega1..3) <= ABS (+ R |ref| with --rel-tol)"},
                 o.tol);
-  add_text_flag(sub, {"--rel-tol", "R", "Pass if every row's Eq. 20 error <= R |Omega_ref| (+ ABS with --tol)"},
+  add_text_flag(sub, {"--rel-tol", "R", "Pass if every row's error <= R |ref|, the reference rates' norm (+ ABS with --tol)"},
                 o.rel_tol);
-  add_text_flag(sub, {"--attitude-tol", "RAD", "Pass if every row's attitude error (the angle to the reference's q) <= RAD"},
+  add_text_flag(sub,
+                {"--attitude-tol", "RAD",
+                 "Pass if every row's attitude error (the angle to the reference's q) <= RAD; required with "
+                 "--tol or --rel-tol when the trajectory has q0..q3"},
                 o.attitude_tol);
+  add_switch(sub, {"--ignore-attitude", "", "Judge the rates alone though the trajectory has q0..q3 (the result says so)"},
+             o.ignore_attitude);
   add_text_flag(sub, {"--errors-out", "FILE", "Write the per-row errors to FILE (CSV: line,time,error,bar[,attitude_error])"},
                 o.errors_out);
   add_text_flag(sub, {"--format", "F", "Standard output: table (default) or json"}, o.format);

@@ -12,9 +12,17 @@
 // (check_tally.hpp). A trajectory with columns q0..q3 (an attitude) gets each row's rotation
 // angle to the reference's attitude too; the reference must then have one.
 //
+// The errors are in the trajectory's own variables (compared_variables.hpp): for t,omega1..3 of a
+// physical scene, in rad/s on the body's axes as the scene lists them, --tol included; the Eq. 20
+// error in the normalized variables is reported beside them.
+//
+// Every quantity the trajectory holds is judged: with q0..q3, a bar on the rates needs
+// --attitude-tol (or --ignore-attitude, said in the result line), and --attitude-tol needs a bar on
+// the rates. Without any bar there is no verdict (exit 0, JSON "pass": null).
+//
 // Exit codes: 0 within tolerance (or no tolerance given), 1 outside it (--tol, --rel-tol or
-// --attitude-tol), 2 bad input (one line naming the file, the line and the column), 3 numerical
-// failure of the reference.
+// --attitude-tol), 2 bad input (one line naming the file, the line and the column, or the flag
+// missing), 3 numerical failure of the reference.
 #pragma once
 
 #include "cli/cli11_fwd.hpp"
@@ -33,6 +41,7 @@ struct check_options {
   std::optional<std::string> tol;         // absolute bar on the Eq. 20 error
   std::optional<std::string> rel_tol;     // bar relative to |Omega_ref|
   std::optional<std::string> attitude_tol;  // bar on the attitude error (radians)
+  bool ignore_attitude = false;           // judge the rates alone, though the trajectory has q0..q3
   std::optional<std::string> errors_out;  // per-row errors, CSV (written atomically)
   std::optional<std::string> format;      // table | json
   std::optional<std::string> scd_atol;    // mixed error's atol (mescd), default 1e-12

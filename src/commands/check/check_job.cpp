@@ -36,6 +36,13 @@ check_job check_job_of(const check_options& o) {
   job.tol = non_negative_flag("--tol", o.tol);
   job.rel_tol = non_negative_flag("--rel-tol", o.rel_tol);
   job.attitude_tol = non_negative_flag("--attitude-tol", o.attitude_tol);
+  job.ignore_attitude = o.ignore_attitude;
+  if (job.attitude_tol && job.ignore_attitude)
+    throw input_error(fmt::format("--ignore-attitude: given with --attitude-tol {} (give one of them)", *o.attitude_tol));
+  if (job.attitude_tol && !job.tol && !job.rel_tol)
+    throw input_error(fmt::format("--attitude-tol {}: give --tol or --rel-tol too (the rates are judged with the "
+                                  "attitude; a verdict on the attitude alone would pass any rates)",
+                                  *o.attitude_tol));
   if (o.scd_atol) job.scd_atol = positive_flag_number("--scd-atol", *o.scd_atol).value;
   if (o.scd_rtol) job.scd_rtol = positive_flag_number("--scd-rtol", *o.scd_rtol).value;
   job.json = flag_json_format(o.format);

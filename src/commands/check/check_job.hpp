@@ -25,6 +25,7 @@ struct check_job {
   column_names columns;           // the trajectory's column for each canonical name (--columns)
   std::optional<double> tol, rel_tol;
   std::optional<double> attitude_tol;  // radians: the bar on each row's attitude error
+  bool ignore_attitude = false;        // --ignore-attitude
   double scd_atol = 1e-12, scd_rtol = 1e-12;  // the mixed error of mescd
   std::optional<std::string> errors_out;
   bool json = false;

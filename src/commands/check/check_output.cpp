@@ -35,7 +35,19 @@ double attitude_rms_of(const tally& t) {
 
 bool has_bar(const check_job& job) { return job.tol || job.rel_tol; }
 
+// A verdict needs a bar on every quantity judged (check_job_of and require_attitude_match refuse
+// a bar on the rates alone when the trajectory has an attitude, unless --ignore-attitude).
+bool judged(const check_job& job) { return has_bar(job) || job.attitude_tol; }
+
 bool passed(const tally& t) { return t.exceeding == 0 && t.attitude_exceeding == 0; }
+
+// " rad/s", or "" in the normalized variables.
+std::string unit_suffix(const std::string& unit) { return unit.empty() ? "" : " " + unit; }
+
+// "|omega_ref|": the norm a relative bar scales.
+std::string reference_norm(const compared_terms& terms) {
+  return fmt::format("|{}_ref|", terms.components[0].substr(0, terms.components[0].size() - 1));
+}
 
 // Against a certified reference: the rows whose verdict the radius leaves open.
 void add_certified_json(const check_job& job, const tally& t, json& j) {
@@ -83,12 +95,30 @@ void add_attitude_json(const check_job& job, const tally& t, json& j) {
   j["first_attitude_exceeding_line"] = exceeded ? json(t.first_attitude_exceeding_line) : json(nullptr);
 }
 
+// The compared variables' names and units (null: the normalized variables of Eq. 4, or the
+// coefficient form's own), and the Eq. 20 error in the normalized variables when it is not the
+// compared one.
+void add_terms_json(const check_result& r, json& j) {
+  const tally& t = r.t;
+  const auto unit = [](const std::string& u) { return u.empty() ? json(nullptr) : json(u); };
+  j["components"] = r.terms.components;
+  j["time_unit"] = unit(r.terms.time_unit);
+  j["error_unit"] = unit(r.terms.state_unit);
+  const bool apart = r.terms.normalized_apart;
+  j["normalized_max_error"] = apart ? json(t.max_normalized_error) : json(nullptr);
+  j["normalized_max_error_time"] = apart ? json(time_value(t.max_normalized_time)) : json(nullptr);
+  j["normalized_rms_error"] =
+      apart ? json(static_cast<double>(std::sqrt(t.normalized_sum_squares / static_cast<long double>(t.rows))))
+            : json(nullptr);
+}
+
 json check_json(const check_job& job, const check_result& r) {
   const tally& t = r.t;
   json j;
   j["trajectory"] = job.trajectory_path;
   j["reference"] = r.reference_json;
   j["time_column"] = r.time_name;
+  add_terms_json(r, j);
   j["rows"] = t.rows;
   j["first_time"] = time_value(t.first_time);
   j["last_time"] = time_value(t.last_time);
@@ -101,7 +131,8 @@ json check_json(const check_job& job, const check_result& r) {
   j["exceeding_rows"] = t.exceeding;
   j["first_exceeding_time"] = t.first_exceeding_time ? json(time_value(*t.first_exceeding_time)) : json(nullptr);
   j["first_exceeding_line"] = t.first_exceeding_time ? json(t.first_exceeding_line) : json(nullptr);
-  j["pass"] = passed(t);
+  j["pass"] = judged(job) ? json(passed(t)) : json(nullptr);  // null: no bar given, no verdict
+  j["attitude_judged"] = t.attitude ? json(job.attitude_tol.has_value()) : json(nullptr);
   add_certified_json(job, t, j);
   add_metrics_json(job, t, j);
   add_attitude_json(job, t, j);
@@ -112,14 +143,15 @@ json check_json(const check_job& job, const check_result& r) {
 // result.
 void put_verdict(const check_job& job, const check_result& r, text_buffer& out) {
   const tally& t = r.t;
-  if (!has_bar(job) && !job.attitude_tol) {
-    out.put("tolerance: none given (--tol, --rel-tol{})\n", t.attitude ? ", --attitude-tol" : "");
+  const std::string unit = unit_suffix(r.terms.state_unit);
+  if (!judged(job)) {
+    out.put("tolerance: none given (--tol, --rel-tol{}): no verdict\n", t.attitude ? ", --attitude-tol" : "");
     return;
   }
   if (has_bar(job)) {
     std::string bar;
-    if (job.tol) bar = fmt::format("{}", *job.tol);
-    if (job.rel_tol) bar += fmt::format("{}{} |Omega_ref|", bar.empty() ? "" : " + ", *job.rel_tol);
+    if (job.tol) bar = fmt::format("{}{}", *job.tol, unit);
+    if (job.rel_tol) bar += fmt::format("{}{} {}", bar.empty() ? "" : " + ", *job.rel_tol, reference_norm(r.terms));
     out.put("tolerance: error <= {}\n", bar);
     if (t.certified)
       out.put(
@@ -128,8 +160,9 @@ void put_verdict(const check_job& job, const check_result& r, text_buffer& out) 
           t.max_radius, t.uncertain, t.rows);
   }
   if (job.attitude_tol) out.put("attitude tolerance: attitude error <= {} rad\n", *job.attitude_tol);
+  const std::string unjudged = t.attitude && !job.attitude_tol ? "; the attitude not judged (--ignore-attitude)" : "";
   if (passed(t)) {
-    out.put("result: PASS (every row within tolerance)\n");
+    out.put("result: PASS (every row within tolerance{})\n", unjudged);
     return;
   }
   std::string why;
@@ -140,7 +173,7 @@ void put_verdict(const check_job& job, const check_result& r, text_buffer& out) 
     why += fmt::format("{}attitude: {} of {} rows exceed; first at {} = {}, line {}", why.empty() ? "" : "; ",
                        t.attitude_exceeding, t.rows, r.time_name, *t.first_attitude_exceeding_time,
                        t.first_attitude_exceeding_line);
-  out.put("result: FAIL ({})\n", why);
+  out.put("result: FAIL ({}{})\n", why, unjudged);
 }
 
 std::string check_table(const check_job& job, const check_result& r) {
@@ -149,22 +182,29 @@ std::string check_table(const check_job& job, const check_result& r) {
   out.put("trajectory: {} ({} rows, {} from {} to {})\n", job.trajectory_path, t.rows, r.time_name, t.first_time,
           t.last_time);
   out.put("reference: {}\n", r.reference_text);
-  out.put("max error: {} at {} = {} (line {})\n", t.max_error, r.time_name, t.max_time, t.max_line);
-  out.put("rms error: {:.6e}\n", rms_of(t));
-  out.put("per component: max |dOmega_i| = {:.3e}, {:.3e}, {:.3e}\n", t.max_component[0], t.max_component[1],
-          t.max_component[2]);
+  const compared_terms& terms = r.terms;
+  const std::string unit = unit_suffix(terms.state_unit);
+  out.put("max error: {}{} at {} = {} (line {})\n", t.max_error, unit, r.time_name, t.max_time, t.max_line);
+  out.put("rms error: {:.6e}{}\n", rms_of(t), unit);
+  out.put("per component: max |error| of {} {:.3e}, {} {:.3e}, {} {:.3e}{}\n", terms.components[0], t.max_component[0],
+          terms.components[1], t.max_component[1], terms.components[2], t.max_component[2], unit);
+  if (terms.normalized_apart)
+    out.put("normalized (Eq. 20 in tau, Omega of Eq. 4): max error {} at {} = {}\n", t.max_normalized_error,
+            r.time_name, t.max_normalized_time);
   out.put("scd: {:.2f}   mescd: {:.2f} (atol {}, rtol {})\n", digits_of(t.max_relative), digits_of(t.max_mixed),
           job.scd_atol, job.scd_rtol);
   if (t.has_invariants)
     out.put(
-        "invariant drift (Eq. 7, against the reference): c1^2 max {:.3e} last {:.3e}; c2^2 max {:.3e} last {:.3e}\n",
+        "invariant drift (Eq. 7 in the normalized variables, against the reference): c1^2 max {:.3e} last {:.3e}; c2^2 "
+        "max {:.3e} last {:.3e}\n",
         t.c1_drift_max, t.c1_drift_last, t.c2_drift_max, t.c2_drift_last);
   else
     out.put(
         "invariant drift: none (Eq. 7 holds only for the normalized Eq. 5, not for the direct form of Eq. 1 or the "
         "coefficient form)\n");
   if (t.has_direction)
-    out.put("error along the motion (phase): max {:.3e}; across it: max {:.3e}\n", t.max_along, t.max_across);
+    out.put("error along the motion (phase): max {:.3e}{}; across it: max {:.3e}{}\n", t.max_along, unit, t.max_across,
+            unit);
   if (t.attitude) {
     out.put("max attitude error: {} rad at {} = {} (line {})\n", t.max_attitude, r.time_name, t.max_attitude_time,
             t.max_attitude_line);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "commands/check/check_job.hpp"
+#include "commands/check/compared_variables.hpp"
 #include "commands/check/errors_writer.hpp"
 #include "compute/scene_library.hpp"
 
@@ -29,10 +30,15 @@ namespace eulervop::app {
 struct tally {
   std::size_t rows = 0;
   std::string first_time, last_time;  // as written in the file
+  // The errors in the compared variables (compared_variables.hpp): rad/s for physical columns.
   double max_error = -1;
   std::string max_time;
   std::size_t max_line = 0;
   long double sum_squares = 0;
+  // The Eq. 20 error in the normalized variables, when those are not the compared ones.
+  double max_normalized_error = -1;
+  std::string max_normalized_time;
+  long double normalized_sum_squares = 0;
   std::size_t exceeding = 0;
   std::optional<std::string> first_exceeding_time;
   std::size_t first_exceeding_line = 0;
@@ -40,8 +46,8 @@ struct tally {
   double max_relative = 0;  // max |dy_i| / |y_ref_i| over the components with y_ref_i != 0 (scd)
   double max_mixed = 0;     // max |dy_i| / (atol/rtol + |y_ref_i|) (mescd)
   std::array<double, 3> max_component{};  // max |dy_i| per component
-  // c1^2 and c2^2 (Eq. 7) of the trajectory minus the reference's: largest magnitude, and at
-  // the last row.
+  // c1^2 and c2^2 (Eq. 7, of the normalized variables) of the trajectory minus the reference's:
+  // largest magnitude, and at the last row.
   // Absent (has_invariants false) for a body integrated in the direct form, where Eq. 7 has no
   // meaning.
   bool has_invariants = true;
@@ -82,36 +88,42 @@ struct attitude_pair {
 struct check_result {
   tally t;
   std::string time_name;
+  compared_terms terms;
   std::string reference_text;  // for the table
   nlohmann::ordered_json reference_json;
 };
 
-// The oracle metrics of one row (tally's second half). `problem`: the equations, for the
-// reference's direction of motion at `tau` (its time in the integrator's variables), when known.
+// The oracle metrics of one row (tally's second half), in the compared variables but for Eq. 7,
+// which is stated in the normalized ones. `problem`: the equations, for the reference's direction
+// of motion at `tau` (its time in the integrator's variables), when known.
 template <scalar T, class P>
-void record_metrics(const check_job& job, tally& t, const vec3<T>& ref, const vec3<T>& Om, const P* problem,
-                    const T& tau) {
+void record_metrics(const check_job& job, tally& t, const row_states<T>& s, const compared_variables<T>& vars,
+                    const P* problem, const T& tau) {
   using std::abs;
   using std::sqrt;
+  const vec3<T>& ref = s.reference;
   vec3<T> d;
   for (int i = 0; i < 3; ++i) {
-    d[i] = Om[i] - ref[i];
+    d[i] = s.trajectory[i] - ref[i];
     const double err = static_cast<double>(abs(d[i]));
     t.max_component[i] = std::max(t.max_component[i], err);
     const double y = static_cast<double>(abs(ref[i]));
     if (y > 0) t.max_relative = std::max(t.max_relative, err / y);
     t.max_mixed = std::max(t.max_mixed, err / (job.scd_atol / job.scd_rtol + y));
   }
-  const T c1 = (Om[0] * Om[0] + Om[1] * Om[1]) - (ref[0] * ref[0] + ref[1] * ref[1]);
-  const T c2 = (Om[1] * Om[1] + Om[2] * Om[2]) - (ref[1] * ref[1] + ref[2] * ref[2]);
+  const vec3<T>& Om = s.trajectory_Omega;
+  const vec3<T>& Ref = s.reference_Omega;
+  const T c1 = (Om[0] * Om[0] + Om[1] * Om[1]) - (Ref[0] * Ref[0] + Ref[1] * Ref[1]);
+  const T c2 = (Om[1] * Om[1] + Om[2] * Om[2]) - (Ref[1] * Ref[1] + Ref[2] * Ref[2]);
   t.c1_drift_last = static_cast<double>(c1);
   t.c2_drift_last = static_cast<double>(c2);
   t.c1_drift_max = std::max(t.c1_drift_max, std::abs(t.c1_drift_last));
   t.c2_drift_max = std::max(t.c2_drift_max, std::abs(t.c2_drift_last));
   if (!problem) return;
   t.has_invariants = problem->normalized();
-  vec3<T> v;
-  problem->rhs(tau, ref, v);
+  vec3<T> v_Omega;
+  problem->rhs(tau, Ref, v_Omega);
+  const vec3<T> v = vars.direction(v_Omega);
   const T speed = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   if (!(speed > 0)) return;  // at rest: no direction of motion (the row is left out of the split)
   t.has_direction = true;
@@ -146,18 +158,32 @@ void record_attitude(const check_job& job, tally& t, std::size_t line, const dec
   if (text) *text = to_text(angle);
 }
 
-// `radius`: the reference row's certified radius, if it has one. `tau`: the row's time in the
-// integrator's variables (for a torque of time, the direction of motion depends on it).
-// `attitude`: the row's attitude and the reference's, for a trajectory with q0..q3.
+// The two-norm error of Eq. 20 in the normalized variables, when the compared ones differ.
+template <scalar T>
+void record_normalized(tally& t, const decimal& time, const row_states<T>& s) {
+  const double e = static_cast<double>(eq20_error(s.reference_Omega, s.trajectory_Omega));
+  if (e > t.max_normalized_error) {
+    t.max_normalized_error = e;
+    t.max_normalized_time = time.text;
+  }
+  t.normalized_sum_squares += static_cast<long double>(e) * e;
+}
+
+// `radius`: the reference row's certified radius (of the compared state), if it has one. `tau`:
+// the row's time in the integrator's variables (for a torque of time, the direction of motion
+// depends on it). `attitude`: the row's attitude and the reference's, for a trajectory with q0..q3.
+// The error is the two-norm of Eq. 20 taken in the compared variables.
 template <scalar T, class P>
 void record(const check_job& job, tally& t, errors_writer& out, std::size_t line, const decimal& time,
-            const vec3<T>& ref, const vec3<T>& Om, const P* problem, const T& tau,
+            const row_states<T>& s, const compared_variables<T>& vars, const P* problem, const T& tau,
             const std::optional<decimal>& radius = std::nullopt, const attitude_pair<T>* attitude = nullptr) {
-  const double e = static_cast<double>(eq20_error(ref, Om));
+  const vec3<T>& ref = s.reference;
+  const double e = static_cast<double>(eq20_error(ref, s.trajectory));
   if (!std::isfinite(e)) throw numerical_failure({outcome_kind::error_non_finite, time.value});
   std::string attitude_text;
   if (attitude) record_attitude(job, t, line, time, *attitude, out.writing() ? &attitude_text : nullptr);
-  record_metrics(job, t, ref, Om, problem, tau);
+  record_metrics(job, t, s, vars, problem, tau);
+  if (vars.physical()) record_normalized(t, time, s);
   const double r = radius ? radius->value : 0.0;
   if (radius) t.max_radius = std::max(t.max_radius, r);
   std::optional<double> bar;

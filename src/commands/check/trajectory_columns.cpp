@@ -84,6 +84,24 @@ void require_attitude_match(const check_job& job, const trajectory_columns& cols
   if (!cols.q && job.attitude_tol)
     throw input_error(fmt::format("--attitude-tol {}: {} has no columns q0..q3 (no attitude to check)",
                                   *job.attitude_tol, rows.where()));
+  if (!cols.q && job.ignore_attitude)
+    throw input_error(fmt::format("--ignore-attitude: {} has no columns q0..q3 (no attitude to ignore)", rows.where()));
+  // No silent pass: a verdict on the rates alone would pass a trajectory whose attitude is wrong.
+  if (cols.q && (job.tol || job.rel_tol) && !job.attitude_tol && !job.ignore_attitude)
+    throw input_error(fmt::format("--attitude-tol: required, since {} has columns q0..q3 (give --attitude-tol RAD, "
+                                  "or --ignore-attitude to judge the rates alone)",
+                                  rows.where()));
+}
+
+compared_terms terms_of(const trajectory_columns& cols, bool physical_scene, bool normalized_apart) {
+  compared_terms terms;
+  for (int k = 0; k < 3; ++k) terms.components[k] = fmt::format("{}{}", cols.state, k + 1);
+  if (cols.physical && physical_scene) {
+    terms.time_unit = "s";
+    terms.state_unit = "rad/s";
+  }
+  terms.normalized_apart = normalized_apart;
+  return terms;
 }
 
 decimal row_reader::time() {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "commands/check/check_job.hpp"
+#include "commands/check/compared_variables.hpp"
 #include "compute/scene_library.hpp"
 #include "io/csv_rows.hpp"
 
@@ -32,9 +33,15 @@ trajectory_columns find_columns(const check_job& job, const csv_rows& rows);
 
 // The trajectory has q0..q3 but the reference no attitude: input_error "<where>: line <header>:
 // columns q0..q3: <reference> has no attitude (<why>)". Without q0..q3, --attitude-tol is bad
-// input too (there is nothing to hold to it).
+// input too (there is nothing to hold to it), and so is a bar on the rates without
+// --attitude-tol or --ignore-attitude when there are q0..q3 (no silent pass).
 void require_attitude_match(const check_job& job, const trajectory_columns& cols, const csv_rows& rows,
                             bool reference_has_attitude, const std::string& reference, const std::string& why);
+
+// The names and units of the compared variables (compared_variables.hpp) of a trajectory with
+// columns `cols`, against the reference of a scene that is physical or not. `normalized_apart`:
+// the compared variables are not the integrator's, which are then reported beside them.
+compared_terms terms_of(const trajectory_columns& cols, bool physical_scene, bool normalized_apart);
 
 // A trajectory row: its time and state, checked (numbers, time >= 0 and increasing).
 struct row_reader {
