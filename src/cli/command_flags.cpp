@@ -36,10 +36,10 @@ void add_output_flags(CLI::App& sub, std::optional<std::string>& out_dir, bool& 
 // ---- the scene overrides --------------------------------------------------------------------------
 
 namespace override_flags {
-const flag_def precision{"--precision", "P", "double | quad | mpfr:BITS (overrides [reference] precision)"};
-const flag_def tau_end{"--tau-end", "T", "End of the span in tau (normalized scenes)"};
-const flag_def t_end{"--t-end", "T", "End of the span in s (physical scenes)"};
-const flag_def times{"--times", "LIST", "Exact sample times t1,t2,... (tau, or t for physical scenes)"};
+const flag_def precision{"--precision", "P", "double | quad | mpfr:BITS (default: the scene's [reference] precision, else quad)"};
+const flag_def tau_end{"--tau-end", "T", "End of the span in tau, normalized scenes (default: the scene's tau_end)"};
+const flag_def t_end{"--t-end", "T", "End of the span in t: s for physical scenes, t of the coefficient form (default: the scene's t_end)"};
+const flag_def times{"--times", "LIST", "Exact sample times t1,t2,... in the scene's time, tau or t (default: the scene's samples or times)"};
 const flag_def degree{"--degree", "N", "Chebyshev degree (default: from the precision)"};
 const flag_def tolerance{
     "--tolerance", "X",

@@ -3,6 +3,9 @@
 #include "cli/flags.hpp"
 #include "compute/scene_library.hpp"
 
+#include <eulervop/model/expression.hpp>
+#include <eulervop/model/torque_law.hpp>
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -33,20 +36,52 @@ void note_unreachable_tolerance(double tolerance, const eulervop::precision& p, 
                              field, tolerance, p.name(), eps, eps);
 }
 
+// A torque piece that lies outside the span never applies: most likely a window in the wrong
+// units or a span too short, so it is said (one note, also in the reference's metadata), but the
+// run goes on. The bounds are compared as doubles, which is all a note needs.
+void note_pieces_outside_span(scene& s) {
+  if (!s.torque_law) return;
+  const double end = s.span_end.value;
+  const std::string time = s.torque_law->time_name;
+  for (const eulervop::torque_piece& p : s.torque_law->pieces) {
+    const auto value = [](const eulervop::expression& e) {
+      return eulervop::compiled_expression<double>(e)(0.0, eulervop::vec3<double>{0.0, 0.0, 0.0});
+    };
+    std::string why;
+    if (value(p.from) >= end)
+      why = fmt::format("starts at or after the end of the span, {} = {}", s.span_key(), s.span_end.text);
+    else if (value(p.to) <= 0)
+      why = fmt::format("ends at or before {} = 0", time);
+    if (why.empty()) continue;
+    const std::string note = fmt::format("[[torque.piece]] from = {} to = {} {}: it never applies", p.from.text,
+                                         p.to.text, why);
+    std::cerr << fmt::format("note: scene {}: {}\n", s.name, note);
+    s.notes.push_back(note);
+  }
+}
+
 }  // namespace
 
 std::string applied_overrides::text() const { return fmt::format("{}", fmt::join(flags, " ")); }
 
 applied_overrides apply_scene_overrides(scene& s, const scene_override_flags& o) {
   applied_overrides out;
-  // The span end: --tau-end for normalized scenes, --t-end for physical ones.
+  // The span end in the scene's own time: --tau-end for normalized scenes, --t-end for physical
+  // ones (s) and for the coefficient form (t).
+  const bool normalized = s.units == eulervop::scene::scene_units::normalized;
   if (o.tau_end && s.is_physical())
     throw input_error(fmt::format("--tau-end {}: scene {} is physical (has [body]); give --t-end in s", *o.tau_end,
                                   s.name));
-  if (o.t_end && !s.is_physical())
-    throw input_error(fmt::format("--t-end {}: scene {} is normalized (no [body]); give --tau-end", *o.t_end, s.name));
-  const std::optional<std::string>& end_flag = s.is_physical() ? o.t_end : o.tau_end;
-  const std::string end_name = s.is_physical() ? "--t-end" : "--tau-end";
+  if (o.tau_end && s.is_coefficient_form())
+    throw input_error(fmt::format("--tau-end {}: scene {} is in the coefficient form ([equations]), whose time is t; "
+                                  "give --t-end",
+                                  *o.tau_end, s.name));
+  if (o.t_end && normalized)
+    throw input_error(fmt::format("--t-end {}: scene {} is normalized (no [body] or [equations]), whose time is tau; "
+                                  "give --tau-end",
+                                  *o.t_end, s.name));
+  const std::optional<std::string>& end_flag = normalized ? o.tau_end : o.t_end;
+  const std::string end_name = normalized ? "--tau-end" : "--t-end";
   if (end_flag) {
     s.span_end = positive_flag_number(end_name, *end_flag);
     out.flags.push_back(fmt::format("{}={}", end_name, *end_flag));
@@ -66,6 +101,7 @@ applied_overrides apply_scene_overrides(scene& s, const scene_override_flags& o)
     throw input_error(fmt::format("{} {}: the scene's times go up to {}; shorten them with --times", end_name,
                                   *end_flag, s.times.back().text));
   }
+  note_pieces_outside_span(s);
   // The reference integrator: --precision, --degree and --tolerance, else the scene's [reference].
   out.precision = o.precision ? flag_precision(*o.precision) : s.reference_precision;
   if (o.precision) out.flags.push_back(fmt::format("--precision={}", *o.precision));

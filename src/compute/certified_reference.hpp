@@ -20,6 +20,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 #include <thread>
 #include <variant>
 
@@ -37,42 +38,37 @@ inline mpfr_prec_t certify_bits(const eulervop::precision& p) {
 
 // Why `--certify` cannot run on this scene at this precision (an input_error, exit 2), or nothing.
 inline void require_certifiable(const scene& s, const eulervop::precision& p) {
+  // Every reason at once, so that one try tells the user all that stands in the way.
+  std::vector<std::string> reasons;
   if (p.type == eulervop::precision::kind::binary64)
-    throw input_error(
-        "--certify: precision double is not certified (its reference is the double run's own "
-        "rounding); use quad or mpfr:BITS");
+    reasons.push_back("precision double is not certified (its reference is the double run's own rounding; use quad "
+                      "or mpfr:BITS)");
   if (s.has_torque_law())
-    throw input_error(fmt::format(
-        "--certify: scene {} has a torque that changes with {} (a formula or pieces), which is not certified yet; "
-        "only a constant torque is",
-        s.name, torque_kind_of(s) == torque_kind::of_state ? "the state" : "the time"));
+    reasons.push_back(fmt::format("its torque changes with {} (a formula or pieces); only a constant torque is certified",
+                                  torque_kind_of(s) == torque_kind::of_state ? "the state" : "the time"));
   const auto formula_in = [](const std::optional<eulervop::scene::decimal3>& v) {
     return v && std::any_of(v->begin(), v->end(), [](const decimal& d) { return d.formula != nullptr; });
   };
   const auto* rates = std::get_if<eulervop::scene::initial_rates>(&s.initial);
   if (formula_in(s.inertia) || (rates && formula_in(rates->rates)))
-    throw input_error(fmt::format(
-        "--certify: scene {} gives a number as a formula ([body] inertia or [initial]), which is not enclosed; "
-        "give decimals",
-        s.name));
+    reasons.push_back("it gives a number as a formula ([body] inertia or [initial]), which is not enclosed (give decimals)");
   if (s.has_attitude())
-    throw input_error(fmt::format(
-        "--certify: scene {} has an attitude ([initial] q), which is not certified yet; its rates are (leave q out)",
-        s.name));
+    reasons.push_back("it has an attitude ([initial] q), which is not certified (its rates are: leave q out)");
   if (s.is_coefficient_form())
-    throw input_error(fmt::format(
-        "--certify: scene {} is in the coefficient form ([equations] a), which is not certified; only Eq. 5 is",
-        s.name));
-  if (uses_direct_form(s))
-    throw input_error(fmt::format(
-        "--certify: scene {} has (nearly) equal moments of inertia and is integrated in the direct form of "
-        "Eq. 1, which is not certified",
-        s.name));
+    reasons.push_back("it is in the coefficient form ([equations] a); only Eq. 5 is certified");
+  else if (uses_direct_form(s))
+    reasons.push_back("its moments of inertia are (nearly) equal, so it is integrated in the direct form of Eq. 1, "
+                      "which is not certified");
   if (const auto* e = std::get_if<eulervop::scene::initial_elements>(&s.initial); e && e->u.value != 0)
-    throw input_error(fmt::format(
-        "--certify: initial u = {} needs elliptic functions of the decimals, which are not enclosed; give "
-        "[initial] Omega, or u = 0",
-        e->u.text));
+    reasons.push_back(fmt::format("its initial u = {} needs elliptic functions of the decimals, which are not "
+                                  "enclosed (give [initial] Omega, or u = 0)",
+                                  e->u.text));
+  if (reasons.empty()) return;
+  std::string text;
+  for (std::size_t i = 0; i < reasons.size(); ++i)
+    text += fmt::format("{}({}) {}", i ? "; " : "", i + 1, reasons[i]);
+  throw input_error(fmt::format("--certify: scene {} cannot be certified, for {} reason{}: {}", s.name, reasons.size(),
+                                reasons.size() == 1 ? "" : "s", text));
 }
 
 // The threads that prepare a certificate's segments (certify_pipeline.hpp): the cores this

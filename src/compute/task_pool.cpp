@@ -48,11 +48,11 @@ void run_tasks(const std::vector<std::function<void()>>& tasks, int jobs, const 
   std::vector<std::thread> threads;
   for (std::size_t t = 0; t < n_threads; ++t) threads.emplace_back(worker);
   {
-    const std::unique_ptr<progress_display> progress = open_progress(label, static_cast<double>(tasks.size()), "task");
+    const std::unique_ptr<progress_display> progress = open_progress(label, static_cast<double>(tasks.size()), {"task", ""});
     std::unique_lock lock(mutex);
     while (stopped < n_threads) {
       changed.wait_for(lock, std::chrono::milliseconds(100));
-      if (progress) progress->update(static_cast<double>(done));
+      if (progress) progress->update(static_cast<double>(done), 0);
     }
   }
   for (std::thread& t : threads) t.join();

@@ -5,9 +5,12 @@
 #include "commands/map/map_command.hpp"
 #include "commands/reference/reference_command.hpp"
 #include "commands/report/report_command.hpp"
+#include "commands/scene_template/scene_template_command.hpp"
 #include "commands/sweep/sweep_command.hpp"
 
+#include <map>
 #include <memory>
+#include <string>
 
 namespace eulervop::app {
 
@@ -38,7 +41,7 @@ int run_reference_of(reference_options& o, std::ostream& out, const std::string&
 }  // namespace
 
 std::vector<command> all_commands() {
-  return {
+  std::vector<command> commands = {
       command_of<reference_options>("reference", "Compute the high-precision reference solution as CSV",
                                     add_reference_flags, run_reference_of),
       command_of<report_options>(
@@ -59,6 +62,26 @@ std::vector<command> all_commands() {
                               "tolerance, the cheapest per error level and VOP's speed-up over Euler",
                               add_map_flags, without_command_line(run_map)),
   };
+  command scene_template = command_of<scene_template_options>(
+      "scene-template", "Print an annotated scene (normalized, physical or coefficient form) to start one from",
+      add_scene_template_flags, without_command_line(run_scene_template));
+  scene_template.computes = false;
+  commands.push_back(std::move(scene_template));
+  return commands;
+}
+
+std::string help_footer(const std::string& command) {
+  static const std::map<std::string, std::string> pages = {
+      {"reference", "docs/reference.md"}, {"report", "docs/command-line.md"}, {"sweep", "docs/sweep.md"},
+      {"check", "docs/check.md"},         {"batch", "docs/batch.md"},         {"map", "docs/regime-map.md"},
+      {"scene-template", "docs/scenes.md"}};
+  const auto page = pages.find(command);
+  return "\nScenes are TOML files: `eulervop scene-template physical` (or normalized, coefficient) prints one with "
+         "every key explained, pieces, formulas and the attitude q with its convention included; the format is "
+         "docs/scenes.md." +
+         (page == pages.end() ? std::string() : " This command: " + page->second + ".") +
+         "\nExit codes: 0 success, 2 bad input (one line on stderr), 3 numerical failure" +
+         (command == "check" ? ", 1 outside the tolerance." : ".");
 }
 
 }  // namespace eulervop::app

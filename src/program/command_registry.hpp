@@ -18,9 +18,13 @@ struct command {
   // With the flags parsed: runs the command and returns its exit code. `command_line` is the
   // invocation as command_text states it.
   std::function<int(std::ostream& standard_output, const std::string& command_line)> run;
+  bool computes = true;  // takes --progress and --quiet
 };
 
-// reference, report, sweep, check, batch, map.
+// reference, report, sweep, check, batch, map, scene-template.
 std::vector<command> all_commands();
+
+// The end of a command's --help: where the scene format and the command's own page are.
+std::string help_footer(const std::string& command);
 
 }  // namespace eulervop::app

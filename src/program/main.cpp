@@ -67,15 +67,29 @@ int run(const ev::command& c, const std::string& command_line) {
   }
 }
 
+// --progress and --quiet, which every command takes.
+void add_progress_flags(CLI::App& sub, ev::progress_mode& mode) {
+  CLI::Option* on = sub.add_flag_callback(
+      "--progress", [&mode] { mode = ev::progress_mode::on; },
+      "Show progress on stderr (t or tau reached, segments, time left) even when it is not a terminal or the run is "
+      "short (default: on a terminal, after a second)");
+  CLI::Option* off =
+      sub.add_flag_callback("--quiet", [&mode] { mode = ev::progress_mode::off; }, "Show no progress on stderr");
+  on->excludes(off);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  // compute/ reports its progress through compute/progress.hpp; on a terminal it is this line.
-  ev::set_progress_display([](const std::string& label, double total, const std::string& unit) {
-    return std::make_unique<ev::progress_line>(label, total, unit);
+  // compute/ reports its progress through compute/progress.hpp; on a terminal it is this line
+  // (--progress: everywhere; --quiet: nowhere).
+  ev::progress_mode mode = ev::progress_mode::automatic;
+  ev::set_progress_display([&mode](const std::string& label, double total, const ev::progress_unit& unit) {
+    return std::make_unique<ev::progress_line>(label, total, unit, mode);
   });
   CLI::App app{"eulervop: Euler's equations by variation of parameters, and their high-precision reference"};
   app.set_version_flag("--version", EULERVOP_VERSION);
+  app.footer(ev::help_footer("") + "\nEach command's --help lists its flags with their defaults.");
   app.require_subcommand(1);
 
   const std::vector<ev::command> commands = ev::all_commands();
@@ -85,6 +99,8 @@ int main(int argc, char** argv) {
   for (const ev::command& c : commands) {
     CLI::App* sub = app.add_subcommand(c.name, c.description);
     c.add_flags(*sub);
+    if (c.computes) add_progress_flags(*sub, mode);
+    sub->footer(ev::help_footer(c.name));
     subcommands.push_back(sub);
     names += (names.empty() ? "" : ", ") + c.name;
     known = known || (argc >= 2 && std::string_view(argv[1]) == c.name);

@@ -165,7 +165,9 @@ void scene_reader::read_span(const toml::table& root, scene& s) const {
   const toml::node* samples = span->get("samples");
   const toml::node* times = span->get("times");
   if (samples && times) fail_at(*times, "[span]: give samples or times, not both");
-  if (!samples && !times) fail_at(*span, "[span]: give samples (a count) or times (a list)");
+  // Neither: the command line may complete the scene (--samples, --times); sample_times_of
+  // refuses a scene that is still without them.
+  if (!samples && !times) return;
   if (samples) {
     const std::int64_t n = integer(*samples, "[span] samples");
     if (n < scene_limits::min_samples || n > scene_limits::max_samples)

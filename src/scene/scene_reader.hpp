@@ -72,7 +72,10 @@ class scene_reader {
     if (auto s = node.as_string()) {
       return shorten(fmt::format("{:?}", s->get()));  // double-quoted, escaped as in TOML
     } else if (auto a = node.as_array()) {
-      out << toml::toml_formatter(*a);
+      // Element by element, so that numbers keep the text the user wrote (0.9, not 0.9000...02).
+      std::string items;
+      for (const toml::node& item : *a) items += (items.empty() ? "" : ", ") + quoted(item);
+      return shorten("[" + items + "]");
     } else if (node.is_table()) {
       return "(a table)";
     } else {

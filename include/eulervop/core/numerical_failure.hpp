@@ -20,6 +20,19 @@ class numerical_failure : public std::runtime_error {
       : std::runtime_error("numerical failure at tau=" + format_tau(status.tau) + ": " + describe(status) +
                            (detail.empty() ? "" : ": " + detail)),
         status_(status) {}
+  // The same failure stated in the scene's own time: "numerical failure at t=X s (tau=Y): ...",
+  // where t = tau * per_tau (a physical scene's seconds, Eq. 4), so that the time comes first in
+  // the user's terms.
+  numerical_failure in_time(const std::string& name, double per_tau, const std::string& unit) const {
+    numerical_failure out = *this;
+    if (!status_.tau) return out;
+    const std::string what = std::runtime_error::what();
+    const std::size_t cause = what.find(": ");
+    out.std::runtime_error::operator=(std::runtime_error(
+        "numerical failure at " + name + "=" + format_tau(*status_.tau * per_tau) + (unit.empty() ? "" : " " + unit) +
+        " (tau=" + format_tau(*status_.tau) + ")" + (cause == std::string::npos ? "" : what.substr(cause))));
+    return out;
+  }
   double tau() const { return status_.tau.value_or(std::numeric_limits<double>::quiet_NaN()); }
   const outcome& status() const { return status_; }
 

@@ -210,16 +210,28 @@ class expression_torque {
     return g;
   }
 
-  // The value of component i, or numerical_failure when it is not finite.
+  // The value of component i, or numerical_failure when it is not finite. The message names the
+  // formula as the scene wrote it, the scene's time to 15 digits (all a double states reliably:
+  // 49.999999999999993 would read as outside a window that starts at 50) and the piece in force.
   T checked(const term& c, T v, int i, const T& ts, const T& t) const {
     using std::isfinite;
     if (isfinite(v)) [[likely]]
       return v;
     char at[96];
-    std::snprintf(at, sizeof at, " at %s = %.17g", law_->time_name.c_str(), static_cast<double>(ts));
+    std::snprintf(at, sizeof at, " at %s = %.15g", law_->time_name.c_str(), static_cast<double>(ts));
     const std::string value = v != v ? "nan" : (v > 0 ? "inf" : "-inf");
     throw numerical_failure({.kind = outcome_kind::torque_non_finite, .tau = static_cast<double>(t)},
-                            law_->name + std::to_string(i + 1) + " = " + c.source->text + " is " + value + at);
+                            law_->name + std::to_string(i + 1) + " = " + c.source->text + " is " + value + at +
+                                in_force(t));
+  }
+
+  // ", in the piece [from, to)" or ", outside every piece": which formulas applied at t.
+  std::string in_force(const T& t) const {
+    if (law_->pieces.empty()) return "";
+    const std::size_t set = set_of_interval_[pinned_ ? *pinned_ : interval_at(t)];
+    if (set == 0) return ", outside every piece";
+    const torque_piece& p = law_->pieces[set - 1];
+    return ", in the piece [" + p.from.text + ", " + p.to.text + ")";
   }
 
   std::shared_ptr<const torque_law> law_;

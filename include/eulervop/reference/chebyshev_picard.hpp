@@ -114,8 +114,10 @@ class chebyshev_picard {
       if (++st.segments > settings_.max_segments)
         throw numerical_failure(
             {.kind = outcome_kind::segment_limit, .tau = to_d(at.tau), .count = settings_.max_segments});
-      if (progress && (++since_progress >= 64 || last)) {
-        progress(to_d(at.tau));
+      // Every few segments: a display redraws at most ten times a second anyway, and a call
+      // costs far less than a segment.
+      if (progress && (++since_progress >= 4 || last)) {
+        progress(to_d(at.tau), st.segments);
         since_progress = 0;
       }
       length.accepted();

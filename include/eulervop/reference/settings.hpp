@@ -25,7 +25,7 @@ struct picard_stats {
   std::size_t double_sweeps = 0;   // Picard sweeps of the double-precision correction
 };
 
-// Progress callback: the tau reached so far.
-using progress_callback = std::function<void(double tau_reached)>;
+// Progress callback: the tau reached so far, and the segments accepted.
+using progress_callback = std::function<void(double tau_reached, std::size_t segments)>;
 
 }  // namespace eulervop

@@ -82,7 +82,8 @@ struct scene {
   std::optional<std::array<decimal, 4>> attitude;
 
   // [span]: tau_end (normalized) or t_end (physical) > 0; sample count (>= 2, equally spaced,
-  // endpoints included) or explicit sample times (strictly increasing, in [0, span_end]).
+  // endpoints included) or explicit sample times (strictly increasing, in [0, span_end]); a scene
+  // may give neither, for the command line to complete (--samples, --times).
   decimal span_end;
   std::optional<std::int64_t> samples;
   std::vector<decimal> times;

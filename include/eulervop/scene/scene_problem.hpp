@@ -183,6 +183,8 @@ struct sample_times {
 // Since tau = t * rate is monotone under rounding, every tau stays within [0, tau_end_of(s)].
 template <scalar T>
 sample_times<T> sample_times_of(const scene& s) {
+  if (!s.samples && s.times.empty())
+    throw input_error("[span] of scene " + s.name + ": give samples (a count) or times (a list)");
   std::vector<T> x;
   if (s.samples) {
     const T end = s.span_end.template to_scalar<T>();

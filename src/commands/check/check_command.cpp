@@ -5,6 +5,7 @@
 #include "commands/check/against_scene.hpp"
 #include "commands/check/check_job.hpp"
 #include "commands/check/check_output.hpp"
+#include "compute/scene_progress.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -48,7 +49,8 @@ void add_check_flags(CLI::App& sub, check_options& o) {
 
 int run_check(const check_options& options, std::ostream& standard_output) {
   const check_job job = check_job_of(options);
-  const check_result result = job.from_scene ? check_against_scene(job) : check_against_file(job);
+  const check_result result =
+      job.from_scene ? in_scene_time(job.scn, [&] { return check_against_scene(job); }) : check_against_file(job);
   return print_check(job, result, standard_output);
 }
 

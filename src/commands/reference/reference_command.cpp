@@ -1,5 +1,6 @@
 #include "commands/reference/reference_command.hpp"
 
+#include "compute/scene_progress.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/scene_overrides.hpp"
 #include "compute/certified_reference.hpp"
@@ -55,6 +56,10 @@ reference_job make_job(const reference_options& o) {
   reference_job job;
   job.scn = load_scene(o.scene_path);
   const applied_overrides applied = apply_scene_overrides(job.scn, o.overrides);
+  if (!job.scn.samples && job.scn.times.empty())
+    throw input_error(fmt::format("[span] of scene {}: no samples or times; give samples (a count) or times (a "
+                                  "list) in the scene, or --samples N or --times LIST",
+                                  job.scn.name));
   job.precision = applied.precision;
   job.settings = applied.settings;
   job.layout = reference_layout_of(job.scn);
@@ -231,7 +236,8 @@ int run_reference(const reference_options& options, std::ostream& standard_outpu
   // The header states the finished run (segments, wall time, --verify's estimate) but comes
   // first: the rows are streamed to a scratch file during the run, then copied after it.
   scratch_file rows(scratch_directory_for(file.get()));
-  const std::string header = reference_csv_header(run_job(job, rows), job.layout);
+  const std::string header =
+      in_scene_time(job.scn, [&] { return reference_csv_header(run_job(job, rows), job.layout); });
   if (file) {
     file->write(header);
     rows.copy_to([&](std::string_view chunk) { file->write(chunk); });

@@ -1,5 +1,6 @@
 #include "commands/report/report_command.hpp"
 
+#include "compute/scene_progress.hpp"
 #include "cli/command_flags.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/flags.hpp"
@@ -162,10 +163,12 @@ void add_report_flags(CLI::App& sub, report_options& o) {
 
 int run_report(const report_options& options, std::ostream& standard_output) {
   const report_job job = make_job(options);
-  if (job.adaptive())
-    run_adaptive_report(job, standard_output);
-  else
-    run_fixed_step_report(job, standard_output);
+  in_scene_time(job.scn, [&] {
+    if (job.adaptive())
+      run_adaptive_report(job, standard_output);
+    else
+      run_fixed_step_report(job, standard_output);
+  });
   return exit_success;
 }
 

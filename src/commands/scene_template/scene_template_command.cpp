@@ -1,0 +1,43 @@
+#include "commands/scene_template/scene_template_command.hpp"
+
+#include "cli/command_flags.hpp"
+#include "cli/exit_codes.hpp"
+#include "compute/scene_library.hpp"
+#include "io/atomic_file.hpp"
+#include "scene_templates.hpp"
+
+#include <fmt/format.h>
+
+#include <memory>
+#include <string_view>
+
+namespace eulervop::app {
+
+void add_scene_template_flags(CLI::App& sub, scene_template_options& o) {
+  add_text_flag(sub, {"form", "FORM", "normalized, physical or coefficient (default: physical)"}, o.form);
+  add_text_flag(sub, {"--out", "FILE", "Write the scene to FILE (default: standard output)"}, o.out);
+}
+
+int run_scene_template(const scene_template_options& o, std::ostream& standard_output) {
+  const std::string form = o.form.value_or("physical");
+  std::string_view text;
+  if (form == "normalized")
+    text = normalized_scene_template;
+  else if (form == "physical")
+    text = physical_scene_template;
+  else if (form == "coefficient")
+    text = coefficient_scene_template;
+  else
+    throw input_error(fmt::format("form `{}`: unknown (expected normalized, physical or coefficient)", form));
+  if (!o.out) {
+    standard_output << text << std::flush;
+    return exit_success;
+  }
+  if (o.out->empty()) throw input_error("--out: empty path");
+  atomic_file file(*o.out);
+  file.write(text);
+  file.commit();
+  return exit_success;
+}
+
+}  // namespace eulervop::app

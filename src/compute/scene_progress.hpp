@@ -1,0 +1,32 @@
+// The scene's own time for what a long computation tells the user: its progress
+// (compute/progress.hpp) and where a numerical failure happened.
+#pragma once
+
+#include "compute/progress.hpp"
+#include "compute/scene_library.hpp"
+
+#include <eulervop/core/numerical_failure.hpp>
+
+#include <utility>
+
+namespace eulervop::app {
+
+// t in seconds for a physical scene (tau / (dtau/dt) of Eq. 4, or tau itself in the direct form),
+// t for the coefficient form, tau for a normalized scene.
+progress_clock scene_progress_clock(const scene& s);
+
+// Runs `run` with the scene's clock set for the progress display, and states a numerical failure
+// in the scene's time first ("at t=X s (tau=Y)").
+template <class Run>
+decltype(auto) in_scene_time(const scene& s, Run&& run) {
+  const progress_clock clock = scene_progress_clock(s);
+  const progress_clock_scope scope(clock);
+  try {
+    return std::forward<Run>(run)();
+  } catch (const numerical_failure& e) {
+    if (clock.unit.name == "tau") throw;
+    throw e.in_time(clock.unit.name, clock.per_tau, clock.unit.unit);
+  }
+}
+
+}  // namespace eulervop::app
