@@ -62,10 +62,10 @@ inline std::string text_of(const mpfr_real& x) { return to_text(x); }
 class progress_printer {
  public:
   explicit progress_printer(std::string label) : label_(std::move(label)), t0_(clock_type::now()) {}
-  void operator()(double tau) {
+  void operator()(double tau, std::size_t segments) {
     const double s = seconds_since(t0_);
     if (s - last_ >= 2.0) {
-      std::fprintf(stderr, "  %s: tau = %.2f after %.0f s\n", label_.c_str(), tau, s);
+      std::fprintf(stderr, "  %s: tau = %.2f, %zu segments, after %.0f s\n", label_.c_str(), tau, segments, s);
       last_ = s;
     }
   }

@@ -127,7 +127,7 @@ TEST(Check, OdeintTrajectoryAgainstTheSceneMatchesAnIndependentError) {
   EXPECT_EQ(j.at("rows").get<int>(), n_times);
   EXPECT_EQ(j.at("reference").at("precision"), "quad");
   EXPECT_TRUE(j.at("tol").is_null());
-  EXPECT_TRUE(j.at("pass").get<bool>());
+  EXPECT_TRUE(j.at("pass").is_null());  // no bar, no verdict
   EXPECT_GT(j.at("rms_error").get<double>(), 0);
   EXPECT_LE(j.at("rms_error").get<double>(), reported);
   // The per-row file: a header and one line per row, the max among them.
@@ -217,7 +217,7 @@ TEST(Check, PhysicalTrajectoryInTAndOmega) {
     std::size_t b = 0;
     for (std::size_t c; (c = l.find(',', b)) != std::string::npos; b = c + 1) cells.push_back(l.substr(b, c - b));
     cells.push_back(l.substr(b));
-    traj += fmt::format("{},{},{},{}\n", cells[4], cells[5], cells[6], cells[7]);
+    traj += fmt::format("{},{},{},{}\n", cells[0], cells[1], cells[2], cells[3]);
   }
   write_file(dir.path() / "traj.csv", traj);
   for (const std::string& against : {scene, std::string("ref.csv")}) {
@@ -446,7 +446,7 @@ eulervop::quaternion<quad> small_rotation() {
   return eulervop::axis_angle(axis, small_angle);
 }
 
-// dir/att.toml and its reference dir/ref.csv (t,omega1..3 at columns 4..7, q0..q3 at 8..11),
+// dir/att.toml and its reference dir/ref.csv (t,omega1..3 at columns 0..3, q0..q3 at 4..7),
 // and the trajectory dir/traj.csv: t and omega of the reference, and q r for each row's q,
 // with the sign of q turned on every third row (-q is the same attitude).
 void write_rotated_trajectory(const fs::path& dir) {
@@ -455,16 +455,16 @@ void write_rotated_trajectory(const fs::path& dir) {
   ASSERT_EQ(ref.exit_code, 0) << ref.err;
   std::vector<std::string> header;
   const auto rows = data_rows(read_file(dir / "ref.csv"), &header);
-  ASSERT_EQ(header, (std::vector<std::string>{"tau", "Omega1", "Omega2", "Omega3", "t", "omega1", "omega2",
-                                              "omega3", "q0", "q1", "q2", "q3"}));
+  ASSERT_EQ(header, (std::vector<std::string>{"t", "omega1", "omega2", "omega3", "q0", "q1", "q2", "q3", "tau",
+                                              "Omega1", "Omega2", "Omega3"}));
   ASSERT_EQ(rows.size(), 61u);
   const eulervop::quaternion<quad> r = small_rotation();
   std::string traj = "t,omega1,omega2,omega3,q0,q1,q2,q3\n";
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const auto& c = rows[i];
-    eulervop::quaternion<quad> q = eulervop::quaternion<quad>{quad(c[8]), quad(c[9]), quad(c[10]), quad(c[11])} * r;
+    eulervop::quaternion<quad> q = eulervop::quaternion<quad>{quad(c[4]), quad(c[5]), quad(c[6]), quad(c[7])} * r;
     if (i % 3 == 0) q = {-q.w, -q.x, -q.y, -q.z};
-    traj += fmt::format("{},{},{},{},{},{},{},{}\n", c[4], c[5], c[6], c[7], eulervop::to_text(q.w),
+    traj += fmt::format("{},{},{},{},{},{},{},{}\n", c[0], c[1], c[2], c[3], eulervop::to_text(q.w),
                         eulervop::to_text(q.x), eulervop::to_text(q.y), eulervop::to_text(q.z));
   }
   write_file(dir / "traj.csv", traj);
@@ -479,8 +479,8 @@ TEST(CheckAttitude, ARotationByAKnownAngleIsReportedAsThatAngle) {
   ASSERT_NO_FATAL_FAILURE(write_rotated_trajectory(dir.path()));
   const double angle = static_cast<double>(small_angle);
   for (const std::string against : {"att.toml", "ref.csv"}) {
-    const run_result r = run(dir.path(), {"check", against, "traj.csv", "--tol", "1e-30", "--format", "json",
-                                          "--errors-out", "e.csv"});
+    const run_result r = run(dir.path(), {"check", against, "traj.csv", "--tol", "1e-30", "--ignore-attitude",
+                                          "--format", "json", "--errors-out", "e.csv"});
     ASSERT_EQ(r.exit_code, 0) << against << ": " << r.err << r.out;
     const json j = json::parse(r.out);
     EXPECT_LT(j.at("max_error").get<double>(), 1e-33) << against;
@@ -526,7 +526,7 @@ TEST(CheckAttitude, AttitudeTolDecidesTheExitCode) {
     EXPECT_NE(fail.out.find("result: FAIL (attitude: 61 of 61 rows exceed; first at t = "), std::string::npos)
         << fail.out;
     const run_result j =
-        run(dir.path(), {"check", against, "traj.csv", "--attitude-tol", below, "--format", "json"});
+        run(dir.path(), {"check", against, "traj.csv", "--tol", "1e-30", "--attitude-tol", below, "--format", "json"});
     EXPECT_EQ(j.exit_code, 1) << j.err;
     const json out = json::parse(j.out);
     EXPECT_FALSE(out.at("pass").get<bool>());
@@ -590,7 +590,7 @@ TEST(CheckAttitude, BadAttitudeInput) {
     rates += fmt::format("{},{},{},{}\n", c[0], c[1], c[2], c[3]);
   }
   write_file(dir.path() / "rates.csv", rates);
-  expect_one_line_error(run(dir.path(), {"check", "att.toml", "rates.csv", "--attitude-tol", "1e-6"}),
+  expect_one_line_error(run(dir.path(), {"check", "att.toml", "rates.csv", "--tol", "1", "--attitude-tol", "1e-6"}),
                         "--attitude-tol 1e-06: trajectory rates.csv has no columns q0..q3");
   // q0..q2 without q3.
   const std::string traj = read_file(dir.path() / "traj.csv");
@@ -609,6 +609,229 @@ TEST(CheckAttitude, BadAttitudeInput) {
     expect_one_line_error(run(dir.path(), {"check", against, "text.csv"}),
                           "trajectory text.csv: line 7: column q2 = `abc` is not a number");
     EXPECT_FALSE(fs::exists(dir.path() / "e.csv"));
+  }
+}
+
+// ---- the user's terms: rad/s on the axes as listed, and no silent pass ---------------------------
+
+// A body whose moments are listed out of the principal order (I = 200, 100, 150): its omega3 is
+// the second principal axis. An error of 1e-6 rad/s put on omega3 alone is reported on omega3, in
+// rad/s, and the normalized Eq. 20 error beside it is 1e-6 / sqrt(A2) with A2 = (I3 - I1) / I2 =
+// (200 - 100) / 150 (Eq. 3, exact), 1e-6 sqrt(1.5).
+TEST(CheckUserTerms, AnErrorOnOmega3AloneIsReportedOnOmega3InRadPerSecond) {
+  temp_dir dir;
+  write_file(dir.path() / "listed.toml", R"(name = "listed-out-of-order"
+[body]
+inertia = [200.0, 100.0, 150.0]
+[torque]
+M = [0.01, -0.02, 0.005]
+[initial]
+omega = [0.02, 0.1, 0.05]
+[span]
+t_end = 300.0
+samples = 31
+)");
+  const run_result ref = run(dir.path(), {"reference", "listed.toml", "--out", "ref.csv"});
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+  std::vector<std::string> header;
+  const auto rows = data_rows(read_file(dir.path() / "ref.csv"), &header);
+  ASSERT_EQ(header, (std::vector<std::string>{"t", "omega1", "omega2", "omega3", "tau", "Omega1", "Omega2", "Omega3"}));
+  const quad put("1e-6");
+  std::string traj = "t,omega1,omega2,omega3\n";
+  for (const auto& c : rows)
+    traj += fmt::format("{},{},{},{}\n", c[0], c[1], c[2], eulervop::to_text(quad(c[3]) + put));
+  write_file(dir.path() / "traj.csv", traj);
+  const double expected = 1e-6, normalized = 1e-6 * std::sqrt(1.5);
+  for (const std::string against : {"listed.toml", "ref.csv"}) {
+    const run_result r = run(dir.path(), {"check", against, "traj.csv", "--format", "json", "--errors-out", "e.csv"});
+    ASSERT_EQ(r.exit_code, 0) << against << ": " << r.err;
+    const json j = json::parse(r.out);
+    EXPECT_EQ(j.at("components"), json({"omega1", "omega2", "omega3"}));
+    EXPECT_EQ(j.at("time_unit"), "s");
+    EXPECT_EQ(j.at("error_unit"), "rad/s");
+    const auto& components = j.at("max_component_errors");
+    // The trajectory's cells carry every digit of quad: the rest of the error is its rounding.
+    EXPECT_NEAR(components[2].get<double>(), expected, 1e-25) << against;
+    EXPECT_LT(components[0].get<double>(), 1e-32) << against;
+    EXPECT_LT(components[1].get<double>(), 1e-32) << against;
+    EXPECT_NEAR(j.at("max_error").get<double>(), expected, 1e-25) << against;
+    EXPECT_NEAR(j.at("normalized_max_error").get<double>(), normalized, 1e-15 * normalized) << against;
+    EXPECT_TRUE(j.at("pass").is_null());
+    const auto e = lines_of(read_file(dir.path() / "e.csv"));
+    ASSERT_EQ(e.size(), 32u);
+    EXPECT_NEAR(std::stod(cells_of(e[5])[2]), expected, 1e-25);
+    // --tol is in rad/s: just above the error passes, just below fails.
+    EXPECT_EQ(run(dir.path(), {"check", against, "traj.csv", "--tol", "1.000001e-6"}).exit_code, 0) << against;
+    const run_result fail = run(dir.path(), {"check", against, "traj.csv", "--tol", "0.999999e-6"});
+    EXPECT_EQ(fail.exit_code, 1) << against;
+    EXPECT_NE(fail.out.find("tolerance: error <= 9.99999e-07 rad/s"), std::string::npos) << fail.out;
+    EXPECT_NE(fail.out.find("omega3 1.000e-06 rad/s"), std::string::npos) << fail.out;
+    if (against == "listed.toml") EXPECT_NE(fail.out.find("computed to t = 3.000"), std::string::npos) << fail.out;
+  }
+}
+
+// A trajectory with q0..q3 is never passed on its rates alone: --tol without --attitude-tol asks
+// for it (exit 2, one line), --attitude-tol needs a bar on the rates, --ignore-attitude judges the
+// rates alone and says so, and no bar at all gives no verdict.
+TEST(CheckUserTerms, NoSilentPassOnTheAttitude) {
+  temp_dir dir;
+  ASSERT_NO_FATAL_FAILURE(write_rotated_trajectory(dir.path()));
+  for (const std::string against : {"att.toml", "ref.csv"}) {
+    expect_one_line_error(run(dir.path(), {"check", against, "traj.csv", "--tol", "1e-9"}),
+                          "--attitude-tol: required, since trajectory traj.csv has columns q0..q3 (give "
+                          "--attitude-tol RAD, or --ignore-attitude to judge the rates alone)");
+    expect_one_line_error(run(dir.path(), {"check", against, "traj.csv", "--rel-tol", "1e-9"}),
+                          "--attitude-tol: required");
+    expect_one_line_error(run(dir.path(), {"check", against, "traj.csv", "--attitude-tol", "1"}),
+                          "--attitude-tol 1: give --tol or --rel-tol too");
+    expect_one_line_error(
+        run(dir.path(), {"check", against, "traj.csv", "--tol", "1", "--attitude-tol", "1", "--ignore-attitude"}),
+        "--ignore-attitude: given with --attitude-tol 1");
+    const run_result ignored = run(dir.path(), {"check", against, "traj.csv", "--tol", "1e-9", "--ignore-attitude"});
+    EXPECT_EQ(ignored.exit_code, 0) << ignored.err;
+    EXPECT_NE(ignored.out.find("result: PASS (every row within tolerance; the attitude not judged "
+                               "(--ignore-attitude))"),
+              std::string::npos)
+        << ignored.out;
+    const run_result none = run(dir.path(), {"check", against, "traj.csv", "--format", "json"});
+    EXPECT_EQ(none.exit_code, 0) << none.err;
+    EXPECT_TRUE(json::parse(none.out).at("pass").is_null());
+    const run_result judged =
+        run(dir.path(), {"check", against, "traj.csv", "--tol", "1e-9", "--attitude-tol", "1e-6", "--format", "json"});
+    EXPECT_EQ(judged.exit_code, 0) << judged.err;
+    EXPECT_TRUE(json::parse(judged.out).at("attitude_judged").get<bool>());
+  }
+}
+
+// A physical reference written before t,omega1..3 came first (tau,Omega1..3,t,omega1..3,q0..q3)
+// is read by name, with the same results.
+TEST(CheckUserTerms, AReferenceInTheOldColumnOrderReadsTheSame) {
+  temp_dir dir;
+  ASSERT_NO_FATAL_FAILURE(write_rotated_trajectory(dir.path()));
+  std::string old_order;
+  for (const std::string& l : lines_of(read_file(dir.path() / "ref.csv"))) {
+    if (l.starts_with("#")) {
+      old_order += l + "\n";
+      continue;
+    }
+    const std::vector<std::string> c = cells_of(l);  // t,omega1..3,q0..q3,tau,Omega1..3
+    old_order += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\n", c[8], c[9], c[10], c[11], c[0], c[1], c[2], c[3],
+                             c[4], c[5], c[6], c[7]);
+  }
+  ASSERT_TRUE(old_order.find("tau,Omega1,Omega2,Omega3,t,omega1,omega2,omega3,q0") != std::string::npos);
+  write_file(dir.path() / "old.csv", old_order);
+  const std::vector<std::string> flags = {"traj.csv", "--tol", "1e-9", "--attitude-tol", "1e-6", "--format", "json"};
+  std::vector<std::string> now = {"check", "ref.csv"}, before = {"check", "old.csv"};
+  now.insert(now.end(), flags.begin(), flags.end());
+  before.insert(before.end(), flags.begin(), flags.end());
+  const run_result a = run(dir.path(), now), b = run(dir.path(), before);
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  json ja = json::parse(a.out), jb = json::parse(b.out);
+  ja["reference"].erase("path");
+  jb["reference"].erase("path");
+  EXPECT_EQ(ja, jb);
+}
+
+// A spacecraft propagator of seven states in physical units, from another library (Boost.Odeint's
+// classic RK4, h = 1/8 s, so that the thruster window [50, 60) s starts and ends on a step), as a
+// user would test it: the correct one passes at bars in rad/s and radians, and each planted bug
+// fails, by exit 1 with --attitude-tol or by exit 2 asking for it without. The max rate error
+// `check` reports, in rad/s, is the one computed here from the reference file's omega columns.
+enum class planted { none, product_order, thrust_sign, thrust_axis };
+
+std::string propagate(planted bug) {
+  using seven = std::array<double, 7>;
+  const double I[3] = {100, 150, 200};
+  bool firing = false;
+  const auto rhs = [&](const seven& x, seven& dx, double) {
+    double M[3] = {0, 0, 0};
+    if (firing) M[bug == planted::thrust_axis ? 1 : 0] = bug == planted::thrust_sign ? -0.05 : 0.05;
+    for (int i = 0; i < 3; ++i) {
+      const int j = (i + 1) % 3, k = (i + 2) % 3;
+      dx[i] = ((I[j] - I[k]) * x[j] * x[k] + M[i]) / I[i];
+    }
+    // q' = 1/2 q (x) (0, w) (body rates on the right); the bug takes (0, w) (x) q.
+    const double w = x[3], a = x[4], b = x[5], c = x[6], p = x[0], q = x[1], r = x[2];
+    const double s = bug == planted::product_order ? -1.0 : 1.0;
+    dx[3] = 0.5 * (-a * p - b * q - c * r);
+    dx[4] = 0.5 * (w * p + s * (b * r - c * q));
+    dx[5] = 0.5 * (w * q + s * (c * p - a * r));
+    dx[6] = 0.5 * (w * r + s * (a * q - b * p));
+  };
+  odeint::runge_kutta4<seven> stepper;
+  seven x = {0.02, 0.1, 0.05, 1, 0, 0, 0};
+  const double h = 0.125;
+  std::string csv = "t,omega1,omega2,omega3,q0,q1,q2,q3\n";
+  for (int n = 0; n <= 960; ++n) {
+    const double t = n * h;
+    if (n % 8 == 0)
+      csv += fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", t, x[0], x[1], x[2], x[3],
+                         x[4], x[5], x[6]);
+    firing = t + h / 2 >= 50 && t + h / 2 < 60;  // the window of the step's interior
+    if (n < 960) stepper.do_step(rhs, x, t, h);
+  }
+  return csv;
+}
+
+TEST(CheckUserTerms, APropagatorOfSevenStatesAndThreePlantedBugs) {
+  temp_dir dir;
+  write_file(dir.path() / "sc.toml", R"(name = "thruster-window"
+[body]
+inertia = [100.0, 150.0, 200.0]
+[torque]
+M = [0.0, 0.0, 0.0]
+[[torque.piece]]
+from = 50.0
+to = 60.0
+M = [0.05, 0.0, 0.0]
+[initial]
+omega = [0.02, 0.1, 0.05]
+q = [1.0, 0.0, 0.0, 0.0]
+[span]
+t_end = 120.0
+samples = 121
+)");
+  const run_result ref = run(dir.path(), {"reference", "sc.toml", "--out", "ref.csv"});
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+  const auto rows = data_rows(read_file(dir.path() / "ref.csv"));
+  ASSERT_EQ(rows.size(), 121u);
+  write_file(dir.path() / "good.csv", propagate(planted::none));
+  // The max rate error computed here: the two-norm over omega1..3 against the file's columns.
+  double independent = 0;
+  const auto good = lines_of(read_file(dir.path() / "good.csv"));
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const std::vector<std::string> c = cells_of(good[i + 1]);
+    double sum = 0;
+    for (int k = 1; k <= 3; ++k) sum += std::pow(std::stod(c[k]) - std::stod(rows[i][k]), 2);
+    independent = std::max(independent, std::sqrt(sum));
+  }
+  ASSERT_GT(independent, 1e-13);  // RK4's own error, above the 17-digit text's
+  ASSERT_LT(independent, 1e-8);
+  const std::vector<std::string> bars = {"--tol", "1e-8", "--attitude-tol", "1e-7"};
+  for (const std::string against : {"sc.toml", "ref.csv"}) {
+    std::vector<std::string> args = {"check", against, "good.csv", "--format", "json"};
+    args.insert(args.end(), bars.begin(), bars.end());
+    const run_result r = run(dir.path(), args);
+    ASSERT_EQ(r.exit_code, 0) << against << ": " << r.err << r.out;
+    const json j = json::parse(r.out);
+    EXPECT_TRUE(j.at("pass").get<bool>());
+    EXPECT_NEAR(j.at("max_error").get<double>(), independent, 0.01 * independent) << against;
+    std::printf("%s: max rate error %.6g rad/s reported, %.6g computed here\n", against.c_str(),
+                j.at("max_error").get<double>(), independent);
+  }
+  for (const auto& [bug, name] : {std::pair{planted::product_order, "product"}, std::pair{planted::thrust_sign, "sign"},
+                                  std::pair{planted::thrust_axis, "axis"}}) {
+    const std::string file = std::string(name) + ".csv";
+    write_file(dir.path() / file, propagate(bug));
+    for (const std::string against : {"sc.toml", "ref.csv"}) {
+      std::vector<std::string> args = {"check", against, file};
+      args.insert(args.end(), bars.begin(), bars.end());
+      EXPECT_EQ(run(dir.path(), args).exit_code, 1) << name << " against " << against;
+      const run_result rates_only = run(dir.path(), {"check", against, file, "--tol", "1e-8"});
+      EXPECT_EQ(rates_only.exit_code, 2) << name << " against " << against;
+      EXPECT_NE(rates_only.err.find("--attitude-tol: required"), std::string::npos) << rates_only.err;
+    }
   }
 }
 

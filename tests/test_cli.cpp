@@ -302,16 +302,16 @@ TEST(Reference, PhysicalSceneHasPhysicalColumns) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto rows = data_rows(r.out);
   ASSERT_EQ(rows.size(), 4u) << r.out;
-  EXPECT_EQ(rows[0], "tau,Omega1,Omega2,Omega3,t,omega1,omega2,omega3");
-  // Column 5 is t: 0, 10, 20 s.
+  EXPECT_EQ(rows[0], "t,omega1,omega2,omega3,tau,Omega1,Omega2,Omega3");
+  // Column 1 is t: 0, 10, 20 s.
   auto column = [](const std::string& row, int i) {
     std::istringstream in(row);
     std::string cell;
     for (int k = 0; k <= i; ++k) std::getline(in, cell, ',');
     return std::stod(cell);
   };
-  EXPECT_EQ(column(rows[3], 4), 20.0);
-  EXPECT_NEAR(column(rows[1], 5), 0.02, 1e-15);  // omega1(0)
+  EXPECT_EQ(column(rows[3], 0), 20.0);
+  EXPECT_NEAR(column(rows[1], 1), 0.02, 1e-15);  // omega1(0)
   EXPECT_NE(r.out.find("# precision: double"), std::string::npos);
 }
 
@@ -424,13 +424,13 @@ TEST(Reference, AttitudeColumnsAndConvention) {
   EXPECT_NE(csv.find("\n# attitude: q0..q3 a Hamilton quaternion, scalar first, body to inertial"), std::string::npos);
   const auto rows = data_rows(csv);
   ASSERT_EQ(rows.size(), 4u) << csv;
-  EXPECT_EQ(rows[0], "tau,Omega1,Omega2,Omega3,t,omega1,omega2,omega3,q0,q1,q2,q3");
+  EXPECT_EQ(rows[0], "t,omega1,omega2,omega3,q0,q1,q2,q3,tau,Omega1,Omega2,Omega3");
   for (std::size_t k = 1; k < rows.size(); ++k) {
     std::vector<eulervop::quad> cells;
     std::istringstream in(rows[k]);
     for (std::string c; std::getline(in, c, ',');) cells.push_back(*eulervop::from_text<eulervop::quad>(c));
     ASSERT_EQ(cells.size(), 12u);
-    const eulervop::quad n2 = cells[8] * cells[8] + cells[9] * cells[9] + cells[10] * cells[10] + cells[11] * cells[11];
+    const eulervop::quad n2 = cells[4] * cells[4] + cells[5] * cells[5] + cells[6] * cells[6] + cells[7] * cells[7];
     EXPECT_LE(abs(n2 - 1), 64 * std::numeric_limits<eulervop::quad>::epsilon()) << rows[k];
   }
   expect_one_line_error(run(dir.path(), {"reference", "scene.toml", "--certify", "--out", "c.csv"}), "[initial] q");

@@ -88,12 +88,12 @@ std::string without_timing(const std::string& csv) {
 TEST(Progress, ShownOnATerminalInTheScenesTimeAndNeverInTheOutputs) {
   temp_dir dir;
   const std::string scene = source_dir + "/data/scenes/spacecraft-attitude.toml";
-  const std::vector<std::string> args = {"reference", scene, "--t-end", "72000", "--samples", "5", "--out", "tty.csv"};
+  const std::vector<std::string> args = {"reference", scene, "--t-end", "36000", "--samples", "5", "--out", "tty.csv"};
   int code = -1;
   const std::string terminal = run_on_terminal(dir.path(), args, code);
   ASSERT_EQ(code, 0) << terminal;
   EXPECT_NE(terminal.find("reference: t "), std::string::npos) << terminal;
-  EXPECT_NE(terminal.find(" / 72000 s ("), std::string::npos) << terminal;
+  EXPECT_NE(terminal.find(" / 36000 s ("), std::string::npos) << terminal;
   EXPECT_NE(terminal.find(" segments"), std::string::npos) << terminal;
   EXPECT_NE(terminal.find(" left"), std::string::npos) << terminal;
   // Forced on a pipe (one line a second, so a short run shows its first), and turned off.

@@ -301,7 +301,6 @@ std::vector<bad_scene> bad_scenes() {
       {"samples float", head + init + "[span]\ntau_end = 1\nsamples = 2.5\n", {"[span] samples = 2.5", "integer"}},
       {"samples huge", head + init + "[span]\ntau_end = 1\nsamples = 100000000000\n", {"[span] samples"}},
       {"samples and times", head + init + "[span]\ntau_end = 1\nsamples = 3\ntimes = [0.5]\n", {"[span]", "not both"}},
-      {"no samples", head + init + "[span]\ntau_end = 1\n", {"[span]", "samples"}},
       {"times unordered", head + init + "[span]\ntau_end = 1\ntimes = [0.5, 0.2]\n", {"[span] times = 0.2", "increasing"}},
       {"times repeated", head + init + "[span]\ntau_end = 1\ntimes = [0.5, 0.5]\n", {"[span] times = 0.5"}},
       {"times beyond", head + init + "[span]\ntau_end = 1\ntimes = [0.5, 2]\n", {"[span] times = 2", "tau_end"}},
@@ -354,6 +353,20 @@ INSTANTIATE_TEST_SUITE_P(Table, BadScene, ::testing::ValuesIn(bad_scenes()),
                              name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
                            return name;
                          });
+
+// A scene without samples or times loads (the command line may complete it: --samples, --times),
+// and asking for its sample times names what is missing.
+TEST(SceneSpan, WithoutSamplesLoadsAndItsTimesAreRefused) {
+  const eulervop::scene::scene s = parse("name = \"open\"\n[initial]\nOmega = [0.5, 0.0, 1.0]\n[span]\ntau_end = 1\n");
+  EXPECT_FALSE(s.samples.has_value());
+  EXPECT_TRUE(s.times.empty());
+  try {
+    (void)eulervop::scene::sample_times_of<double>(s);
+    FAIL() << "sample times of a scene without samples or times";
+  } catch (const input_error& e) {
+    EXPECT_EQ(std::string(e.what()), "[span] of scene open: give samples (a count) or times (a list)");
+  }
+}
 
 TEST(BadSceneFile, UnreadablePathNamesIt) {
   try {

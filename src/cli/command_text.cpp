@@ -12,7 +12,8 @@ std::string command_text(int argc, const char* const* argv) {
       ++i;  // and its value
       continue;
     }
-    if (a.starts_with("--out=")) continue;
+    // Where the output goes and whether progress is shown change nothing in it.
+    if (a.starts_with("--out=") || a == "--progress" || a == "--quiet") continue;
     text += " " + shell_word(a);
   }
   return text;
