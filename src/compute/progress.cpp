@@ -1,5 +1,7 @@
 #include "compute/progress.hpp"
 
+#include <fmt/format.h>
+
 #include <utility>
 
 namespace eulervop::app {
@@ -9,8 +11,8 @@ progress_display_factory& installed() {
   static progress_display_factory factory;
   return factory;
 }
-progress_clock& clock_in_use() {
-  static progress_clock clock;
+scene_clock& clock_in_use() {
+  static scene_clock clock;
   return clock;
 }
 }  // namespace
@@ -21,10 +23,17 @@ std::unique_ptr<progress_display> open_progress(const std::string& label, double
   return installed() ? installed()(label, total, unit) : nullptr;
 }
 
-const progress_clock& progress_time() { return clock_in_use(); }
+std::string scene_clock::at(double tau, int digits) const {
+  const std::string tau_text = fmt::format("tau={:.{}g}", tau, digits);
+  if (unit.name == "tau") return tau_text;
+  return fmt::format("{}={:.{}g}{} ({})", unit.name, tau * per_tau, digits, unit.unit.empty() ? "" : " " + unit.unit,
+                     tau_text);
+}
 
-progress_clock_scope::progress_clock_scope(progress_clock clock) : previous_(std::exchange(clock_in_use(), std::move(clock))) {}
+const scene_clock& scene_time() { return clock_in_use(); }
 
-progress_clock_scope::~progress_clock_scope() { clock_in_use() = std::move(previous_); }
+scene_clock_scope::scene_clock_scope(scene_clock clock) : previous_(std::exchange(clock_in_use(), std::move(clock))) {}
+
+scene_clock_scope::~scene_clock_scope() { clock_in_use() = std::move(previous_); }
 
 }  // namespace eulervop::app

@@ -38,22 +38,26 @@ std::unique_ptr<progress_display> open_progress(const std::string& label, double
 
 // The time an integration in tau is shown in: the scene's own. A command that integrates a scene
 // whose time is not tau (t = tau / (dtau/dt) of Eq. 4, in seconds for a physical scene) sets it
-// for the duration of the command; progress_time() is what is set (tau, else).
-struct progress_clock {
+// for the duration of the command; scene_time() is what is set (tau, else).
+struct scene_clock {
   progress_unit unit;
   double per_tau = 1;  // the shown time per unit of tau
-};
-const progress_clock& progress_time();
 
-class progress_clock_scope {
+  // "t=50 s (tau=14.4337567)", or "tau=14.4337567" when the scene's time is tau: where
+  // something happened, in the scene's own time first, to `digits` significant digits.
+  std::string at(double tau, int digits = 9) const;
+};
+const scene_clock& scene_time();
+
+class scene_clock_scope {
  public:
-  explicit progress_clock_scope(progress_clock clock);
-  ~progress_clock_scope();
-  progress_clock_scope(const progress_clock_scope&) = delete;
-  progress_clock_scope& operator=(const progress_clock_scope&) = delete;
+  explicit scene_clock_scope(scene_clock clock);
+  ~scene_clock_scope();
+  scene_clock_scope(const scene_clock_scope&) = delete;
+  scene_clock_scope& operator=(const scene_clock_scope&) = delete;
 
  private:
-  progress_clock previous_;
+  scene_clock previous_;
 };
 
 }  // namespace eulervop::app

@@ -56,11 +56,11 @@ struct dense_reference {
 
 // Runs integrate(progress), a function of a progress_callback, under a progress display labelled
 // `label` (none when empty) that goes to `total`, in tau, shown in the scene's time
-// (progress_time(), progress.hpp); returns the wall time.
+// (scene_time(), progress.hpp); returns the wall time.
 template <class Integrate>
 double run_with_progress(const std::string& label, double total, Integrate&& integrate) {
   const auto start = std::chrono::steady_clock::now();
-  const progress_clock& clock = progress_time();
+  const scene_clock& clock = scene_time();
   const std::unique_ptr<progress_display> progress =
       label.empty() ? nullptr : open_progress(label, total * clock.per_tau, clock.unit);
   integrate([&](double tau, std::size_t segments) {

@@ -5,7 +5,7 @@
 #include "commands/check/against_scene.hpp"
 #include "commands/check/check_job.hpp"
 #include "commands/check/check_output.hpp"
-#include "compute/scene_progress.hpp"
+#include "compute/scene_time.hpp"
 
 #include <CLI/CLI.hpp>
 

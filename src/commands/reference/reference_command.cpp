@@ -1,6 +1,6 @@
 #include "commands/reference/reference_command.hpp"
 
-#include "compute/scene_progress.hpp"
+#include "compute/scene_time.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/scene_overrides.hpp"
 #include "compute/certified_reference.hpp"

@@ -1,6 +1,6 @@
 #include "commands/report/report_command.hpp"
 
-#include "compute/scene_progress.hpp"
+#include "compute/scene_time.hpp"
 #include "cli/command_flags.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/flags.hpp"
@@ -151,7 +151,7 @@ void add_report_flags(CLI::App& sub, report_options& o) {
                  "rk4,rkf45; with --tols rkf45,dop853)"},
                 o.methods);
   add_text_flag(sub,
-                {"--formulations", "LIST", "Comma-separated: euler,vop (default: [run] formulations, else euler,vop)"},
+                {"--formulations", "LIST", "Comma-separated, of euler, vop, vop-theta (default: [run] formulations, else euler,vop)"},
                 o.formulations);
   scene_override_set which;
   which.times = false;

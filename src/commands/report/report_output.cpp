@@ -1,5 +1,6 @@
 #include "commands/report/report_output.hpp"
 
+#include "compute/progress.hpp"
 #include "io/figure.hpp"
 #include "io/output_cells.hpp"
 
@@ -53,7 +54,9 @@ std::string optional_text(const std::optional<double>& x, const char* spec) {
 
 std::string divergence_note(const run_result& r) {
   if (!r.diverged()) return "";
-  return fmt::format("diverged at tau={} ({})", optional_text(r.diverged_at(), "{:.6g}"), describe(r.status));
+  // In the scene's own time first (t in seconds for a physical scene), as every failure is told.
+  const std::string at = r.diverged_at() ? scene_time().at(*r.diverged_at(), 6) : "tau=-";
+  return fmt::format("diverged at {} ({})", at, describe(r.status));
 }
 
 nlohmann::ordered_json run_json(const run_spec& spec, const run_errors& e, nlohmann::ordered_json step,

@@ -13,14 +13,14 @@ namespace eulervop::app {
 
 // t in seconds for a physical scene (tau / (dtau/dt) of Eq. 4, or tau itself in the direct form),
 // t for the coefficient form, tau for a normalized scene.
-progress_clock scene_progress_clock(const scene& s);
+scene_clock clock_of(const scene& s);
 
 // Runs `run` with the scene's clock set for the progress display, and states a numerical failure
 // in the scene's time first ("at t=X s (tau=Y)").
 template <class Run>
 decltype(auto) in_scene_time(const scene& s, Run&& run) {
-  const progress_clock clock = scene_progress_clock(s);
-  const progress_clock_scope scope(clock);
+  const scene_clock clock = clock_of(s);
+  const scene_clock_scope scope(clock);
   try {
     return std::forward<Run>(run)();
   } catch (const numerical_failure& e) {

@@ -1,8 +1,8 @@
-#include "compute/scene_progress.hpp"
+#include "compute/scene_time.hpp"
 
 namespace eulervop::app {
 
-progress_clock scene_progress_clock(const scene& s) {
+scene_clock clock_of(const scene& s) {
   if (s.is_coefficient_form()) return {{"t", ""}, 1.0};
   if (!s.is_physical()) return {};
   return {{"t", "s"}, 1.0 / scaling_of<double>(s).tau_rate()};
