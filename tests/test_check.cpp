@@ -620,17 +620,9 @@ TEST(CheckAttitude, BadAttitudeInput) {
 // (200 - 100) / 150 (Eq. 3, exact), 1e-6 sqrt(1.5).
 TEST(CheckUserTerms, AnErrorOnOmega3AloneIsReportedOnOmega3InRadPerSecond) {
   temp_dir dir;
-  write_file(dir.path() / "listed.toml", R"(name = "listed-out-of-order"
-[body]
-inertia = [200.0, 100.0, 150.0]
-[torque]
-M = [0.01, -0.02, 0.005]
-[initial]
-omega = [0.02, 0.1, 0.05]
-[span]
-t_end = 300.0
-samples = 31
-)");
+  std::string listed = attitude_scene("listed-out-of-order", "");
+  listed.replace(listed.find("[100.0, 150.0, 200.0]"), 21, "[200.0, 100.0, 150.0]");
+  write_file(dir.path() / "listed.toml", listed);
   const run_result ref = run(dir.path(), {"reference", "listed.toml", "--out", "ref.csv"});
   ASSERT_EQ(ref.exit_code, 0) << ref.err;
   std::vector<std::string> header;
@@ -658,7 +650,7 @@ samples = 31
     EXPECT_NEAR(j.at("normalized_max_error").get<double>(), normalized, 1e-15 * normalized) << against;
     EXPECT_TRUE(j.at("pass").is_null());
     const auto e = lines_of(read_file(dir.path() / "e.csv"));
-    ASSERT_EQ(e.size(), 32u);
+    ASSERT_EQ(e.size(), 62u);
     EXPECT_NEAR(std::stod(cells_of(e[5])[2]), expected, 1e-25);
     // --tol is in rad/s: just above the error passes, just below fails.
     EXPECT_EQ(run(dir.path(), {"check", against, "traj.csv", "--tol", "1.000001e-6"}).exit_code, 0) << against;
@@ -666,7 +658,7 @@ samples = 31
     EXPECT_EQ(fail.exit_code, 1) << against;
     EXPECT_NE(fail.out.find("tolerance: error <= 9.99999e-07 rad/s"), std::string::npos) << fail.out;
     EXPECT_NE(fail.out.find("omega3 1.000e-06 rad/s"), std::string::npos) << fail.out;
-    if (against == "listed.toml") EXPECT_NE(fail.out.find("computed to t = 3.000"), std::string::npos) << fail.out;
+    if (against == "listed.toml") EXPECT_NE(fail.out.find("computed to t = 6.000"), std::string::npos) << fail.out;
   }
 }
 
