@@ -102,6 +102,47 @@ void describe_reference_file(const check_job& job, const reference_metadata& met
       {"estimated_max_error", number_or_null(error ? std::optional<double>(error->value) : std::nullopt)}};
 }
 
+// The reference file's columns that a trajectory with columns `cols` is compared with, and the
+// variables of the comparison; the tally's flags (attitude, certified) set in `r`.
+template <scalar T>
+struct reference_columns {
+  std::size_t time = 0;
+  compared_variables<T> vars;
+  std::optional<std::array<std::size_t, 3>> omega;  // physical columns: the file's omega
+  std::optional<std::array<std::size_t, 4>> q;      // the attitude compared
+  std::optional<std::size_t> radius;                 // a certified reference's radius of the compared state
+};
+
+template <scalar T>
+reference_columns<T> reference_columns_of(const check_job& job, reference_csv_reader& ref, const csv_rows& rows,
+                                          const trajectory_columns& cols, check_result& r) {
+  reference_columns<T> c;
+  // The reference's columns are always the canonical names of `eulervop reference`.
+  c.time = cols.physical ? ref.column("t", " (the trajectory has physical times; the reference is normalized)")
+                         : ref.column("tau");
+  if (cols.physical && cols.state == "omega" && !ref.rows().column("omega1").has_value())
+    throw input_error(fmt::format("{}: the trajectory has omega1..3, the reference has not", rows.where()));
+  // Physical columns against a physical reference with tau and Omega: compared in rad/s against
+  // the file's omega columns, with its Omega for the normalized measure.
+  if (cols.physical && ref.rows().column("tau")) {
+    c.vars = compared_variables<T>(scaling_of_reference<T>(ref));
+    c.omega = {ref.column("omega1"), ref.column("omega2"), ref.column("omega3")};
+  }
+  r.time_name = cols.time_name;
+  r.terms = terms_of(cols, cols.state == "omega", c.vars.physical());
+  // The attitude: the reference's q0..q3 (a file of a scene with [initial] q), compared when the
+  // trajectory has them too.
+  r.t.reference_attitude = ref.rows().column("q0").has_value();
+  require_attitude_match(job, cols, rows, r.t.reference_attitude, "reference " + job.reference_path,
+                         "no columns q0..q3");
+  r.t.attitude = cols.q.has_value();
+  if (r.t.attitude) c.q = {ref.column("q0"), ref.column("q1"), ref.column("q2"), ref.column("q3")};
+  // A certified reference: each row's radius, of the state compared (radius_omega of omega).
+  c.radius = ref.rows().column(c.vars.physical() ? "radius_omega" : "radius");
+  r.t.certified = c.radius.has_value();
+  return c;
+}
+
 // The rows of the trajectory against the reference file's, with the equations `problem` (a
 // pointer to the scene text's problem, or to nothing) for the direction of motion.
 template <scalar T, class P>
@@ -109,39 +150,13 @@ check_result check_rows(const check_job& job, reference_csv_reader& ref, const P
   std::ifstream in = open_input_file("trajectory", job.trajectory_path);
   csv_rows rows(in, "trajectory " + job.trajectory_path);
   const trajectory_columns cols = find_columns(job, rows);
-  // The reference's columns are always the canonical names of `eulervop reference`.
-  const std::size_t ref_time =
-      cols.physical ? ref.column("t", " (the trajectory has physical times; the reference is normalized)")
-                    : ref.column("tau");
-  if (cols.physical && cols.state == "omega" && !ref.rows().column("omega1").has_value())
-    throw input_error(fmt::format("{}: the trajectory has omega1..3, the reference has not", rows.where()));
-  // Physical columns against a physical reference with tau and Omega: compared in rad/s against
-  // the file's omega columns, with its Omega for the normalized measure.
-  compared_variables<T> vars;
-  std::optional<std::array<std::size_t, 3>> ref_omega;
-  if (cols.physical && ref.rows().column("tau")) {
-    vars = compared_variables<T>(scaling_of_reference<T>(ref));
-    ref_omega = {ref.column("omega1"), ref.column("omega2"), ref.column("omega3")};
-  }
-
   check_result r;
-  r.time_name = cols.time_name;
-  r.terms = terms_of(cols, cols.state == "omega", vars.physical());
-  // The attitude: the reference's q0..q3 (a file of a scene with [initial] q), compared when the
-  // trajectory has them too.
-  r.t.reference_attitude = ref.rows().column("q0").has_value();
-  require_attitude_match(job, cols, rows, r.t.reference_attitude, "reference " + job.reference_path,
-                         "no columns q0..q3");
-  r.t.attitude = cols.q.has_value();
-  std::optional<std::array<std::size_t, 4>> ref_q;
-  if (r.t.attitude) ref_q = {ref.column("q0"), ref.column("q1"), ref.column("q2"), ref.column("q3")};
-  // A certified reference: each row's radius, of the state compared (radius_omega of omega).
-  const std::optional<std::size_t> radius_column = ref.rows().column(vars.physical() ? "radius_omega" : "radius");
-  r.t.certified = radius_column.has_value();
+  const reference_columns<T> c = reference_columns_of<T>(job, ref, rows, cols, r);
+  const compared_variables<T>& vars = c.vars;
   errors_writer out(job.errors_out);
   out.header(cols.time_name, r.t.certified, r.t.attitude);
   row_reader reader{rows, cols};
-  reference_cursor cursor(ref, ref_time);
+  reference_cursor cursor(ref, c.time);
   while (rows.next()) {
     const decimal time = reader.time();
     const std::array<decimal, 3> d = reader.values();
@@ -150,15 +165,15 @@ check_result check_rows(const check_job& job, reference_csv_reader& ref, const P
     cursor.seek(time, rows, cols.time_name);
     const vec3<T> traj = {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
     const T tau = vars.tau_of(time.template to_scalar<T>());
-    const row_states<T> states = ref_omega ? vars.states(ref.template Omega<T>(), ref.template columns<T>(*ref_omega), traj)
-                                           : vars.states(ref.template Omega<T>(), traj);
+    const row_states<T> states = c.omega ? vars.states(ref.template Omega<T>(), ref.template columns<T>(*c.omega), traj)
+                                         : vars.states(ref.template Omega<T>(), traj);
     std::optional<decimal> radius;
-    if (radius_column) radius = ref.rows().number(*radius_column);
+    if (c.radius) radius = ref.rows().number(*c.radius);
     std::optional<attitude_pair<T>> q;
-    if (ref_q) {
+    if (c.q) {
       const csv_rows& f = ref.rows();
-      const std::array<std::size_t, 4>& c = *ref_q;
-      q = attitude_pair<T>{quaternion_of<T>({f.number(c[0]), f.number(c[1]), f.number(c[2]), f.number(c[3])}),
+      const std::array<std::size_t, 4>& k = *c.q;
+      q = attitude_pair<T>{quaternion_of<T>({f.number(k[0]), f.number(k[1]), f.number(k[2]), f.number(k[3])}),
                            quaternion_of<T>(*a)};
     }
     record<T>(job, r.t, out, rows.line(), time, states, vars, problem, tau, radius, q ? &*q : nullptr);
