@@ -46,12 +46,6 @@ inline void require_certifiable(const scene& s, const eulervop::precision& p) {
   if (s.has_torque_law())
     reasons.push_back(fmt::format("its torque changes with {} (a formula or pieces); only a constant torque is certified",
                                   torque_kind_of(s) == torque_kind::of_state ? "the state" : "the time"));
-  const auto formula_in = [](const std::optional<eulervop::scene::decimal3>& v) {
-    return v && std::any_of(v->begin(), v->end(), [](const decimal& d) { return d.formula != nullptr; });
-  };
-  const auto* rates = std::get_if<eulervop::scene::initial_rates>(&s.initial);
-  if (formula_in(s.inertia) || (rates && formula_in(rates->rates)))
-    reasons.push_back("it gives a number as a formula ([body] inertia or [initial]), which is not enclosed (give decimals)");
   if (s.has_attitude())
     reasons.push_back("it has an attitude ([initial] q), which is not certified (its rates are: leave q out)");
   if (s.is_coefficient_form())
