@@ -8,6 +8,7 @@ packages=(
   googletest libgtest-dev libbenchmark-dev
   parallel  # the tests run the GNU parallel recipes of docs/batch.md
   python3   # tools/check_layers.py (the test `layers`)
+  python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest  # the Python module
 )
 [[ "${EULERVOP_WITH_PLOTS:-0}" == 1 ]] && packages+=(python3-matplotlib)
 missing=()

@@ -11,8 +11,9 @@ progress_display_factory& installed() {
   static progress_display_factory factory;
   return factory;
 }
+// Per thread: two commands may run at once in one process (the Python module).
 scene_clock& clock_in_use() {
-  static scene_clock clock;
+  thread_local scene_clock clock;
   return clock;
 }
 }  // namespace

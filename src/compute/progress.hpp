@@ -38,7 +38,7 @@ std::unique_ptr<progress_display> open_progress(const std::string& label, double
 
 // The time an integration in tau is shown in: the scene's own. A command that integrates a scene
 // whose time is not tau (t = tau / (dtau/dt) of Eq. 4, in seconds for a physical scene) sets it
-// for the duration of the command; scene_time() is what is set (tau, else).
+// for the duration of the command, on its thread; scene_time() is what is set (tau, else).
 struct scene_clock {
   progress_unit unit;
   double per_tau = 1;  // the shown time per unit of tau
