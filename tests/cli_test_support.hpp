@@ -25,29 +25,17 @@ namespace fs = std::filesystem;
 inline const std::string binary = EULERVOP_BINARY;
 inline const std::string source_dir = EULERVOP_SOURCE_DIR;
 
-// A torque that overflows double: Omega3 = G3 tau passes DBL_MAX = 1.798e308 at tau = 1.798e8
-// (exact: G3 = 1e300 from Omega3 = 0). A double reference must stop there as a numerical failure.
-inline const char* const overflow_scene = R"(name = "overflow"
-description = "A torque so large that Omega3 = G3 tau overflows double at tau = 1.798e8."
-[torque]
-G = [0.0, 0.0, 1.0e300]
-[initial]
-Omega = [0.0, 0.0, 0.0]
-[span]
-tau_end = 1.0e9
-samples = 3
-[run]
-step = 1.0e6
-[reference]
-precision = "double"
-)";
-
 inline std::string read_file(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
 }
+
+// A torque that overflows double: Omega3 = G3 tau passes DBL_MAX = 1.798e308 at tau = 1.798e8
+// (exact: G3 = 1e300 from Omega3 = 0). A double reference must stop there as a numerical failure.
+// The scene is shared with the Python module's tests (tests/scenes/overflow.toml).
+inline std::string overflow_scene() { return read_file(source_dir + "/tests/scenes/overflow.toml"); }
 
 inline void write_file(const fs::path& p, const std::string& text) {
   std::ofstream out(p, std::ios::binary);

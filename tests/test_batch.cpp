@@ -129,7 +129,7 @@ TEST(Batch, FailedScenesAreRecordedWhileOthersSucceed) {
   temp_dir dir;
   auto scenes = write_scenes(dir.path(), 2);
   write_file(dir.path() / "scenes/broken.toml", "name = \"broken\"\n[initial]\nc1 = \"x\"\n");
-  write_file(dir.path() / "scenes/overflow.toml", overflow_scene);
+  write_file(dir.path() / "scenes/overflow.toml", overflow_scene());
   scenes.push_back("scenes/broken.toml");
   scenes.push_back("scenes/overflow.toml");
   scenes.push_back("scenes/missing.toml");

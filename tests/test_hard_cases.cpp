@@ -248,7 +248,7 @@ double failure_tau(const std::string& err) {
 
 TEST(HardReference, ForcedFailureReportsTauAndCauseWithExitCode3) {
   temp_dir dir;
-  write_file(dir.path() / "overflow.toml", overflow_scene);
+  write_file(dir.path() / "overflow.toml", overflow_scene());
   {
     const run_result r = run(dir.path(), {"reference", "overflow.toml", "--precision", "double", "--out", "ref.csv"});
     EXPECT_EQ(r.exit_code, 3) << r.err;
