@@ -24,8 +24,8 @@ decltype(auto) in_scene_time(const scene& s, Run&& run) {
   try {
     return std::forward<Run>(run)();
   } catch (const numerical_failure& e) {
-    if (clock.unit.name == "tau") throw;
-    throw e.in_time(clock.unit.name, clock.per_tau, clock.unit.unit);
+    if (clock.unit.name == "tau" || !e.status().tau) throw;
+    throw e.placed_at(clock.at(*e.status().tau));
   }
 }
 

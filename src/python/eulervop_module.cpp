@@ -12,6 +12,7 @@
 #include "commands/reference/reference_command.hpp"
 #include "compute/progress.hpp"
 #include "compute/scene_library.hpp"
+#include "io/csv_rows.hpp"
 
 #include <eulervop/core/numerical_failure.hpp>
 
@@ -26,7 +27,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -93,21 +93,12 @@ class scratch_dir {
 // eulervop.NumericalFailure: created once and never freed (it lives as long as the interpreter).
 PyObject* numerical_failure_type = nullptr;
 
-// Runs a command with the GIL released, mapping what it throws to Python's exceptions.
+// Runs a command with the GIL released. What it throws reaches Python through the module's
+// exception translator (bad input, numerical failure, Ctrl-C), as does what the module throws.
 template <class Run>
 int run_released(Run&& run) {
-  try {
-    const py::gil_scoped_release nogil;
-    return run();
-  } catch (const interrupted&) {
-    PyErr_SetNone(PyExc_KeyboardInterrupt);
-    throw py::error_already_set();
-  } catch (const eulervop::scene::input_error& e) {
-    throw py::value_error(e.what());
-  } catch (const eulervop::numerical_failure& e) {
-    PyErr_SetString(numerical_failure_type, e.what());
-    throw py::error_already_set();
-  }
+  const py::gil_scoped_release nogil;
+  return run();
 }
 
 void write_text(const fs::path& path, const std::string& text) {
@@ -129,22 +120,11 @@ struct py_scene {
 };
 
 py_scene scene_load(const std::string& path) {
-  py_scene s;
-  run_released([&] {
-    s.parsed = eulervop::scene::load_scene_file(path);
-    return 0;
-  });
-  s.path = path;
-  return s;
+  return {eulervop::scene::load_scene_file(path), path};
 }
 
 py_scene scene_from_toml(const std::string& text) {
-  py_scene s;
-  run_released([&] {
-    s.parsed = eulervop::scene::parse_scene(text, "<from_toml>");
-    return 0;
-  });
-  return s;
+  return {eulervop::scene::parse_scene(text, "<from_toml>"), std::nullopt};
 }
 
 // The scene as a path the commands take: its own file, or its text written to `dir`.
@@ -174,17 +154,6 @@ struct py_reference {
   std::optional<py::array_t<double>> radius, radius_omega;
   py::dict meta;
 };
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> cells;
-  std::size_t begin = 0;
-  while (true) {
-    const std::size_t comma = line.find(',', begin);
-    cells.push_back(line.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin));
-    if (comma == std::string::npos) return cells;
-    begin = comma + 1;
-  }
-}
 
 // The '#' lines as a dict: "key: value" lines by key (scene_text joined, note a list).
 py::dict metadata_of(const std::vector<std::string>& lines) {
@@ -217,16 +186,13 @@ py_reference reference_of_csv(std::string csv) {
   py_reference r;
   r.csv = std::move(csv);
   std::istringstream in(r.csv);
-  std::vector<std::string> comments;
-  for (std::string l; std::getline(in, l);) {
-    if (l.empty()) continue;
-    if (l[0] == '#') {
-      comments.push_back(l);
-    } else if (r.all_columns.empty()) {
-      r.all_columns = split(l);
-    } else {
-      r.decimal.push_back(split(l));
-    }
+  app::csv_rows rows(in, "reference");  // the program's own reader of its files
+  r.all_columns = rows.header();
+  const std::vector<std::string>& comments = rows.comments();
+  while (rows.next()) {
+    std::vector<std::string> cells;
+    for (std::size_t c = 0; c < r.all_columns.size(); ++c) cells.push_back(rows.cell(c));
+    r.decimal.push_back(std::move(cells));
   }
   r.meta = metadata_of(comments);
   // The time is the first column; y holds the state columns after it, but tau (a second time)
@@ -295,9 +261,16 @@ py_reference reference(const py::object& scene, const py::object& times, const s
 
 struct py_check_result {
   py::dict as_dict;
-  std::string table;
   int exit_code = 0;
 };
+
+// The form of a reference file's scene, from its header: tau first (normalized), t and y1
+// (coefficient), else t and omega (physical).
+std::string form_of_header(const std::vector<std::string>& header) {
+  if (!header.empty() && header[0] == "tau") return "normalized";
+  if (header.size() > 1 && header[1] == "y1") return "coefficient";
+  return "physical";
+}
 
 // The trajectory's default column names: those of the scene's form, q0..q3 after the rates when
 // y has seven columns.
@@ -346,16 +319,11 @@ py_check_result check(const py::object& against, const py::object& t, const py::
     const fs::path p = dir / "reference.csv";
     write_text(p, r.csv);
     o.reference = p.string();
-    form = r.all_columns.empty() ? form : (r.all_columns[0] == "tau" ? "normalized" : "physical");
-    if (!r.all_columns.empty() && r.all_columns.size() > 1 && r.all_columns[1] == "y1") form = "coefficient";
+    form = form_of_header(r.all_columns);
   } else if (py::isinstance<py::str>(against) && !against.cast<std::string>().ends_with(".toml")) {
     o.reference = against.cast<std::string>();  // a reference CSV: its header says the form
-    std::ifstream in(o.reference);
-    for (std::string l; std::getline(in, l);) {
-      if (l.empty() || l[0] == '#') continue;
-      form = l.starts_with("tau,") ? "normalized" : l.starts_with("t,y1,") ? "coefficient" : "physical";
-      break;
-    }
+    std::ifstream in = app::open_input_file("reference", o.reference);
+    form = form_of_header(app::csv_rows(in, "reference " + o.reference).header());
   } else {
     const py_scene s = scene_of(against);
     o.reference = scene_path(s, dir);
@@ -419,6 +387,17 @@ PYBIND11_MODULE(eulervop, m) {
       "The reference integrator gave up; the message gives the time (in the scene's own units first) and the cause.",
       PyExc_ArithmeticError, nullptr);
   m.attr("NumericalFailure") = py::handle(numerical_failure_type);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const interrupted&) {
+      PyErr_SetNone(PyExc_KeyboardInterrupt);
+    } catch (const eulervop::scene::input_error& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const eulervop::numerical_failure& e) {
+      PyErr_SetString(numerical_failure_type, e.what());
+    }
+  });
   // Progress is never drawn here; the display only lets Ctrl-C through.
   app::set_progress_display([](const std::string&, double, const app::progress_unit&) {
     return std::make_unique<interrupt_check>();

@@ -107,6 +107,10 @@ def test_bad_input_raises_value_error_with_the_cli_message(binary):
         eulervop.check(scene, ref.t, ref.y[:, :7], tol=1e-9)
     with pytest.raises(ValueError, match="columns"):
         eulervop.check(scene, ref.t, ref.y[:, :7], columns=["t", "omega1"], tol=1e-9)
+    with pytest.raises(ValueError, match="missing.csv"):
+        eulervop.check("missing.csv", ref.t, ref.y[:, :7], tol=1e-9, attitude_tol=1e-9)
+    with pytest.raises(ValueError, match="missing.toml"):
+        eulervop.Scene.load("missing.toml")
     with pytest.raises(TypeError):
         eulervop.reference(42)
 

@@ -20,17 +20,14 @@ class numerical_failure : public std::runtime_error {
       : std::runtime_error("numerical failure at tau=" + format_tau(status.tau) + ": " + describe(status) +
                            (detail.empty() ? "" : ": " + detail)),
         status_(status) {}
-  // The same failure stated in the scene's own time: "numerical failure at t=X s (tau=Y): ...",
-  // where t = tau * per_tau (a physical scene's seconds, Eq. 4), so that the time comes first in
-  // the user's terms.
-  numerical_failure in_time(const std::string& name, double per_tau, const std::string& unit) const {
+  // The same failure placed in the user's terms: "numerical failure at " + `place` (e.g.
+  // "t=50 s (tau=14.4337567)", the scene's own time first) and the same cause.
+  numerical_failure placed_at(const std::string& place) const {
     numerical_failure out = *this;
-    if (!status_.tau) return out;
     const std::string what = std::runtime_error::what();
     const std::size_t cause = what.find(": ");
-    out.std::runtime_error::operator=(std::runtime_error(
-        "numerical failure at " + name + "=" + format_tau(*status_.tau * per_tau) + (unit.empty() ? "" : " " + unit) +
-        " (tau=" + format_tau(*status_.tau) + ")" + (cause == std::string::npos ? "" : what.substr(cause))));
+    out.std::runtime_error::operator=(
+        std::runtime_error("numerical failure at " + place + (cause == std::string::npos ? "" : what.substr(cause))));
     return out;
   }
   double tau() const { return status_.tau.value_or(std::numeric_limits<double>::quiet_NaN()); }

@@ -163,7 +163,7 @@ check_result check_rows(const check_job& job, reference_csv_reader& ref, const P
     std::optional<std::array<decimal, 4>> a;
     if (cols.q) a = reader.attitude();
     cursor.seek(time, rows, cols.time_name);
-    const vec3<T> traj = {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
+    const vec3<T> traj = vec3_of<T>(d);
     const T tau = vars.tau_of(time.template to_scalar<T>());
     const row_states<T> states = c.omega ? vars.states(ref.template Omega<T>(), ref.template columns<T>(*c.omega), traj)
                                          : vars.states(ref.template Omega<T>(), traj);

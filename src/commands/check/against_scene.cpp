@@ -25,11 +25,6 @@ compared_variables<T> variables_of(const scene& s, const trajectory_columns& col
   return {};
 }
 
-template <scalar T>
-vec3<T> vec3_of(const std::array<decimal, 3>& d) {
-  return {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
-}
-
 // The trajectory's columns, which the scene must be able to compare: physical times need a
 // physical scene, and a body in the direct form has no tau or Omega.
 trajectory_columns scene_columns(const check_job& job, const csv_rows& rows) {

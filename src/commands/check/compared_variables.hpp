@@ -36,7 +36,6 @@ class compared_variables {
 
   // Whether the compared variables are the physical ones (rad/s) rather than the normalized.
   bool physical() const { return scale_.has_value() && !scale_->is_direct(); }
-  bool in_seconds() const { return scale_.has_value(); }
 
   // The time in the integrator's variables.
   T tau_of(const T& time) const { return scale_ ? scale_->tau_of_t(time) : time; }

@@ -9,6 +9,7 @@
 #include "io/csv_rows.hpp"
 
 #include <eulervop/core/quaternion.hpp>
+#include <eulervop/core/vec3.hpp>
 #include <eulervop/core/scalar_traits.hpp>
 
 #include <array>
@@ -55,6 +56,12 @@ struct row_reader {
   // q0..q3 (cols.q must be set), not all zero.
   std::array<decimal, 4> attitude() const;
 };
+
+// Three cells as a vector in T.
+template <scalar T>
+vec3<T> vec3_of(const std::array<decimal, 3>& d) {
+  return {d[0].template to_scalar<T>(), d[1].template to_scalar<T>(), d[2].template to_scalar<T>()};
+}
 
 // q0..q3 as a quaternion in T.
 template <scalar T>
