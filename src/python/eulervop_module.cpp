@@ -375,34 +375,8 @@ py::dict problems() {
   return out;
 }
 
-}  // namespace
-
-PYBIND11_MODULE(eulervop, m) {
-  m.doc() =
-      "eulervop: high-precision reference solutions of Euler's rigid-body equations, and an oracle "
-      "for other integrators' trajectories (docs/python.md).";
-  m.attr("__version__") = EULERVOP_VERSION;
-  numerical_failure_type = PyErr_NewExceptionWithDoc(
-      "eulervop.NumericalFailure",
-      "The reference integrator gave up; the message gives the time (in the scene's own units first) and the cause.",
-      PyExc_ArithmeticError, nullptr);
-  m.attr("NumericalFailure") = py::handle(numerical_failure_type);
-  py::register_exception_translator([](std::exception_ptr p) {
-    try {
-      if (p) std::rethrow_exception(p);
-    } catch (const interrupted&) {
-      PyErr_SetNone(PyExc_KeyboardInterrupt);
-    } catch (const eulervop::scene::input_error& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
-    } catch (const eulervop::numerical_failure& e) {
-      PyErr_SetString(numerical_failure_type, e.what());
-    }
-  });
-  // Progress is never drawn here; the display only lets Ctrl-C through.
-  app::set_progress_display([](const std::string&, double, const app::progress_unit&) {
-    return std::make_unique<interrupt_check>();
-  });
-
+// Scene, Reference and CheckResult.
+void bind_classes(py::module_& m) {
   py::class_<py_scene>(m, "Scene", "A parsed scene (docs/scenes.md).")
       .def_static("load", &scene_load, py::arg("path"), "Reads and validates the scene file at `path`.")
       .def_static("from_toml", &scene_from_toml, py::arg("text"), "Parses and validates a scene given as TOML text.")
@@ -446,6 +420,10 @@ PYBIND11_MODULE(eulervop, m) {
                            py::str(py::object(r.as_dict["max_error"])).cast<std::string>());
       });
 
+}
+
+// reference, check and problems.
+void bind_functions(py::module_& m) {
   m.def("reference", &reference, py::arg("scene"), py::arg("times") = py::none(), py::arg("precision") = py::none(),
         py::arg("verify") = false, py::arg("certify") = false, py::arg("samples") = py::none(),
         py::arg("t_end") = py::none(), py::arg("tau_end") = py::none(),
@@ -473,4 +451,36 @@ PYBIND11_MODULE(eulervop, m) {
   m.def("problems", &problems,
         "problems() -> dict: the shipped scenes by name (e.g. 'sciml-rigid-body') to their file paths, for "
         "Scene.load.");
+}
+
+}  // namespace
+
+PYBIND11_MODULE(eulervop, m) {
+  m.doc() =
+      "eulervop: high-precision reference solutions of Euler's rigid-body equations, and an oracle "
+      "for other integrators' trajectories (docs/python.md).";
+  m.attr("__version__") = EULERVOP_VERSION;
+  numerical_failure_type = PyErr_NewExceptionWithDoc(
+      "eulervop.NumericalFailure",
+      "The reference integrator gave up; the message gives the time (in the scene's own units first) and the cause.",
+      PyExc_ArithmeticError, nullptr);
+  m.attr("NumericalFailure") = py::handle(numerical_failure_type);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const interrupted&) {
+      PyErr_SetNone(PyExc_KeyboardInterrupt);
+    } catch (const eulervop::scene::input_error& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const eulervop::numerical_failure& e) {
+      PyErr_SetString(numerical_failure_type, e.what());
+    }
+  });
+  // Progress is never drawn here; the display only lets Ctrl-C through.
+  app::set_progress_display([](const std::string&, double, const app::progress_unit&) {
+    return std::make_unique<interrupt_check>();
+  });
+
+  bind_classes(m);
+  bind_functions(m);
 }

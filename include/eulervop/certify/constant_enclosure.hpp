@@ -17,20 +17,58 @@
 #include <mpfr.h>
 
 #include <cstdlib>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace eulervop {
 
+namespace detail {
+
+// 1 in an interval of `bits`.
+inline interval interval_one(mpfr_prec_t bits) {
+  interval one = interval::zero(bits);
+  mpfi_set_si(one.get(), 1);
+  return one;
+}
+
+// x^n by |n| products, then the reciprocal for n < 0.
+inline interval integer_power(const interval& x, int n, const std::function<std::domain_error(const char*)>& undefined) {
+  interval r = interval_one(x.bits());
+  for (int k = 0; k < std::abs(n); ++k) r = r * x;
+  if (n >= 0) return r;
+  if (mpfi_has_zero(r.get())) throw undefined("a negative power of an enclosure that holds 0");
+  return interval_one(x.bits()) / r;
+}
+
+// One function step on the top of the stack, in place.
+inline void apply_function(expression_op op, interval& x, const std::function<std::domain_error(const char*)>& undefined) {
+  switch (op) {
+    case expression_op::sin: mpfi_sin(x.get(), x.get()); break;
+    case expression_op::cos: mpfi_cos(x.get(), x.get()); break;
+    case expression_op::exp: mpfi_exp(x.get(), x.get()); break;
+    case expression_op::log:
+      if (mpfi_is_strictly_pos(x.get()) <= 0) throw undefined("log of an enclosure that reaches 0 or below");
+      mpfi_log(x.get(), x.get());
+      break;
+    case expression_op::sqrt:
+      if (mpfi_is_nonneg(x.get()) <= 0) throw undefined("sqrt of an enclosure that reaches below 0");
+      mpfi_sqrt(x.get(), x.get());
+      break;
+    default: throw std::logic_error("enclose_constant: not a function step");
+  }
+}
+
+}  // namespace detail
+
 inline interval enclose_constant(const expression& e, mpfr_prec_t bits) {
   if (!e.is_constant()) throw std::invalid_argument("enclose_constant: `" + e.text + "` is not a constant formula");
   const interval_precision_scope scope(bits);
-  const auto undefined = [&](const char* what) {
+  const std::function<std::domain_error(const char*)> undefined = [&](const char* what) {
     return std::domain_error("`" + e.text + "`: " + what + ", so it has no enclosure");
   };
   std::vector<interval> stack;
-  const auto top = [&]() -> interval& { return stack.back(); };
   const auto pop = [&] {
     interval x = std::move(stack.back());
     stack.pop_back();
@@ -38,53 +76,27 @@ inline interval enclose_constant(const expression& e, mpfr_prec_t bits) {
   };
   for (const expression_step& s : e.code) {
     switch (s.op) {
-      case expression_op::constant: {
-        interval c = interval::zero(bits);
-        detail::set_decimal(c, e.constants[static_cast<std::size_t>(s.arg)]);
-        stack.push_back(std::move(c));
+      case expression_op::constant:
+        stack.push_back(interval::zero(bits));
+        detail::set_decimal(stack.back(), e.constants[static_cast<std::size_t>(s.arg)]);
         break;
-      }
-      case expression_op::pi: {
-        interval p = interval::zero(bits);
-        mpfi_const_pi(p.get());
-        stack.push_back(std::move(p));
+      case expression_op::pi:
+        stack.push_back(interval::zero(bits));
+        mpfi_const_pi(stack.back().get());
         break;
-      }
       case expression_op::variable: throw std::logic_error("enclose_constant: a variable in a constant formula");
-      case expression_op::add: { const interval y = pop(); top() = top() + y; break; }
-      case expression_op::sub: { const interval y = pop(); top() = top() - y; break; }
-      case expression_op::mul: { const interval y = pop(); top() = top() * y; break; }
+      case expression_op::add: { const interval y = pop(); stack.back() = stack.back() + y; break; }
+      case expression_op::sub: { const interval y = pop(); stack.back() = stack.back() - y; break; }
+      case expression_op::mul: { const interval y = pop(); stack.back() = stack.back() * y; break; }
       case expression_op::div: {
         const interval y = pop();
         if (mpfi_has_zero(y.get())) throw undefined("a divisor's enclosure holds 0");
-        top() = top() / y;
+        stack.back() = stack.back() / y;
         break;
       }
-      case expression_op::neg: top() = -top(); break;
-      case expression_op::pow: {
-        interval r = interval::zero(bits);
-        mpfi_set_si(r.get(), 1);
-        for (int k = 0; k < std::abs(s.arg); ++k) r = r * top();
-        if (s.arg < 0) {
-          if (mpfi_has_zero(r.get())) throw undefined("a negative power of an enclosure that holds 0");
-          interval one = interval::zero(bits);
-          mpfi_set_si(one.get(), 1);
-          r = one / r;
-        }
-        top() = std::move(r);
-        break;
-      }
-      case expression_op::sin: mpfi_sin(top().get(), top().get()); break;
-      case expression_op::cos: mpfi_cos(top().get(), top().get()); break;
-      case expression_op::exp: mpfi_exp(top().get(), top().get()); break;
-      case expression_op::log:
-        if (mpfi_is_strictly_pos(top().get()) <= 0) throw undefined("log of an enclosure that reaches 0 or below");
-        mpfi_log(top().get(), top().get());
-        break;
-      case expression_op::sqrt:
-        if (mpfi_is_nonneg(top().get()) <= 0) throw undefined("sqrt of an enclosure that reaches below 0");
-        mpfi_sqrt(top().get(), top().get());
-        break;
+      case expression_op::neg: stack.back() = -stack.back(); break;
+      case expression_op::pow: stack.back() = detail::integer_power(stack.back(), s.arg, undefined); break;
+      default: detail::apply_function(s.op, stack.back(), undefined); break;
     }
   }
   if (stack.size() != 1) throw std::logic_error("enclose_constant: the program does not leave one value");
