@@ -43,10 +43,13 @@ inline void require_certifiable(const scene& s, const eulervop::precision& p) {
   if (p.type == eulervop::precision::kind::binary64)
     reasons.push_back("precision double is not certified (its reference is the double run's own rounding; use quad "
                       "or mpfr:BITS)");
-  if (s.has_torque_law())
+  if (s.couples_attitude())
+    reasons.push_back("its torque reads the attitude (the gravity gradient, or a formula naming q0..q3), so the rates "
+                      "and q are one problem of 7 states, which is not certified");
+  else if (s.has_torque_law())
     reasons.push_back(fmt::format("its torque changes with {} (a formula or pieces); only a constant torque is certified",
                                   torque_kind_of(s) == torque_kind::of_state ? "the state" : "the time"));
-  if (s.has_attitude())
+  if (s.has_attitude() && !s.couples_attitude())
     reasons.push_back("it has an attitude ([initial] q), which is not certified (its rates are: leave q out)");
   if (s.is_coefficient_form())
     reasons.push_back("it is in the coefficient form ([equations] a); only Eq. 5 is certified");

@@ -79,6 +79,31 @@ reference_run integrate_attitude_streaming(const euler_problem<T, Torque>& probl
   return out;
 }
 
+template <scalar T>
+reference_run integrate_scene_attitude(const scene& s, const T& tau_end, const std::vector<T>& taus,
+                                       const picard_settings& settings, const std::string& label,
+                                       const attitude_sample_function<T>& on_sample) {
+  if (!s.couples_attitude())
+    return with_problem<T>(s, [&](const auto& problem) {
+      return integrate_attitude_streaming<T>(problem, body_rates_of<T>(s), attitude_of<T>(s), tau_end, taus, settings,
+                                             label, on_sample);
+    });
+  const coupled_problem<T> problem = to_coupled_problem<T>(s);
+  reference_run out;
+  out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
+    const coupled_stats c = integrate_coupled_samples(
+        problem, tau_end, taus,
+        [&](std::size_t index, const T& tau, const std::array<T, 7>& v) {
+          const vec3<T> y = {v[0], v[1], v[2]};
+          const quaternion<T> q{v[3], v[4], v[5], v[6]};
+          on_sample(index, require_finite(y, tau), require_finite(q, tau));
+        },
+        settings, progress, &out.stats);
+    out.norm_drift = c.norm_drift;
+  });
+  return out;
+}
+
 #define EULERVOP_REFERENCE_COMPUTE(T, G)                                                                         \
   template dense_reference<T> integrate_dense(const euler_problem<T, G>&, const T&, const picard_settings&,         \
                                               const std::string&);                                               \
@@ -93,7 +118,10 @@ reference_run integrate_attitude_streaming(const euler_problem<T, Torque>& probl
                                                       const quaternion<T>&, const T&, const std::vector<T>&,      \
                                                       const picard_settings&, const std::string&,                 \
                                                       const attitude_sample_function<T>&);
-#define EULERVOP_REFERENCE_COMPUTE_ALL(T)        \
+#define EULERVOP_REFERENCE_COMPUTE_ALL(T)                                                                  \
+  template reference_run integrate_scene_attitude(const scene&, const T&, const std::vector<T>&,           \
+                                                  const picard_settings&, const std::string&,             \
+                                                  const attitude_sample_function<T>&);                    \
   EULERVOP_REFERENCE_COMPUTE(T, constant_torque<T>) \
   EULERVOP_REFERENCE_COMPUTE(T, time_torque<T>)     \
   EULERVOP_REFERENCE_COMPUTE(T, state_torque<T>)

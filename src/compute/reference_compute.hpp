@@ -102,6 +102,9 @@ vec3<T> sample_dense(const dense_trajectory<T>& trajectory, const T& tau) {
 struct reference_run {
   picard_stats stats;
   double wall_seconds = 0;
+  // For the rates and q as one problem (a torque of the attitude): the largest | |q| - 1 | at the
+  // nodes (reference/integrate.hpp's coupled_stats).
+  std::optional<double> norm_drift;
 };
 
 // Receives sample `index` (of the taus given) and the reference there, in order.
@@ -143,6 +146,16 @@ reference_run integrate_attitude_streaming(const euler_problem<T, Torque>& probl
                                            const quaternion<T>& q0, const T& tau_end, const std::vector<T>& taus,
                                            const picard_settings& settings, const std::string& label,
                                            const attitude_sample_function<T>& on_sample);
+
+// The rates and the attitude of a scene with one (s.has_attitude()) at `taus` (non-decreasing):
+// q beside the rates (integrate_attitude_streaming) when the torque does not read q, and the two
+// as one problem of 7 states when it does (model/coupled_problem.hpp; run.norm_drift is then
+// set). on_sample receives the state in the integrator's variables and q. A non-finite sample is
+// a numerical_failure at its tau.
+template <scalar T>
+reference_run integrate_scene_attitude(const scene& s, const T& tau_end, const std::vector<T>& taus,
+                                       const picard_settings& settings, const std::string& label,
+                                       const attitude_sample_function<T>& on_sample);
 
 // The settings the integrator actually used (it derives degree and tolerance from the
 // precision when they are left at 0).

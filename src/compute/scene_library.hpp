@@ -32,10 +32,12 @@ using eulervop::scene::tau_end_of;
 using eulervop::scene::attitude_of;
 using eulervop::scene::body_rates_of;
 using eulervop::scene::initial_state_of;
+using eulervop::scene::to_coupled_problem;
 using eulervop::scene::to_problem;
 using eulervop::scene::torque_kind;
 using eulervop::scene::torque_kind_of;
 using eulervop::scene::with_problem;
+using eulervop::scene::with_run_problem;
 using eulervop::scene::uses_direct_form;
 
 // The scene a command works on: the file, or the embedded default. Its notes (what the user

@@ -51,19 +51,20 @@ verify_result verify_in(const scene& s, const Lo& tau_end, const std::vector<Lo>
     const Hi err = eq20_error(ref, narrow);
     if (err > worst) worst = err;
   };
-  const reference_run run = with_problem<Hi>(s, [&](const auto& problem) {
-    if (!attitude)
-      return integrate_streaming<Hi>(problem, widen<Hi>(tau_end), wide_taus, picard_settings{}, "verify", compare);
-    return integrate_attitude_streaming<Hi>(
-        problem, body_rates_of<Hi>(s), attitude_of<Hi>(s), widen<Hi>(tau_end), wide_taus, picard_settings{}, "verify",
-        [&](std::size_t i, const vec3<Hi>& ref, const quaternion<Hi>& q) {
-          compare(i, ref);
-          const quaternion<Lo>& n = (*attitude)[i];
-          const quaternion<Hi> narrow{widen<Hi>(n.w), widen<Hi>(n.x), widen<Hi>(n.y), widen<Hi>(n.z)};
-          const Hi angle = rotation_angle(q, narrow);
-          if (angle > worst_angle) worst_angle = angle;
-        });
-  });
+  const reference_run run =
+      attitude ? integrate_scene_attitude<Hi>(s, widen<Hi>(tau_end), wide_taus, picard_settings{}, "verify",
+                                              [&](std::size_t i, const vec3<Hi>& ref, const quaternion<Hi>& q) {
+                                                compare(i, ref);
+                                                const quaternion<Lo>& n = (*attitude)[i];
+                                                const quaternion<Hi> narrow{widen<Hi>(n.w), widen<Hi>(n.x),
+                                                                            widen<Hi>(n.y), widen<Hi>(n.z)};
+                                                const Hi angle = rotation_angle(q, narrow);
+                                                if (angle > worst_angle) worst_angle = angle;
+                                              })
+               : with_problem<Hi>(s, [&](const auto& problem) {
+                   return integrate_streaming<Hi>(problem, widen<Hi>(tau_end), wide_taus, picard_settings{}, "verify",
+                                                  compare);
+                 });
   verify_result out{decimal{three_digits(worst), static_cast<double>(worst)}, std::nullopt, wide,
                     method_text(picard_settings{}, run.stats), run.wall_seconds};
   if (attitude) out.max_attitude_error = decimal{three_digits(worst_angle), static_cast<double>(worst_angle)};

@@ -73,6 +73,10 @@ reference_metadata metadata_of(const csv_rows& rows) {
       m.notes.push_back(*note);
     } else if (auto att = value("attitude")) {
       m.attitude = *att;
+    } else if (auto cp = value("coupled")) {
+      m.coupled = *cp;
+    } else if (auto qd = value("q_norm_drift")) {
+      m.q_norm_drift = non_negative("q_norm_drift", *qd);
     } else if (auto ea = value("estimated_max_attitude_error")) {
       m.estimated_max_attitude_error = non_negative("estimated_max_attitude_error", *ea);
     } else if (l.starts_with("# scene_text:")) {
@@ -137,6 +141,8 @@ std::string reference_csv_header(const reference_metadata& m, reference_layout l
   }
   for (const std::string& note : m.notes) line("# note: {}", note);
   if (!m.attitude.empty()) line("# attitude: {}", m.attitude);
+  if (!m.coupled.empty()) line("# coupled: {}", m.coupled);
+  if (m.q_norm_drift) line("# q_norm_drift: {}", m.q_norm_drift->text);
   std::istringstream scene_lines(m.scene_text);
   for (std::string l; std::getline(scene_lines, l);) {
     if (!l.empty() && l.back() == '\r') l.pop_back();

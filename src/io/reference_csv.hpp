@@ -46,6 +46,8 @@ struct reference_metadata {
   std::string certify_method;                    // # certify_method (with --certify)
   std::vector<std::string> notes;                // # note lines (the scene's notes)
   std::string attitude;                          // # attitude (its convention): rows carry q0..q3
+  std::string coupled;                           // # coupled: the torque reads q (one problem of 7 states)
+  std::optional<decimal> q_norm_drift;           // # q_norm_drift: the largest | |q| - 1 | (coupled runs)
   std::optional<decimal> estimated_max_attitude_error;  // # estimated_max_attitude_error (rad, --verify)
   std::string scene_text;                        // # scene_text lines, each ending in '\n'
 

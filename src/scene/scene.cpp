@@ -46,6 +46,8 @@ scene scene_reader::read() {
 
   read_body(root, s);
   read_equations(root, s);
+  if (const toml::node* initial = root.get("initial"))
+    attitude_given_ = initial->is_table() && initial->as_table()->contains("q");
   read_torque(root, s);
   read_initial(root, s);
   read_span(root, s);

@@ -187,6 +187,7 @@ class scene_reader {
   void read_body(const toml::table& root, scene& s) const;
   void read_equations(const toml::table& root, scene& s) const;
   void read_torque(const toml::table& root, scene& s) const;
+  void read_gravity_gradient(const toml::table& gravity, scene& s) const;
   void read_initial(const toml::table& root, scene& s) const;
   void read_span(const toml::table& root, scene& s) const;
   void read_attitude(const toml::table& initial, scene& s) const;
@@ -213,6 +214,7 @@ class scene_reader {
 
   std::string_view text_;
   std::string origin_;
+  bool attitude_given_ = false;  // [initial] q is in the scene: formulas may name q0..q3
   std::vector<std::size_t> line_starts_;
 };
 

@@ -17,14 +17,23 @@ namespace eulervop::scene::detail {
 
 namespace {
 
-// The variables a formula may name in each form: the time, then the three state components.
+// The variables a formula may name in each form: the time, the three state components, and for
+// a body the attitude.
 expression_variables variables_of(scene_units units) {
   switch (units) {
     case scene_units::normalized: return {{"tau", "Omega1", "Omega2", "Omega3"}};
-    case scene_units::physical: return {{"t", "omega1", "omega2", "omega3"}};
+    case scene_units::physical: return {{"t", "omega1", "omega2", "omega3", "q0", "q1", "q2", "q3"}};
     case scene_units::coefficient: return {{"t", "y1", "y2", "y3"}};
   }
   return {};
+}
+
+// The names of `vars` that are in use, for messages.
+std::vector<std::string> named(const expression_variables& vars) {
+  std::vector<std::string> out;
+  for (const std::string& n : vars.names)
+    if (!n.empty()) out.push_back(n);
+  return out;
 }
 
 std::string_view form_name(scene_units units) {
@@ -46,9 +55,9 @@ std::string formula_problem(const expression_error& e, scene_units units) {
     if (std::find(theirs.names.begin(), theirs.names.end(), e.culprit()) == theirs.names.end()) continue;
     if (std::find(mine.names.begin(), mine.names.end(), e.culprit()) != mine.names.end()) continue;
     return fmt::format("{} (`{}` is a variable of {}; {} has {})", e.what(), e.culprit(), form_name(other),
-                       form_name(units), fmt::join(mine.names, ", "));
+                       form_name(units), fmt::join(named(mine), ", "));
   }
-  return fmt::format("{} (the variables here: {})", e.what(), fmt::join(mine.names, ", "));
+  return fmt::format("{} (the variables here: {})", e.what(), fmt::join(named(mine), ", "));
 }
 
 }  // namespace
@@ -100,11 +109,20 @@ expression scene_reader::torque_term(const toml::node& node, const std::string& 
   }
   const auto* text = node.as_string();
   if (!text) fail_value(node, field, "must be a number or a formula (a string)");
+  expression e;
   try {
-    return parse_expression(text->get(), variables_of(s.units));
-  } catch (const expression_error& e) {
-    fail_value(node, field, formula_problem(e, s.units));
+    e = parse_expression(text->get(), variables_of(s.units));
+  } catch (const expression_error& x) {
+    fail_value(node, field, formula_problem(x, s.units));
   }
+  if (e.uses_attitude() && !attitude_given_) {
+    int slot = expression::attitude_slot;
+    while (!(e.uses & (1u << slot))) ++slot;
+    fail_value(node, field,
+               fmt::format("`q{}` is the attitude, which this scene does not give (add [initial] q = [q0, q1, q2, q3])",
+                           slot - expression::attitude_slot));
+  }
+  return e;
 }
 
 // The three components of `key` ("[torque] M", or a piece's); `numbers` is set when all are numbers.
@@ -178,12 +196,29 @@ std::vector<torque_piece> scene_reader::read_pieces(const toml::node& node, cons
   return out;
 }
 
+// [torque.gravity_gradient] mean_motion = n (rad/s): the torque of a circular orbit
+// (model/gravity_gradient.hpp). It turns the body by its attitude, so it needs [body] and
+// [initial] q.
+void scene_reader::read_gravity_gradient(const toml::table& gravity, scene& s) const {
+  constexpr std::string_view where = "[torque.gravity_gradient]";
+  if (!s.is_physical())
+    fail_at(gravity, fmt::format("{}: the gravity gradient acts on a body: give [body] inertia and [initial] q", where));
+  if (!attitude_given_)
+    fail_at(gravity, fmt::format("{}: the gravity gradient depends on the attitude: give [initial] q = [q0, q1, q2, q3]",
+                                 where));
+  only_keys(gravity, where, {"mean_motion"});
+  const toml::node* n = gravity.get("mean_motion");
+  if (!n) fail_at(gravity, fmt::format("{}: required field `mean_motion` is missing (the orbit's rate, rad/s)", where));
+  s.gravity_gradient = positive_number(*n, fmt::format("{} mean_motion", where));
+}
+
 // [torque]: G (normalized), M (physical) or f (coefficient form), and [[torque.piece]]. All
 // numbers and no pieces: the constant torque of Eq. 5, as before formulas existed.
 void scene_reader::read_torque(const toml::table& root, scene& s) const {
   const toml::table* torque = table(root, "torque");
   if (!torque) return;  // torque-free
-  only_keys(*torque, "[torque]", {"G", "M", "f", "piece"});
+  only_keys(*torque, "[torque]", {"G", "M", "f", "piece", "gravity_gradient"});
+  if (const toml::table* gravity = table(*torque, "gravity_gradient")) read_gravity_gradient(*gravity, s);
   const toml::node* G = torque->get("G");
   const toml::node* M = torque->get("M");
   const toml::node* f = torque->get("f");
@@ -199,9 +234,11 @@ void scene_reader::read_torque(const toml::table& root, scene& s) const {
     fail_at(G ? *G : *M, "[torque]: a scene in the coefficient form ([equations]) takes its torque as f");
   const toml::node* base = G ? G : M ? M : f;
   const toml::node* pieces = torque->get("piece");
-  if (!base && !pieces)
+  if (!base && !pieces) {
+    if (s.gravity_gradient) return;  // the gravity gradient alone
     fail_at(*torque, fmt::format("[torque]: give {} or [[torque.piece]], or omit the table for a torque-free scene",
                                  s.torque_key()));
+  }
   auto law = std::make_shared<torque_law>();
   law->name = std::string(s.torque_key());
   law->time_name = std::string(s.time_name());

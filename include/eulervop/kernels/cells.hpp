@@ -4,7 +4,8 @@
 //
 // The cells are the products of the lists:
 //   - the reference (reference/integrate.hpp): every scalar x every torque, rates only; and again
-//     with the attitude beside the rates;
+//     with the attitude beside the rates; and every scalar for the rates and attitude coupled by
+//     a torque of the attitude (model/coupled_problem.hpp);
 //   - the double-precision runs (runs/comparison_run.hpp): every torque x {euler, vop, vop-theta}
 //     x {fixed, adaptive} x {rates only, with attitude}, in double, one unit each.
 // Adding a scalar or a torque is one line here. With EULERVOP_COMPILED_KERNELS defined (linking
@@ -23,6 +24,11 @@
   X(constant_torque, __VA_ARGS__)       \
   X(time_torque, __VA_ARGS__)           \
   X(state_torque, __VA_ARGS__)
+
+// X(torque template) of the torques that read the attitude: their runs always carry q, so only
+// the runs' attitude cells (model/staged_attitude_torque.hpp).
+#define EULERVOP_KERNEL_ATTITUDE_TORQUES(X, ...) \
+  X(staged_attitude_torque, __VA_ARGS__)
 
 // Every (scalar, torque) pair: CELL(T, G) for each.
 #define EULERVOP_KERNEL_PAIR_(G, CELL) EULERVOP_KERNEL_SCALARS(EULERVOP_KERNEL_PAIR_T_, CELL, G)

@@ -14,6 +14,7 @@
 #include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/core/vec3.hpp>
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstddef>
@@ -30,7 +31,7 @@ namespace eulervop {
 enum class expression_op : std::uint8_t {
   constant,  // push constants[arg]
   pi,        // push pi
-  variable,  // push variable slot arg (0 = time, 1..3 = y1..y3)
+  variable,  // push variable slot arg (0 = time, 1..3 = y1..y3, 4..7 = q0..q3)
   add,       // a b -> a + b
   sub,       // a b -> a - b
   mul,       // a b -> a * b
@@ -54,6 +55,9 @@ struct expression {
   // The variable slots a step of kind `variable` reads.
   static constexpr int time_slot = 0;   // t (or tau)
   static constexpr int state_slots = 3;  // slots 1, 2, 3: y1, y2, y3
+  // Slots 4..7: the attitude q0..q3 (a body with [initial] q; docs/attitude.md).
+  static constexpr int attitude_slot = 4, attitude_slots = 4;
+  static constexpr int last_slot = attitude_slot + attitude_slots - 1;
 
   std::string text;                    // the source as written, for messages
   std::vector<expression_step> code;   // postfix program; leaves one value on the stack
@@ -63,6 +67,7 @@ struct expression {
 
   bool uses_time() const { return (uses & 1u) != 0; }
   bool uses_state() const { return (uses & 0b1110u) != 0; }
+  bool uses_attitude() const { return (uses & 0b11110000u) != 0; }
   bool is_constant() const { return uses == 0; }
 };
 
@@ -84,7 +89,7 @@ inline std::size_t checked_stack_depth(const expression& e) {
         ++depth;
         break;
       case expression_op::variable:
-        if (s.arg < 0 || s.arg > expression::state_slots) throw bad("variable slot out of range");
+        if (s.arg < 0 || s.arg > expression::last_slot) throw bad("variable slot out of range");
         ++depth;
         break;
       case expression_op::pi: ++depth; break;
@@ -146,7 +151,7 @@ class compiled_expression {
     pi_ = pi_in<T>();
     // Every slot is created now, at the current precision, and only assigned to afterwards.
     values_.assign(depth, T(0));
-    partials_.assign(depth, vec3<T>{T(0), T(0), T(0)});
+    partials_.assign(depth, partials{T(0), T(0), T(0), T(0), T(0), T(0), T(0)});
     s1_ = T(0);
     s2_ = T(0);
     s3_ = T(0);
@@ -154,8 +159,41 @@ class compiled_expression {
 
   const expression& source() const { return source_; }
 
-  // The value at time t and state y.
-  T operator()(const T& t, const vec3<T>& y) const {
+  // The attitude's four components, for the slots q0..q3.
+  using attitude_values = std::array<T, 4>;
+  // The partials of a value: by y1..y3, then by q0..q3 (only the first three without q).
+  using partials = std::array<T, 7>;
+
+  // The value at time t and state y. An expression that names q needs the three-argument form.
+  T operator()(const T& t, const vec3<T>& y) const { return evaluate(t, y, nullptr); }
+  // The value at time t, state y and attitude q.
+  T operator()(const T& t, const vec3<T>& y, const attitude_values& q) const { return evaluate(t, y, &q); }
+
+  // The value, and in dy its partial derivatives d/dy_k (k = 0, 1, 2) at (t, y).
+  T value_and_gradient(const T& t, const vec3<T>& y, vec3<T>& dy) const {
+    count_ = 3;
+    const T v = evaluate_with_partials(t, y, nullptr);
+    for (std::size_t k = 0; k < 3; ++k) dy[k] = partials_[0][k];
+    return v;
+  }
+  // The value, and in d its partials by y1..y3 and q0..q3 at (t, y, q).
+  T value_and_gradient(const T& t, const vec3<T>& y, const attitude_values& q, partials& d) const {
+    count_ = 7;
+    const T v = evaluate_with_partials(t, y, &q);
+    d = partials_[0];
+    return v;
+  }
+
+ private:
+  // Slot `slot` of a variable step: the time, a state component or (q given) an attitude one.
+  static const T& slot_value(int slot, const T& t, const vec3<T>& y, const attitude_values* q) {
+    if (slot == expression::time_slot) return t;
+    if (slot <= expression::state_slots) return y[static_cast<std::size_t>(slot - 1)];
+    if (!q) throw std::logic_error("expression: the attitude q is named but not given");
+    return (*q)[static_cast<std::size_t>(slot - expression::attitude_slot)];
+  }
+
+  T evaluate(const T& t, const vec3<T>& y, const attitude_values* q) const {
     using std::cos;
     using std::exp;
     using std::log;
@@ -167,9 +205,7 @@ class compiled_expression {
       switch (s.op) {
         case expression_op::constant: values_[sp++] = constants_[static_cast<std::size_t>(s.arg)]; break;
         case expression_op::pi: values_[sp++] = pi_; break;
-        case expression_op::variable:
-          values_[sp++] = s.arg == expression::time_slot ? t : y[static_cast<std::size_t>(s.arg - 1)];
-          break;
+        case expression_op::variable: values_[sp++] = slot_value(s.arg, t, y, q); break;
         case expression_op::add: --sp; values_[sp - 1] += values_[sp]; break;
         case expression_op::sub: --sp; values_[sp - 1] -= values_[sp]; break;
         case expression_op::mul: --sp; values_[sp - 1] *= values_[sp]; break;
@@ -187,19 +223,17 @@ class compiled_expression {
     return values_[0];
   }
 
-  // The value, and in dy its partial derivatives d/dy_k (k = 0, 1, 2) at (t, y).
-  //
-  // Forward mode: each stack entry carries its value and its three partials, and each step
-  // applies the derivative rule of its operation exactly (sum, product and quotient rules, the
-  // chain rule for the functions). The value is computed by the same operations in the same
-  // order as operator(), so the two agree to the last bit.
-  T value_and_gradient(const T& t, const vec3<T>& y, vec3<T>& dy) const {
+  // Forward mode: each stack entry carries its value and its partials (count_ of them: 3, or 7
+  // with q), and each step applies the derivative rule of its operation exactly (sum, product
+  // and quotient rules, the chain rule for the functions). The value is computed by the same
+  // operations in the same order as operator(), so the two agree to the last bit.
+  T evaluate_with_partials(const T& t, const vec3<T>& y, const attitude_values* q) const {
     std::size_t sp = 0;
     for (const expression_step& s : source_.code) {
       switch (s.op) {
         case expression_op::constant:
         case expression_op::pi:
-        case expression_op::variable: push_with_partials(s, t, y, sp); break;
+        case expression_op::variable: push_with_partials(s, t, y, q, sp); break;
         case expression_op::add:
         case expression_op::sub:
         case expression_op::mul:
@@ -209,30 +243,26 @@ class compiled_expression {
           break;
         case expression_op::neg:
           detail::negate_in_place(values_[sp - 1]);
-          for (int k = 0; k < 3; ++k) detail::negate_in_place(partials_[sp - 1][k]);
+          for (std::size_t k = 0; k < count_; ++k) detail::negate_in_place(partials_[sp - 1][k]);
           break;
         case expression_op::pow: power_with_partials(values_[sp - 1], partials_[sp - 1], s.arg); break;
         default: function_with_partials(s.op, sp - 1); break;
       }
     }
-    for (std::size_t k = 0; k < 3; ++k) dy[k] = partials_[0][k];
     return values_[0];
   }
 
- private:
   // A constant, pi or a variable onto the stack, with its partials (1 for d y_k / d y_k).
-  void push_with_partials(const expression_step& s, const T& t, const vec3<T>& y, std::size_t& sp) const {
+  void push_with_partials(const expression_step& s, const T& t, const vec3<T>& y, const attitude_values* q,
+                          std::size_t& sp) const {
     zero(partials_[sp]);
     if (s.op == expression_op::constant) {
       values_[sp] = constants_[static_cast<std::size_t>(s.arg)];
     } else if (s.op == expression_op::pi) {
       values_[sp] = pi_;
-    } else if (s.arg == expression::time_slot) {
-      values_[sp] = t;
     } else {
-      const auto k = static_cast<std::size_t>(s.arg - 1);
-      values_[sp] = y[k];
-      partials_[sp][k] = 1;
+      values_[sp] = slot_value(s.arg, t, y, q);
+      if (s.arg != expression::time_slot) partials_[sp][static_cast<std::size_t>(s.arg - 1)] = 1;
     }
     ++sp;
   }
@@ -246,14 +276,14 @@ class compiled_expression {
     switch (op) {
       case expression_op::add:
         a += b;
-        for (int k = 0; k < 3; ++k) partials_[sp - 1][k] += partials_[sp][k];
+        for (std::size_t k = 0; k < count_; ++k) partials_[sp - 1][k] += partials_[sp][k];
         break;
       case expression_op::sub:
         a -= b;
-        for (int k = 0; k < 3; ++k) partials_[sp - 1][k] -= partials_[sp][k];
+        for (std::size_t k = 0; k < count_; ++k) partials_[sp - 1][k] -= partials_[sp][k];
         break;
       case expression_op::mul:  // (a b)' = a' b + a b'
-        for (int k = 0; k < 3; ++k) {
+        for (std::size_t k = 0; k < count_; ++k) {
           partials_[sp - 1][k] *= b;
           s2_ = a;
           s2_ *= partials_[sp][k];
@@ -264,7 +294,7 @@ class compiled_expression {
       default:  // div: (a / b)' = (a' - q b') / b with q = a / b
         s1_ = a;
         s1_ /= b;
-        for (int k = 0; k < 3; ++k) {
+        for (std::size_t k = 0; k < count_; ++k) {
           s2_ = s1_;
           s2_ *= partials_[sp][k];
           partials_[sp - 1][k] -= s2_;
@@ -288,25 +318,25 @@ class compiled_expression {
       case expression_op::sin:  // sin' = cos
         s1_ = sin(x);
         s2_ = cos(x);
-        for (int k = 0; k < 3; ++k) partials_[i][k] *= s2_;
+        for (std::size_t k = 0; k < count_; ++k) partials_[i][k] *= s2_;
         break;
       case expression_op::cos:  // cos' = -sin
         s1_ = cos(x);
         s2_ = sin(x);
         detail::negate_in_place(s2_);
-        for (int k = 0; k < 3; ++k) partials_[i][k] *= s2_;
+        for (std::size_t k = 0; k < count_; ++k) partials_[i][k] *= s2_;
         break;
       case expression_op::exp:  // exp' = exp
         s1_ = exp(x);
-        for (int k = 0; k < 3; ++k) partials_[i][k] *= s1_;
+        for (std::size_t k = 0; k < count_; ++k) partials_[i][k] *= s1_;
         break;
       case expression_op::log:  // log' x = 1 / x
-        for (int k = 0; k < 3; ++k) partials_[i][k] /= x;
+        for (std::size_t k = 0; k < count_; ++k) partials_[i][k] /= x;
         s1_ = log(x);
         break;
       default:  // sqrt' x = 1 / (2 sqrt x); the division by 2 is exact
         s1_ = sqrt(x);
-        for (int k = 0; k < 3; ++k) {
+        for (std::size_t k = 0; k < count_; ++k) {
           partials_[i][k] /= s1_;
           partials_[i][k] /= 2;
         }
@@ -315,8 +345,8 @@ class compiled_expression {
     swap(x, s1_);
   }
 
-  static void zero(vec3<T>& v) {
-    for (T& x : v) x = 0;
+  void zero(partials& v) const {
+    for (std::size_t k = 0; k < count_; ++k) v[k] = 0;
   }
 
   // x = x^m for m >= 1, in place, by left-to-right binary powering (square, and multiply by the
@@ -350,7 +380,7 @@ class compiled_expression {
 
   // x = x^n and its partials: (x^n)' = n x^(n-1) x' for n > 0; for n = -m < 0,
   // (1 / x^m)' = -m x^(m-1) x' / x^(2m) = -m x^(m-1) v^2 x' with v = 1 / x^m.
-  void power_with_partials(T& x, vec3<T>& d, std::int32_t n) const {
+  void power_with_partials(T& x, partials& d, std::int32_t n) const {
     if (n == 0) {
       x = 1;
       zero(d);
@@ -373,7 +403,7 @@ class compiled_expression {
       s3_ *= m;
       detail::negate_in_place(s3_);
     }
-    for (int k = 0; k < 3; ++k) d[k] *= s3_;
+    for (std::size_t k = 0; k < count_; ++k) d[k] *= s3_;
   }
 
   expression source_;
@@ -381,7 +411,8 @@ class compiled_expression {
   T pi_;
   // The evaluation stack and scratch values: allocated at construction, reused by every call.
   mutable std::vector<T> values_;
-  mutable std::vector<vec3<T>> partials_;
+  mutable std::vector<partials> partials_;
+  mutable std::size_t count_ = 3;  // the partials in use: 3, or 7 with q
   mutable T s1_, s2_, s3_;
 };
 

@@ -109,43 +109,86 @@ class expression_torque {
   void pin(std::size_t interval) const { pinned_ = interval; }
   void unpin() const { pinned_.reset(); }
 
+  using attitude_values = typename compiled_expression<T>::attitude_values;
+  using partials = typename compiled_expression<T>::partials;
+
   vec3<T> value(const T& t, const vec3<T>& y) const {
-    const compiled_set& set = set_at(t);
-    const T ts = scene_time(t);
-    const vec3<T> ys = scene_state(y);
-    vec3<T> m;
-    for (int i = 0; i < 3; ++i) m[i] = checked(set[i], set[i].constant ? set[i].value : (*set[i].program)(ts, ys), i, ts, t);
-    return integrator_torque(m);
+    return integrator_torque(scene_torque(t, scene_time(t), scene_state(y), nullptr));
   }
 
   // J[i][k] += d g_i / d y_k (the chain rule through the change of variables).
   void add_jacobian(const T& t, const vec3<T>& y, std::array<vec3<T>, 3>& J) const
     requires OfState
   {
+    std::array<partials, 3> Js;
+    scene_jacobian(t, scene_time(t), scene_state(y), nullptr, Js);
+    add_mapped_jacobian(Js, J, 3);
+  }
+
+  // The torque in the scene's variables (N m in the listed axes for a body) at the integrator's
+  // time t, whose scene time is ts, at the scene's state ys and, for a law that names it, the
+  // attitude q (model/attitude_torque.hpp adds the gravity gradient to it).
+  vec3<T> scene_torque(const T& t, const T& ts, const vec3<T>& ys, const attitude_values* q) const {
     const compiled_set& set = set_at(t);
-    const T ts = scene_time(t);
-    const vec3<T> ys = scene_state(y);
-    std::array<vec3<T>, 3> Js;  // d M_a / d state_b in the scene's variables
-    for (int a = 0; a < 3; ++a) {
-      if (set[a].constant || !set[a].source->uses_state()) {
-        Js[a] = {T(0), T(0), T(0)};
-        continue;
-      }
-      checked(set[a], set[a].program->value_and_gradient(ts, ys, Js[a]), a, ts, t);
+    vec3<T> m;
+    for (int i = 0; i < 3; ++i) {
+      const term& c = set[i];
+      m[i] = checked(c, c.constant ? c.value : q ? (*c.program)(ts, ys, *q) : (*c.program)(ts, ys), i, ts, t);
     }
+    return m;
+  }
+
+  // Js[a] = the partials of M_a by the scene's state, then (q given) by q0..q3, in the scene's
+  // variables.
+  void scene_jacobian(const T& t, const T& ts, const vec3<T>& ys, const attitude_values* q,
+                      std::array<partials, 3>& Js) const {
+    const compiled_set& set = set_at(t);
+    for (int a = 0; a < 3; ++a) {
+      Js[a].fill(T(0));
+      const expression* e = set[a].source;
+      if (set[a].constant || !(e->uses_state() || e->uses_attitude())) continue;
+      if (q) {
+        checked(set[a], set[a].program->value_and_gradient(ts, ys, *q, Js[a]), a, ts, t);
+      } else {
+        vec3<T> d;
+        checked(set[a], set[a].program->value_and_gradient(ts, ys, d), a, ts, t);
+        for (int k = 0; k < 3; ++k) Js[a][k] = d[k];
+      }
+    }
+  }
+
+  // J[i][k] += the partials Js mapped to the integrator's variables, for the first `columns`
+  // columns: the state's three (scaled and permuted as the state is), then q's, which every
+  // variable set shares (the attitude is in the listed axes).
+  template <class Row>
+  void add_mapped_jacobian(const std::array<partials, 3>& Js, std::array<Row, 3>& J, std::size_t columns) const {
     for (int i = 0; i < 3; ++i) {
       const int a = vars_.identity ? i : vars_.axes.axis(i);
-      for (int k = 0; k < 3; ++k) {
-        const int b = vars_.identity ? k : vars_.axes.axis(k);
+      for (std::size_t k = 0; k < columns; ++k) {
+        const bool state = k < 3;
+        const int b = !state || vars_.identity ? static_cast<int>(k) : vars_.axes.axis(static_cast<int>(k));
         T d = Js[a][b];
         if (!vars_.identity) {
-          d *= vars_.state_scale[k];
+          if (state) d *= vars_.state_scale[k];
           d /= vars_.torque_divisor[i];
-          if (vars_.axes.sign(i) * vars_.axes.sign(k) < 0) d = -d;
+          if (vars_.axes.sign(i) * (state ? vars_.axes.sign(static_cast<int>(k)) : 1) < 0) d = -d;
         }
         J[i][k] += d;
       }
     }
+  }
+
+  T scene_time(const T& t) const { return vars_.identity ? t : T(t / vars_.rate); }
+  vec3<T> scene_state(const vec3<T>& y) const {
+    if (vars_.identity) return y;
+    const vec3<T> s = {y[0] * vars_.state_scale[0], y[1] * vars_.state_scale[1], y[2] * vars_.state_scale[2]};
+    return vars_.axes.to_user(s);
+  }
+  vec3<T> integrator_torque(const vec3<T>& m) const {
+    if (vars_.identity) return m;
+    vec3<T> g = vars_.axes.to_principal(m);
+    for (int i = 0; i < 3; ++i) g[i] /= vars_.torque_divisor[i];
+    return g;
   }
 
  private:
@@ -196,19 +239,7 @@ class expression_torque {
     return sets_[set_of_interval_[pinned_ ? *pinned_ : interval_at(t)]];
   }
 
-  T scene_time(const T& t) const { return vars_.identity ? t : T(t / vars_.rate); }
   T integrator_time(const T& ts) const { return vars_.identity ? ts : T(ts * vars_.rate); }
-  vec3<T> scene_state(const vec3<T>& y) const {
-    if (vars_.identity) return y;
-    const vec3<T> s = {y[0] * vars_.state_scale[0], y[1] * vars_.state_scale[1], y[2] * vars_.state_scale[2]};
-    return vars_.axes.to_user(s);
-  }
-  vec3<T> integrator_torque(const vec3<T>& m) const {
-    if (vars_.identity) return m;
-    vec3<T> g = vars_.axes.to_principal(m);
-    for (int i = 0; i < 3; ++i) g[i] /= vars_.torque_divisor[i];
-    return g;
-  }
 
   // The value of component i, or numerical_failure when it is not finite. The message names the
   // formula as the scene wrote it, the scene's time to 15 digits (all a double states reliably:

@@ -21,7 +21,8 @@
 //   breakpoint sees the formulas of its own side there.
 // A torque type may also say `static constexpr bool attitude_runs = false`: the double-precision
 // comparison runs (runs/comparison_run.hpp) then compile no attitude variants for it, half the
-// code of its runs. The tests' own torques, which never drive an attitude, say so.
+// code of its runs. The tests' own torques, which never drive an attitude, say so. A torque that
+// reads the attitude says `rate_runs = false`: its runs always carry q.
 #pragma once
 
 #include <eulervop/core/vec3.hpp>
@@ -56,6 +57,11 @@ inline constexpr bool is_constant_torque_v = torque_traits<Torque>::is_constant;
 // Whether the comparison runs compile their attitude variants for this torque (see above).
 template <class Torque>
 inline constexpr bool compiles_attitude_runs = !requires { requires !Torque::attitude_runs; };
+
+// Whether they compile their rate-only variants: not for a torque that reads the attitude
+// (staged_attitude_torque.hpp, `static constexpr bool rate_runs = false`), which needs q beside.
+template <class Torque>
+inline constexpr bool compiles_rate_runs = !requires { requires !Torque::rate_runs; };
 
 // A torque whose formulas change at breakpoints (see above).
 template <class Torque>

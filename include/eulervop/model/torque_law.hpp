@@ -40,6 +40,16 @@ struct torque_law {
         if (e.uses_state()) return true;
     return false;
   }
+
+  // True when some component reads the attitude q0..q3: the rates and q are then one problem.
+  bool uses_attitude() const {
+    for (const expression& e : base)
+      if (e.uses_attitude()) return true;
+    for (const torque_piece& p : pieces)
+      for (const expression& e : p.terms)
+        if (e.uses_attitude()) return true;
+    return false;
+  }
 };
 
 // The expression of one decimal number (canonical decimal text, scene/decimal.hpp): a plain

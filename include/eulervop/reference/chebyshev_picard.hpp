@@ -25,7 +25,9 @@
 //
 // The problem is a template parameter (model/problem.hpp): its torque's traits choose the paths
 // at compile time. A torque of time is evaluated at the nodes' times; a torque of the state
-// enters the correction through its Jacobian and turns the MPFR residual updates off.
+// enters the correction through its Jacobian and turns the MPFR residual updates off. A torque
+// of the attitude makes the rates and q one problem of 7 states (model/coupled_problem.hpp),
+// solved the same way, with the whole Jacobian in the correction (detail/coupled_field.hpp).
 #pragma once
 
 #include <eulervop/core/numerical_failure.hpp>
@@ -34,6 +36,7 @@
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/reference/dense_trajectory.hpp>
 #include <eulervop/reference/detail/length_control.hpp>
+#include <eulervop/reference/detail/picard_field.hpp>
 #include <eulervop/reference/detail/picard_correction.hpp>
 #include <eulervop/reference/detail/picard_matrices.hpp>
 #include <eulervop/reference/detail/picard_residuals.hpp>
@@ -57,7 +60,7 @@ namespace eulervop {
 
 // The integrator and its workspace for problems of type P. One instance per thread; run() may be
 // called many times.
-template <euler_form_problem P>
+template <picard_problem P>
 class chebyshev_picard {
  public:
   using T = typename P::value_type;
@@ -96,10 +99,11 @@ class chebyshev_picard {
     picard_stats st;
     st.degree = static_cast<unsigned>(N_);
     st.tolerance = std::exp(tol_log_);
-    work_.field = detail::euler_field<P>(problem);
-    if (!(tau_end > problem.tau0)) throw std::invalid_argument("integrate_reference: tau_end must exceed tau0");
+    work_.field = detail::field_of<P>(problem);
+    if (!(tau_end > problem.initial_time()))
+      throw std::invalid_argument("integrate_reference: tau_end must exceed tau0");
     set_breakpoints(problem, tau_end);
-    origin at{problem.Omega0, {}, problem.tau0};
+    origin at{problem.initial_state(), {}, problem.initial_time()};
     at.x_lo.fill(T(0));
     for (std::size_t i = 0; i < D; ++i)
       if (!isfinite_(at.x[i])) throw numerical_failure({outcome_kind::initial_non_finite, to_d(at.tau)});
@@ -208,15 +212,12 @@ class chebyshev_picard {
   }
 
   // The first segment length: from the settings, or half a turn of the fastest rate in sight
-  // (|a| |y_i|, and sqrt(|a| |g_i|) for the spin-up from rest; |a| = 1 in Eq. 5).
+  // (the field's first_rate).
   double first_length(const origin& at) const {
     if (settings_.initial_step > 0) return settings_.initial_step;
-    const double a_max = work_.field.a_max();
-    const vec3<double> x0 = {to_d(at.x[0]), to_d(at.x[1]), to_d(at.x[2])};
-    const vec3<double> g0 = work_.field.torque_double(to_d(at.tau), x0);
-    double rate = 0;
-    for (int i = 0; i < 3; ++i)
-      rate = std::max({rate, a_max * std::abs(x0[i]), std::sqrt(a_max * std::abs(g0[i]))});
+    std::array<double, D> x0;
+    for (std::size_t i = 0; i < D; ++i) x0[i] = to_d(at.x[i]);
+    const double rate = work_.field.first_rate(to_d(at.tau), x0);
     return rate > 0 ? 0.5 / rate : 1.0;
   }
 

@@ -7,10 +7,13 @@
 
 #include <eulervop/core/quaternion.hpp>
 #include <eulervop/kernels/cells.hpp>
+#include <eulervop/model/coupled_problem.hpp>
 #include <eulervop/model/expression_torque.hpp>
 #include <eulervop/reference/attitude_cascade.hpp>
 #include <eulervop/reference/chebyshev_picard.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -96,6 +99,71 @@ dense_trajectory<T, 7> integrate_attitude(const euler_problem<T, Torque>& proble
   return dense_trajectory<T, 7>(std::move(segs), nodes_kept);
 }
 
+// What a coupled run reports beside the integrator's statistics.
+struct coupled_stats {
+  double norm_drift = 0;  // the largest | |q| - 1 | at the nodes of the accepted segments
+};
+
+namespace detail {
+// | |q| - 1 | at the nodes of a segment of (y, q), the largest of them, folded into `drift`.
+template <scalar T>
+void fold_norm_drift(const chebyshev_segment<T, 7>& seg, double& drift) {
+  using std::abs;
+  for (const auto& v : seg.values) {
+    T n2 = T(0);
+    for (std::size_t i = 3; i < 7; ++i) {
+      const T qi = seg.base[i] + (seg.base_lo[i] + v[i]);
+      n2 += qi * qi;
+    }
+    // |q| - 1 = (|q|^2 - 1) / (|q| + 1), about half of |q|^2 - 1 near 1.
+    drift = std::max(drift, static_cast<double>(abs(n2 - 1)) / 2);
+  }
+}
+}  // namespace detail
+
+// The rates and the attitude as one problem (model/coupled_problem.hpp), in constant memory:
+// emit(index, tau, v) receives each sample with v = (y1, y2, y3, q0, q1, q2, q3), as
+// integrate_attitude_samples gives them. Throws numerical_failure.
+template <scalar T>
+coupled_stats integrate_coupled_samples(const coupled_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
+                                        const typename segment_sampler<T, 7>::emit_function& emit,
+                                        const picard_settings& settings = {}, const progress_callback& progress = {},
+                                        picard_stats* stats = nullptr) {
+  coupled_stats out;
+  segment_sampler<T, 7> sampler(taus, emit);
+  chebyshev_picard<coupled_problem<T>> integrator(settings);
+  integrator.run_segments(
+      problem, tau_end,
+      [&](const chebyshev_segment<T, 7>& seg, const std::vector<T>& nodes) {
+        detail::fold_norm_drift(seg, out.norm_drift);
+        sampler(seg, nodes);
+      },
+      progress, stats);
+  sampler.finish();
+  return out;
+}
+
+// The same, keeping every segment: the dense (y, q) on the whole span.
+template <scalar T>
+dense_trajectory<T, 7> integrate_coupled(const coupled_problem<T>& problem, const T& tau_end,
+                                         const picard_settings& settings = {}, picard_stats* stats = nullptr,
+                                         coupled_stats* coupled = nullptr) {
+  chebyshev_picard<coupled_problem<T>> integrator(settings);
+  std::vector<chebyshev_segment<T, 7>> segs;
+  std::vector<T> nodes_kept;
+  coupled_stats out;
+  integrator.run_segments(
+      problem, tau_end,
+      [&](const chebyshev_segment<T, 7>& seg, const std::vector<T>& nodes) {
+        detail::fold_norm_drift(seg, out.norm_drift);
+        segs.push_back(seg);
+        if (nodes_kept.empty()) nodes_kept = nodes;
+      },
+      {}, stats);
+  if (coupled) *coupled = out;
+  return dense_trajectory<T, 7>(std::move(segs), nodes_kept);
+}
+
 // The cells of one scalar T and torque G<T> (kernels/cells.hpp): EXTERN is `extern` to declare
 // them, empty to define them. The rates alone:
 #define EULERVOP_REFERENCE_CELL(EXTERN, T, G)                                                                   \
@@ -115,12 +183,22 @@ dense_trajectory<T, 7> integrate_attitude(const euler_problem<T, Torque>& proble
   EXTERN template dense_trajectory<T, 7> integrate_attitude(const euler_problem<T, G<T>>&, const body_rates<T>&, \
                                                             const quaternion<T>&, const T&, const picard_settings&, \
                                                             picard_stats*, attitude_stats*);
+// ... and the coupled problem of one scalar:
+#define EULERVOP_REFERENCE_COUPLED_CELL(EXTERN, T)                                                               \
+  EXTERN template coupled_stats integrate_coupled_samples(                                                       \
+      const coupled_problem<T>&, const T&, const std::vector<T>&, const typename segment_sampler<T, 7>::emit_function&, \
+      const picard_settings&, const progress_callback&, picard_stats*);                                          \
+  EXTERN template dense_trajectory<T, 7> integrate_coupled(const coupled_problem<T>&, const T&,                 \
+                                                           const picard_settings&, picard_stats*, coupled_stats*);
 #ifdef EULERVOP_COMPILED_KERNELS
 #define EULERVOP_EXTERN_REFERENCE_CELLS_(T, G) \
   EULERVOP_REFERENCE_CELL(extern, T, G)        \
   EULERVOP_REFERENCE_ATTITUDE_CELL(extern, T, G)
 EULERVOP_FOR_EACH_SCALAR_AND_TORQUE(EULERVOP_EXTERN_REFERENCE_CELLS_)
 #undef EULERVOP_EXTERN_REFERENCE_CELLS_
+#define EULERVOP_EXTERN_COUPLED_CELL_(T, ...) EULERVOP_REFERENCE_COUPLED_CELL(extern, T)
+EULERVOP_KERNEL_SCALARS(EULERVOP_EXTERN_COUPLED_CELL_, )
+#undef EULERVOP_EXTERN_COUPLED_CELL_
 #endif
 
 }  // namespace eulervop

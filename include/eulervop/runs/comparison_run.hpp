@@ -31,6 +31,7 @@
 #include <eulervop/kernels/cells.hpp>
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/model/expression_torque.hpp>
+#include <eulervop/model/staged_attitude_torque.hpp>
 #include <eulervop/model/torque.hpp>
 #include <eulervop/rk/method.hpp>
 #include <eulervop/runs/detail/divergence.hpp>
@@ -69,7 +70,10 @@ template <class Problem, class Cell>
 void dispatch_cell(formulation f, bool attitude, Cell&& cell) {
   const auto with_attitude = [&](auto form) {
     if (!attitude) [[likely]] {
-      cell(form, std::false_type{});
+      if constexpr (compiles_rate_runs<typename Problem::torque_type>)
+        cell(form, std::false_type{});
+      else
+        throw std::invalid_argument("this torque reads the attitude: its runs carry q (attitude settings)");
     } else if constexpr (compiles_attitude_runs<typename Problem::torque_type>) {
       cell(form, std::true_type{});
     } else {
@@ -139,10 +143,16 @@ run_result run_adaptive(formulation f, rk::method m, const Problem& p, const ada
   EULERVOP_RUN_CELL_(extern, G, euler, true)      \
   EULERVOP_RUN_CELL_(extern, G, vop, true)        \
   EULERVOP_RUN_CELL_(extern, G, vop_theta, true)
+#define EULERVOP_EXTERN_ATTITUDE_RUN_CELLS_(G, ...) \
+  EULERVOP_RUN_CELL_(extern, G, euler, true)        \
+  EULERVOP_RUN_CELL_(extern, G, vop, true)          \
+  EULERVOP_RUN_CELL_(extern, G, vop_theta, true)
 #ifdef EULERVOP_COMPILED_KERNELS
 EULERVOP_KERNEL_TORQUES(EULERVOP_EXTERN_RUN_CELLS_, )
+EULERVOP_KERNEL_ATTITUDE_TORQUES(EULERVOP_EXTERN_ATTITUDE_RUN_CELLS_, )
 #endif
 #undef EULERVOP_EXTERN_RUN_CELLS_
+#undef EULERVOP_EXTERN_ATTITUDE_RUN_CELLS_
 #undef EULERVOP_RUN_CELL_
 
 }  // namespace eulervop

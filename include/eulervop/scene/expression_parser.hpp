@@ -26,10 +26,11 @@
 namespace eulervop::scene {
 
 // The variables an expression may name: names[0] the time ("t" or "tau"), names[1..3] the state
-// components ("omega1".."omega3", "Omega1".."Omega3" or "y1".."y3"). An empty name means the slot
-// is not available; naming it is an unknown identifier.
+// components ("omega1".."omega3", "Omega1".."Omega3" or "y1".."y3"), names[4..7] the attitude
+// ("q0".."q3", a body's only). An empty name means the slot is not available; naming it is an
+// unknown identifier.
 struct expression_variables {
-  std::array<std::string, 4> names;
+  std::array<std::string, expression::last_slot + 1> names;
 };
 
 // Why a text is not an expression. what() is one line that names the culprit and its 1-based

@@ -71,6 +71,9 @@ struct scene {
   // instead. Neither: torque-free.
   std::optional<decimal3> torque;
   std::shared_ptr<const eulervop::torque_law> torque_law;
+  // [torque.gravity_gradient] mean_motion: n in rad/s of a circular orbit in the inertial x-y
+  // plane (model/gravity_gradient.hpp); a body with an attitude only.
+  std::optional<decimal> gravity_gradient;
 
   // What the user should know but is no error (e.g. moments that no rigid body has): each is
   // printed as a "note:" line, and written into the reference's metadata.
@@ -115,6 +118,11 @@ struct scene {
   // Whether the torque changes with the time or the state (a formula, or pieces).
   bool has_torque_law() const { return torque_law != nullptr; }
   bool has_attitude() const { return attitude.has_value(); }
+  // Whether the torque reads the attitude (a formula naming q0..q3, or the gravity gradient): the
+  // rates and q are then one problem (model/coupled_problem.hpp), not a cascade.
+  bool couples_attitude() const {
+    return gravity_gradient.has_value() || (torque_law && torque_law->uses_attitude());
+  }
 };
 
 // Accepted names in [run] methods and formulations.

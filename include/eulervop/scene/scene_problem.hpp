@@ -10,10 +10,12 @@
 
 #include <eulervop/scene/scene.hpp>
 
+#include <eulervop/model/coupled_problem.hpp>
 #include <eulervop/model/euler_problem.hpp>
 #include <eulervop/model/expression_torque.hpp>
 #include <eulervop/model/integrals.hpp>
 #include <eulervop/model/physical_scaling.hpp>
+#include <eulervop/model/staged_attitude_torque.hpp>
 #include <eulervop/core/quaternion.hpp>
 #include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/model/body_rates.hpp>
@@ -24,6 +26,7 @@
 #include <array>
 #include <cstddef>
 #include <stdexcept>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -136,9 +139,12 @@ euler_problem<T, expression_torque<T, OfState>> to_problem_with_law(const scene&
 
 // Calls f with the scene's problem in T, of the type its torque needs: euler_problem<T> for a
 // constant torque (every fast path of the reference), or one with an expression_torque of time,
-// or of time and state. Returns what f returns.
+// or of time and state. Returns what f returns. The rates of a scene whose torque reads the
+// attitude are no problem of their own (to_coupled_problem): std::logic_error here.
 template <scalar T, class F>
 decltype(auto) with_problem(const scene& s, F&& f) {
+  if (s.couples_attitude())
+    throw std::logic_error("with_problem: the torque of scene " + s.name + " reads the attitude; use to_coupled_problem");
   switch (torque_kind_of(s)) {
     case torque_kind::of_time: return f(to_problem_with_law<T, false>(s));
     case torque_kind::of_state: return f(to_problem_with_law<T, true>(s));
@@ -146,6 +152,12 @@ decltype(auto) with_problem(const scene& s, F&& f) {
   }
   return f(to_problem<T>(s));
 }
+
+// Calls f with the problem the double-precision comparison runs integrate: with_problem's, or
+// for a torque of the attitude the rates' equations under a staged torque, which each stage of a
+// run shows its q (model/staged_attitude_torque.hpp): such runs must carry q.
+template <class F>
+decltype(auto) with_run_problem(const scene& s, F&& f);
 
 // The scene's initial attitude in T (precondition: s.has_attitude()), normalized in T: the
 // decimals are 1 in norm only to 1e-9.
@@ -161,6 +173,53 @@ quaternion<T> attitude_of(const scene& s) {
 template <scalar T>
 body_rates<T> body_rates_of(const scene& s) {
   return body_rates<T>::of(scaling_of<T>(s));
+}
+
+// The problem of the rates and the attitude of a scene whose torque reads q
+// (s.couples_attitude(); model/coupled_problem.hpp): the same equations of the rates as
+// with_problem's, in the same variables, with the formulas (or the constant M) and the gravity
+// gradient in one torque of (t, y, q).
+template <scalar T>
+coupled_problem<T> to_coupled_problem(const scene& s) {
+  if (!s.couples_attitude() || !s.has_attitude())
+    throw std::logic_error("to_coupled_problem: the torque of scene " + s.name + " does not read the attitude");
+  scene constant = s;
+  constant.torque_law.reset();
+  constant.torque.reset();
+  const euler_problem<T> base = to_problem<T>(constant);
+  coupled_problem<T> p;
+  p.tau0 = base.tau0;
+  p.form = base.form;
+  p.a = base.a;
+  p.rates = body_rates_of<T>(s);
+  const quaternion<T> q = attitude_of<T>(s);
+  p.initial = {base.Omega0[0], base.Omega0[1], base.Omega0[2], q.w, q.x, q.y, q.z};
+  std::shared_ptr<const torque_law> law = s.torque_law;
+  if (!law) {  // numbers, or no [torque] M: a law of constants
+    auto constants = std::make_shared<torque_law>();
+    constants->name = "M";
+    constants->time_name = "t";
+    for (int i = 0; i < 3; ++i) constants->base[i] = constant_expression(s.torque ? (*s.torque)[i].text : "0");
+    law = std::move(constants);
+  }
+  std::optional<gravity_gradient<T>> gravity;
+  if (s.gravity_gradient) gravity = gravity_gradient<T>{s.gravity_gradient->template to_scalar<T>(), to_vec3<T>(*s.inertia)};
+  p.torque = attitude_torque<T>(std::move(law), torque_variables<T>::of(scaling_of<T>(s)), std::move(gravity));
+  return p;
+}
+
+template <class F>
+decltype(auto) with_run_problem(const scene& s, F&& f) {
+  if (!s.couples_attitude()) return with_problem<double>(s, std::forward<F>(f));
+  const coupled_problem<double> c = to_coupled_problem<double>(s);
+  euler_problem<double, staged_attitude_torque<double>> p;
+  p.Omega0 = coupled_problem<double>::rates_part(c.initial);
+  p.tau0 = c.tau0;
+  p.form = c.form;
+  p.a = c.a;
+  const std::array<double, 4> q = coupled_problem<double>::attitude_part(c.initial);
+  p.torque = staged_attitude_torque<double>(c.torque, quaternion<double>{q[0], q[1], q[2], q[3]});
+  return f(p);
 }
 
 // The end of the span in the integrator's time (physical scenes: tau_end = t_end dtau/dt, Eq. 4;

@@ -184,11 +184,14 @@ check_result check_rows(const check_job& job, reference_csv_reader& ref, const P
   return r;
 }
 
-// The equations, for the direction of motion: from the reference's scene text, if it has one.
+// The equations, for the direction of motion: from the reference's scene text, if it has one
+// and its rates are a problem of their own (not with a torque of the attitude, which needs q).
 template <scalar T>
 check_result check_in(const check_job& job, reference_csv_reader& ref) {
-  if (ref.metadata().scene_text.empty()) return check_rows<T>(job, ref, static_cast<const euler_problem<T>*>(nullptr));
+  const auto* none = static_cast<const euler_problem<T>*>(nullptr);
+  if (ref.metadata().scene_text.empty()) return check_rows<T>(job, ref, none);
   const scene s = parse_scene(ref.metadata().scene_text, ref.rows().where() + " (scene_text)");
+  if (s.couples_attitude()) return check_rows<T>(job, ref, none);
   return with_problem<T>(s, [&](const auto& problem) { return check_rows<T>(job, ref, &problem); });
 }
 

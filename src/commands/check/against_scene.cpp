@@ -114,26 +114,39 @@ check_result check_in(const check_job& job) {
   csv_rows rows(in, "trajectory " + job.trajectory_path);
   row_reader reader{rows, cols};
   const auto changed = [&] { return input_error(fmt::format("{}: the file changed while it was read", rows.where())); };
-  const reference_run ref = with_problem<T>(job.scn, [&](const auto& problem) {
-    // The direction of motion is evaluated on a copy: the integrator's own evaluates the torque.
-    const auto motion = problem;
-    // Row i of the trajectory against the reference there (q_ref: its attitude, if checked).
-    const auto compare = [&](std::size_t i, const vec3<T>& Omega_ref, const quaternion<T>* q_ref) {
-      if (!rows.next()) throw changed();
-      const decimal time = reader.time();
-      if (vars.tau_of(time.template to_scalar<T>()) != taus[i]) throw changed();
-      const row_states<T> states = vars.states(Omega_ref, vec3_of<T>(reader.values()));
-      std::optional<attitude_pair<T>> q;
-      if (q_ref) q = attitude_pair<T>{*q_ref, quaternion_of<T>(reader.attitude())};
-      record<T>(job, r.t, out, rows.line(), time, states, vars, &motion, taus[i], std::nullopt, q ? &*q : nullptr);
-    };
-    if (cols.q)
-      return integrate_attitude_streaming<T>(
-          problem, body_rates_of<T>(job.scn), attitude_of<T>(job.scn), tau_end, taus, job.settings, "reference",
-          [&](std::size_t i, const vec3<T>& y, const quaternion<T>& q) { compare(i, y, &q); });
-    return integrate_at<T>(problem, tau_end, taus, job.settings, "reference",
-                           [&](std::size_t i, const vec3<T>& Omega_ref) { compare(i, Omega_ref, nullptr); });
-  });
+  // Row i of the trajectory against the reference there (q_ref: its attitude, if checked), with
+  // the equations `motion` for the direction of motion, if they are the rates' own.
+  const auto compare = [&](std::size_t i, const vec3<T>& Omega_ref, const quaternion<T>* q_ref, const auto* motion) {
+    if (!rows.next()) throw changed();
+    const decimal time = reader.time();
+    if (vars.tau_of(time.template to_scalar<T>()) != taus[i]) throw changed();
+    const row_states<T> states = vars.states(Omega_ref, vec3_of<T>(reader.values()));
+    std::optional<attitude_pair<T>> q;
+    if (q_ref) q = attitude_pair<T>{*q_ref, quaternion_of<T>(reader.attitude())};
+    record<T>(job, r.t, out, rows.line(), time, states, vars, motion, taus[i], std::nullopt, q ? &*q : nullptr);
+  };
+  // A torque of the attitude: the rates' direction of motion needs q, so the split along and
+  // across it is left out.
+  const auto* no_motion = static_cast<const euler_problem<T>*>(nullptr);
+  const reference_run ref =
+      job.scn.couples_attitude()
+          ? integrate_scene_attitude<T>(job.scn, tau_end, taus, job.settings, "reference",
+                                        [&](std::size_t i, const vec3<T>& y, const quaternion<T>& q) {
+                                          compare(i, y, cols.q ? &q : nullptr, no_motion);
+                                        })
+          : with_problem<T>(job.scn, [&](const auto& problem) {
+              // The direction of motion is evaluated on a copy: the integrator's own evaluates the torque.
+              const auto motion = problem;
+              if (cols.q)
+                return integrate_attitude_streaming<T>(
+                    problem, body_rates_of<T>(job.scn), attitude_of<T>(job.scn), tau_end, taus, job.settings,
+                    "reference",
+                    [&](std::size_t i, const vec3<T>& y, const quaternion<T>& q) { compare(i, y, &q, &motion); });
+              return integrate_at<T>(problem, tau_end, taus, job.settings, "reference",
+                                     [&](std::size_t i, const vec3<T>& Omega_ref) {
+                                       compare(i, Omega_ref, nullptr, &motion);
+                                     });
+            });
   if (rows.next()) throw changed();
   out.commit();
   describe_scene_reference(job, cols.time_name, r.t.last_time, static_cast<double>(tau_end), ref, r);

@@ -131,7 +131,8 @@ reference_run stream_rows(const reference_job& job, const T& tau_end, const samp
 }
 
 // The same for a scene with an attitude (no --certify): the rates and q0..q3 on every row, q
-// integrated beside the rates (reference/attitude_cascade.hpp).
+// integrated beside the rates (reference/attitude_cascade.hpp), or with them as one problem for a
+// torque of the attitude (model/coupled_problem.hpp).
 template <scalar T>
 reference_run stream_attitude_rows(const reference_job& job, const T& tau_end, const sample_times<T>& times,
                                    scratch_file& rows_out, std::vector<vec3<T>>* kept,
@@ -146,13 +147,12 @@ reference_run stream_attitude_rows(const reference_job& job, const T& tau_end, c
     if (kept) kept->push_back(Om);
     if (kept_q) kept_q->push_back(q);
   };
-  const reference_run run = with_problem<T>(job.scn, [&](const auto& problem) {
-    return integrate_attitude_streaming<T>(problem, body_rates_of<T>(job.scn), attitude_of<T>(job.scn), tau_end,
-                                           times.tau, job.settings, "reference", on_sample);
-  });
+  const reference_run run = integrate_scene_attitude<T>(job.scn, tau_end, times.tau, job.settings, "reference", on_sample);
   rows.flush();
   return run;
 }
+
+decimal decimal_of(const std::string& text) { return decimal{text, std::strtod(text.c_str(), nullptr)}; }
 
 // The metadata block of a finished run (without --verify's and --certify's lines).
 reference_metadata metadata_of(const reference_job& job, const reference_run& run) {
@@ -166,11 +166,13 @@ reference_metadata metadata_of(const reference_job& job, const reference_run& ru
   if (!job.omit_timing) m.wall_seconds = run.wall_seconds;
   m.notes = job.scn.notes;
   if (job.scn.has_attitude()) m.attitude = attitude_convention(job.precision);
+  if (run.norm_drift) {
+    m.coupled = "the torque reads the attitude: the rates and q0..q3 integrated as one problem of 7 states";
+    m.q_norm_drift = decimal_of(fmt::format("{:.3g}", *run.norm_drift));
+  }
   m.scene_text = job.scn.source_text;
   return m;
 }
-
-decimal decimal_of(const std::string& text) { return decimal{text, std::strtod(text.c_str(), nullptr)}; }
 
 // --certify's lines: the largest radius (and that of omega for a physical scene) and the method.
 void add_certificate(const reference_job& job, const run_certificate& certificate, reference_metadata& m) {

@@ -60,28 +60,27 @@ computed_reference_info measure_adaptive(const report_job& job, const T& tau_end
   // tau_end = t_end dtau/dt): the reference then goes on to that last step point.
   T end = tau_end;
   if (!times.tau.empty() && times.tau.back() > end) end = times.tau.back();
-  const reference_run ref = with_problem<T>(job.scn, [&](const auto& problem) {
-    if (job.attitude) {
-      // The rates and the attitude together (reference/attitude_cascade.hpp), at the merged times.
-      for (run_errors& a : runs) a.attitude_error.resize(a.run.Omega.size());
-      return integrate_attitude_streaming<T>(
-          problem, body_rates_of<T>(job.scn), attitude_of<T>(job.scn), end, times.tau, job.settings, "reference",
-          [&](std::size_t j, const vec3<T>& Om, const quaternion<T>& q) {
-            const auto [i, k] = times.owner[j];
-            const run_result& r = runs[i].run;
-            const double e = static_cast<double>(eq20_error(Om, r.Omega[k]));
-            if (std::isfinite(e)) runs[i].error[k] = e;  // never a NaN as an error value
-            const quaternion<double>& qr = r.q[k];
-            const double a = static_cast<double>(rotation_angle(q, quaternion<T>{T(qr.w), T(qr.x), T(qr.y), T(qr.z)}));
-            if (std::isfinite(a)) runs[i].attitude_error[k] = a;
-          });
-    }
-    return integrate_at<T>(problem, end, times.tau, job.settings, "reference", [&](std::size_t j, const vec3<T>& Om) {
-      const auto [i, k] = times.owner[j];
-      const double e = static_cast<double>(eq20_error(Om, runs[i].run.Omega[k]));
-      if (std::isfinite(e)) runs[i].error[k] = e;  // never a NaN as an error value
-    });
-  });
+  const auto rates_error = [&](std::size_t j, const vec3<T>& Om) {
+    const auto [i, k] = times.owner[j];
+    const double e = static_cast<double>(eq20_error(Om, runs[i].run.Omega[k]));
+    if (std::isfinite(e)) runs[i].error[k] = e;  // never a NaN as an error value
+  };
+  if (job.attitude)  // the rates and the attitude together, at the merged times
+    for (run_errors& a : runs) a.attitude_error.resize(a.run.Omega.size());
+  const reference_run ref =
+      job.attitude
+          ? integrate_scene_attitude<T>(job.scn, end, times.tau, job.settings, "reference",
+                                        [&](std::size_t j, const vec3<T>& Om, const quaternion<T>& q) {
+                                          rates_error(j, Om);
+                                          const auto [i, k] = times.owner[j];
+                                          const quaternion<double>& qr = runs[i].run.q[k];
+                                          const double a = static_cast<double>(
+                                              rotation_angle(q, quaternion<T>{T(qr.w), T(qr.x), T(qr.y), T(qr.z)}));
+                                          if (std::isfinite(a)) runs[i].attitude_error[k] = a;
+                                        })
+          : with_problem<T>(job.scn, [&](const auto& problem) {
+              return integrate_at<T>(problem, end, times.tau, job.settings, "reference", rates_error);
+            });
   for (run_errors& a : runs) {
     for (std::size_t k = 0; k < a.error.size(); ++k) {
       if (!a.error[k]) continue;
@@ -101,7 +100,7 @@ computed_reference_info measure_adaptive(const report_job& job, const T& tau_end
 // Every formulation x method x tolerance, to the span end.
 std::vector<run_errors> adaptive_runs(const report_job& job, double tau_end) {
   std::vector<run_errors> runs;
-  with_problem<double>(job.scn, [&](const auto& problem) {
+  with_run_problem(job.scn, [&](const auto& problem) {
     for (const run_spec& spec : job.runs) {
       adaptive_run_settings s;
       s.tau_end = tau_end;

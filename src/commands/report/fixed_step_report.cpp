@@ -124,14 +124,11 @@ reference_samples<T> compute_reference(const report_job& job) {
     // The rates and the attitude together (reference/attitude_cascade.hpp).
     out.Omega.resize(out.tau.size());
     out.q.resize(out.tau.size());
-    const reference_run ref = with_problem<T>(job.scn, [&](const auto& problem) {
-      return integrate_attitude_streaming<T>(problem, body_rates_of<T>(job.scn), attitude_of<T>(job.scn), tau_end,
-                                             out.tau, job.settings, "reference",
-                                             [&](std::size_t i, const vec3<T>& y, const quaternion<T>& q) {
-                                               out.Omega[i] = y;
-                                               out.q[i] = q;
-                                             });
-    });
+    const reference_run ref = integrate_scene_attitude<T>(job.scn, tau_end, out.tau, job.settings, "reference",
+                                                          [&](std::size_t i, const vec3<T>& y, const quaternion<T>& q) {
+                                                            out.Omega[i] = y;
+                                                            out.q[i] = q;
+                                                          });
     out.info.seconds = ref.wall_seconds;
     out.info.segments = ref.stats.segments;
   } else {
@@ -196,7 +193,7 @@ void report_in(const report_job& job, std::ostream& standard_output) {
   reference_samples<T> ref = from_file ? std::move(*from_file) : compute_reference<T>(job);
   for (const T& tau : ref.tau) ref.info.tau.push_back(static_cast<double>(tau));
   std::vector<run_errors> runs;
-  with_problem<double>(job.scn, [&](const auto& problem) {
+  with_run_problem(job.scn, [&](const auto& problem) {
     for (const run_spec& spec : job.runs) runs.push_back(measure<T>(job, spec, problem, ref, job.step.h));
   });
 

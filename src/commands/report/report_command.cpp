@@ -126,6 +126,10 @@ report_job make_job(const report_options& o) {
   // The attitude beside the rates (docs/attitude-runs.md): a scene with [initial] q; with
   // --reference, only when the file has the attitude too.
   job.attitude = s.has_attitude() && (!job.file || !job.file->meta.attitude.empty());
+  if (s.couples_attitude() && !job.attitude)
+    throw input_error(fmt::format("--reference {}: the file has no attitude (q0..q3), and the torque of scene `{}` "
+                                  "reads it, so the runs carry q and are measured against it",
+                                  *o.reference_file, s.name));
   job.out_dir = out_dir_of(o.out_dir, "report");
   job.json = flag_json_format(o.format);
   job.plot = !o.no_plot;

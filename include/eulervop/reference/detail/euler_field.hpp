@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cmath>
 #include <utility>
 
@@ -25,6 +26,9 @@ class euler_field {
   using T = typename P::value_type;
   using torque_traits_type = torque_traits<typename P::torque_type>;
   using double_torque = decltype(convert_torque<double>(std::declval<const typename P::torque_type&>()));
+  static constexpr std::size_t D = 3;
+  // The torque's Jacobian at one node, where the correction linearizes it.
+  using node_jacobian = std::array<vec3<double>, 3>;
 
   euler_field() = default;
   explicit euler_field(const P& problem)
@@ -48,8 +52,14 @@ class euler_field {
   void rhs_double(double t, const vec3<double>& x, vec3<double>& dx) const {
     direct_rhs(a_d_, x, torque_d_.value(t, x), dx);
   }
-  // The torque at (t, x) in double.
-  vec3<double> torque_double(double t, const vec3<double>& x) const { return torque_d_.value(t, x); }
+  // The fastest rate in sight at (t, x), for the first segment's length: |a| |y_i|, and
+  // sqrt(|a| |g_i|) for the spin-up from rest.
+  double first_rate(double t, const vec3<double>& x) const {
+    const vec3<double> g = torque_d_.value(t, x);
+    double rate = 0;
+    for (int i = 0; i < 3; ++i) rate = std::max({rate, a_max_ * std::abs(x[i]), std::sqrt(a_max_ * std::abs(g[i]))});
+    return rate;
+  }
 
   // The quadratic part of the increment at one node, in double (products by a = +-1 are exact).
   [[gnu::always_inline]] void increment(double x1, double x2, double x3, double d1, double d2, double d3,

@@ -10,6 +10,7 @@
 #include <eulervop/reference/settings.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -17,29 +18,58 @@
 
 namespace eulervop::detail {
 
-// The torque's Jacobian at the nodes, where the sweeps linearize it (a torque of the state).
+// The Jacobian at the nodes, where the sweeps linearize it: the torque's (a torque of the
+// state), or the whole problem's (the coupled problem).
 template <class P>
 void linearize_torque(picard_workspace<P>& w) {
-  if constexpr (euler_field<P>::torque_traits_type::depends_on_state)
+  constexpr std::size_t D = P::dimension;
+  if constexpr (is_coupled_problem_v<P>) {
+    std::array<double, D> x;
+    for (std::size_t k = 0; k < w.n1; ++k) {
+      for (std::size_t i = 0; i < D; ++i) x[i] = w.Xd[i][k];
+      w.field.jacobian_double(w.time_d_of(k), x, w.torque_J[k]);
+    }
+  } else if constexpr (picard_workspace<P>::traits::depends_on_state) {
     for (std::size_t k = 0; k < w.n1; ++k)
       w.field.torque_jacobian(w.time_d_of(k), {w.Xd[0][k], w.Xd[1][k], w.Xd[2][k]}, w.torque_J[k]);
+  }
+}
+
+// g = f(X + delta) - f(X) at the nodes: the exact quadratic increment of Euler's equations
+// (plus the torque's linear part when it reads the state), or J(X) delta for the coupled problem.
+template <class P>
+void increments(picard_workspace<P>& w) {
+  constexpr std::size_t D = P::dimension;
+  if constexpr (is_coupled_problem_v<P>) {
+    for (std::size_t k = 0; k < w.n1; ++k) {
+      const auto& J = w.torque_J[k];
+      for (std::size_t i = 0; i < D; ++i) {
+        double sum = 0;
+        for (std::size_t m = 0; m < D; ++m) sum += J[i][m] * w.delta[m][k];
+        w.g[i][k] = sum;
+      }
+    }
+  } else {
+    for (std::size_t k = 0; k < w.n1; ++k) {
+      const double d1 = w.delta[0][k], d2 = w.delta[1][k], d3 = w.delta[2][k];
+      w.field.increment(w.Xd[0][k], w.Xd[1][k], w.Xd[2][k], d1, d2, d3, w.g[0][k], w.g[1][k], w.g[2][k]);
+      if constexpr (picard_workspace<P>::traits::depends_on_state)
+        for (int i = 0; i < 3; ++i)
+          w.g[i][k] += w.torque_J[k][i][0] * d1 + w.torque_J[k][i][1] * d2 + w.torque_J[k][i][2] * d3;
+    }
+  }
 }
 
 // One sweep delta <- r + hl S g(delta), g = f(X + delta) - f(X). Returns the largest change;
 // dmax is the largest entry of the new delta.
 template <class P, class T = typename P::value_type>
 double correction_sweep(const picard_matrices<T>& m, picard_workspace<P>& w, double hl_d, double& dmax) {
-  for (std::size_t k = 0; k < w.n1; ++k) {
-    const double d1 = w.delta[0][k], d2 = w.delta[1][k], d3 = w.delta[2][k];
-    w.field.increment(w.Xd[0][k], w.Xd[1][k], w.Xd[2][k], d1, d2, d3, w.g[0][k], w.g[1][k], w.g[2][k]);
-    if constexpr (euler_field<P>::torque_traits_type::depends_on_state)
-      for (int i = 0; i < 3; ++i) w.g[i][k] += w.torque_J[k][i][0] * d1 + w.torque_J[k][i][1] * d2 + w.torque_J[k][i][2] * d3;
-  }
+  increments(w);
   // The maxima in locals: through the reference, each would make a store and its reload on
   // the loop's critical path.
   double diff = 0, big = dmax;
   m.double_integral(w.g, w.delta_new);
-  for (int i = 0; i < 3; ++i) {
+  for (std::size_t i = 0; i < P::dimension; ++i) {
     w.delta_new[i][0] = 0;
     for (std::size_t j = 1; j < w.n1; ++j) {
       const double v = w.r[i][j] + hl_d * w.delta_new[i][j];
@@ -58,7 +88,7 @@ double correction_sweep(const picard_matrices<T>& m, picard_workspace<P>& w, dou
 template <class P, class T = typename P::value_type>
 outcome solve_correction(const picard_matrices<T>& m, picard_workspace<P>& w, double hl_d, picard_stats& st) {
   constexpr std::size_t max_sweeps = 200;
-  for (int i = 0; i < 3; ++i) w.delta[i] = w.r[i];
+  for (std::size_t i = 0; i < P::dimension; ++i) w.delta[i] = w.r[i];
   linearize_torque(w);
   double prev_diff = std::numeric_limits<double>::infinity();
   double first_diff = -1;
@@ -83,7 +113,7 @@ template <class P, class T = typename P::value_type>
 outcome correct(const picard_matrices<T>& m, picard_workspace<P>& w, double r_max, double hl_d, picard_stats& st) {
   if (!std::isfinite(r_max)) return {outcome_kind::residual_non_finite};
   if (const outcome o = solve_correction(m, w, hl_d, st); !o.ok()) return o;
-  for (int i = 0; i < 3; ++i)
+  for (std::size_t i = 0; i < P::dimension; ++i)
     for (std::size_t j = 1; j < w.n1; ++j) w.add_double(w.Yc[i][j], w.delta[i][j]);
   return {};
 }

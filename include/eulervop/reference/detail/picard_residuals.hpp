@@ -11,6 +11,7 @@
 #include <eulervop/reference/detail/picard_workspace.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <type_traits>
@@ -19,8 +20,9 @@ namespace eulervop::detail {
 
 // X = x0 + (c0 + Yc) at node j, in node_x and in double in Xd.
 template <class P, class T = typename P::value_type>
-void node_state(picard_workspace<P>& w, const vec3<T>& x0, const vec3<T>& c0, std::size_t j) {
-  for (int i = 0; i < 3; ++i) {
+void node_state(picard_workspace<P>& w, const std::array<T, P::dimension>& x0, const std::array<T, P::dimension>& c0,
+                std::size_t j) {
+  for (std::size_t i = 0; i < P::dimension; ++i) {
     w.node_x[i] = x0[i] + (c0[i] + w.Yc[i][j]);
     w.Xd[i][j] = static_cast<double>(w.node_x[i]);
   }
@@ -29,11 +31,12 @@ void node_state(picard_workspace<P>& w, const vec3<T>& x0, const vec3<T>& c0, st
 // X and F = f(t, X) at the nodes, X also in double (Xd) and, for wide T, its remainder (Xl).
 // Returns the state scale max |X|.
 template <class P, class T = typename P::value_type>
-double evaluate_nodes(picard_workspace<P>& w, const vec3<T>& x0, const vec3<T>& c0) {
+double evaluate_nodes(picard_workspace<P>& w, const std::array<T, P::dimension>& x0,
+                      const std::array<T, P::dimension>& c0) {
   double scale = 0;
   for (std::size_t j = 0; j < w.n1; ++j) {
     node_state(w, x0, c0, j);
-    for (int i = 0; i < 3; ++i) {
+    for (std::size_t i = 0; i < P::dimension; ++i) {
       scale = std::max(scale, std::abs(w.Xd[i][j]));
       if constexpr (!std::is_same_v<T, double>) {
         w.acc = w.node_x[i];
@@ -42,7 +45,7 @@ double evaluate_nodes(picard_workspace<P>& w, const vec3<T>& x0, const vec3<T>& 
       }
     }
     w.field.rhs(w.time_of(j), w.node_x, w.node_f);
-    for (int i = 0; i < 3; ++i) w.F[i][j] = w.node_f[i];
+    for (std::size_t i = 0; i < P::dimension; ++i) w.F[i][j] = w.node_f[i];
   }
   return scale;
 }
@@ -53,7 +56,7 @@ double evaluate_nodes(picard_workspace<P>& w, const vec3<T>& x0, const vec3<T>& 
 template <class P, class T = typename P::value_type>
 double wide_residual(picard_matrices<T>& m, picard_workspace<P>& w, const T& hl) {
   double r_max = 0;
-  for (int i = 0; i < 3; ++i) {
+  for (std::size_t i = 0; i < P::dimension; ++i) {
     w.Yn[i][0] = 0;
     if constexpr (!std::is_same_v<T, double>) {
       m.S_fx.multiply(w.F[i].data(), w.Yn[i].data(), 1);
@@ -81,19 +84,20 @@ double wide_residual(picard_matrices<T>& m, picard_workspace<P>& w, const T& hl)
 // The residual from the warm start, all in double: it is far above double rounding, so
 // computing it in T would buy nothing (for T = double the first wide residual is this pass).
 template <class P, class T = typename P::value_type>
-double double_residual(const picard_matrices<T>& m, picard_workspace<P>& w, const vec3<T>& x0, const vec3<T>& c0,
-                       double hl_d) {
-  vec3<double> x0d, dx;
-  for (int i = 0; i < 3; ++i) x0d[i] = static_cast<double>(x0[i]) + static_cast<double>(c0[i]);
+double double_residual(const picard_matrices<T>& m, picard_workspace<P>& w, const std::array<T, P::dimension>& x0,
+                       const std::array<T, P::dimension>& c0, double hl_d) {
+  constexpr std::size_t D = P::dimension;
+  std::array<double, D> x0d, dx;
+  for (std::size_t i = 0; i < D; ++i) x0d[i] = static_cast<double>(x0[i]) + static_cast<double>(c0[i]);
   for (std::size_t j = 0; j < w.n1; ++j) {
-    vec3<double> x;
-    for (int i = 0; i < 3; ++i) x[i] = w.Xd[i][j] = x0d[i] + w.warm[i][j];
+    std::array<double, D> x;
+    for (std::size_t i = 0; i < D; ++i) x[i] = w.Xd[i][j] = x0d[i] + w.warm[i][j];
     w.field.rhs_double(w.time_d_of(j), x, dx);
-    for (int i = 0; i < 3; ++i) w.g[i][j] = dx[i];
+    for (std::size_t i = 0; i < D; ++i) w.g[i][j] = dx[i];
   }
   double r_max = 0;
   m.double_integral(w.g, w.r);
-  for (int i = 0; i < 3; ++i) {
+  for (std::size_t i = 0; i < D; ++i) {
     w.r[i][0] = 0;
     for (std::size_t j = 1; j < w.n1; ++j) {
       w.r[i][j] = hl_d * w.r[i][j] - w.warm[i][j];
@@ -106,7 +110,7 @@ double double_residual(const picard_matrices<T>& m, picard_workspace<P>& w, cons
 // r = Y_hi + Y_lo - Yc in T (after S was applied to one component in double-double), for rows
 // 1..N of component i.
 template <class P>
-double difference_to_iterate(picard_workspace<P>& w, int i) {
+double difference_to_iterate(picard_workspace<P>& w, std::size_t i) {
   using T = typename P::value_type;
   double r_max = 0;
   w.r[i][0] = 0;
@@ -124,15 +128,15 @@ double difference_to_iterate(picard_workspace<P>& w, int i) {
 // correction that follows to that level, at a fraction of a residual in T. The next residual, in
 // T, decides convergence.
 template <class P, class T = typename P::value_type>
-double double_double_residual(picard_matrices<T>& m, picard_workspace<P>& w, const vec3<T>& x0, const vec3<T>& c0,
-                              const T& hl) {
+double double_double_residual(picard_matrices<T>& m, picard_workspace<P>& w, const std::array<T, P::dimension>& x0,
+                              const std::array<T, P::dimension>& c0, const T& hl) {
   for (std::size_t j = 0; j < w.n1; ++j) {
     node_state(w, x0, c0, j);
     w.field.rhs(w.time_of(j), w.node_x, w.node_f);
-    for (int i = 0; i < 3; ++i) w.F[i][j] = w.node_f[i] * hl;  // scaled by hl here, once
+    for (std::size_t i = 0; i < P::dimension; ++i) w.F[i][j] = w.node_f[i] * hl;  // scaled by hl here, once
   }
   double r_max = 0;
-  for (int i = 0; i < 3; ++i) {
+  for (std::size_t i = 0; i < P::dimension; ++i) {
     for (std::size_t j = 0; j < w.n1; ++j) {
       w.F_hi[j] = static_cast<double>(w.F[i][j]);
       w.F_lo[j] = static_cast<double>(T(w.F[i][j] - T(w.F_hi[j])));
@@ -167,7 +171,7 @@ double updated_difference(picard_workspace<P>& w, int i) {
 // the last full one times 2^-100 is resolved, at a fraction of the cost of a full residual.
 template <class P, class T = typename P::value_type>
 double update_residual(picard_matrices<T>& m, picard_workspace<P>& w, const T& hl) {
-  static_assert(!euler_field<P>::torque_traits_type::depends_on_state,
+  static_assert(!picard_workspace<P>::traits::depends_on_state,
                 "the increment of a torque of the state is not exact: no residual updates");
   const double hl_hi = static_cast<double>(hl);
   w.acc = hl;

@@ -3,7 +3,7 @@
 #pragma once
 
 #include <eulervop/core/scalar.hpp>
-#include <eulervop/reference/detail/euler_field.hpp>
+#include <eulervop/reference/detail/picard_field.hpp>
 
 #include <array>
 #include <cmath>
@@ -22,8 +22,11 @@ struct picard_workspace {
   using wide = std::array<std::vector<T>, D>;
   using narrow = std::array<std::vector<double>, D>;
 
+  using field_type = field_of<P>;
+  using traits = typename field_type::torque_traits_type;
+
   std::size_t n1;  // nodes per segment, N + 1
-  euler_field<P> field;  // the equations of the run
+  field_type field;  // the equations of the run
   //   Yc     the iterate: increments X - x0 at the nodes, in T (X the state at the nodes)
   //   Yn     the Picard map hl S f(X) of the iterate, in T: the segment's values once converged
   //   F      f(X) in T (times hl in the double-double residual)
@@ -41,8 +44,9 @@ struct picard_workspace {
   // The node times, for a torque of time: in T and in double.
   std::vector<T> t;
   std::vector<double> t_d;
-  // The torque's Jacobian at the nodes, for a torque of the state (in double).
-  std::vector<std::array<vec3<double>, 3>> torque_J;
+  // The torque's Jacobian at the nodes, for a torque of the state (in double); the whole
+  // Jacobian for the coupled problem.
+  std::vector<typename field_type::node_jacobian> torque_J;
   T acc;  // accumulator in T: in place, no temporary per operation for MPFR
   std::array<T, D> node_x, node_f;  // the state and f at one node, reused (no allocation per node)
 
@@ -52,11 +56,11 @@ struct picard_workspace {
     for (auto* set : {&Xd, &Xl, &warm, &r, &delta, &delta_new, &g, &df_hi, &df_lo})
       for (auto& v : *set) v.resize(n1);
     for (auto* v : {&F_hi, &F_lo, &Y_hi, &Y_lo}) v->resize(n1);
-    if constexpr (euler_field<P>::torque_traits_type::depends_on_time) {
+    if constexpr (traits::depends_on_time) {
       t.resize(n1);
       t_d.resize(n1);
     }
-    if constexpr (euler_field<P>::torque_traits_type::depends_on_state) torque_J.resize(n1);
+    if constexpr (traits::depends_on_state) torque_J.resize(n1);
     acc = T(0);
   }
 
@@ -69,11 +73,11 @@ struct picard_workspace {
   }
   // The time of node j (a torque of time), or the start for a torque without one.
   const T& time_of(std::size_t j) const {
-    if constexpr (euler_field<P>::torque_traits_type::depends_on_time) return t[j];
+    if constexpr (traits::depends_on_time) return t[j];
     else return field.problem().tau0;
   }
   double time_d_of(std::size_t j) const {
-    if constexpr (euler_field<P>::torque_traits_type::depends_on_time) return t_d[j];
+    if constexpr (traits::depends_on_time) return t_d[j];
     else return 0.0;
   }
 };

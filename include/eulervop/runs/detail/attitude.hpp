@@ -11,7 +11,9 @@
 // by the run's method, and the representation changes of a VOP run (bands, regimes, phase turns)
 // leave it alone: it is the same attitude in every representation.
 //
-// q never feeds back into y: every stage of y is formed, evaluated and summed exactly as without
+// With a torque that reads the attitude (reads_attitude below) each stage shows the torque its
+// own q first, and q feeds back into y: the run integrates the coupled problem of 7 states. With
+// any other torque q never feeds back into y: every stage of y is formed, evaluated and summed exactly as without
 // q (component by component, the same operations), and the error estimate of an adaptive step is
 // measured on y alone (attitude_embedded_rk below: the same norm, over the same three
 // components, as rk::embedded_rk), as is the starting step. So the rates, their steps, their
@@ -84,6 +86,11 @@ inline outcome_kind divergence_kind(const attitude_state& s) {
   return std::isfinite(sum) ? outcome_kind::norm_bound : outcome_kind::non_finite;
 }
 
+// A torque that reads the attitude (model/staged_attitude_torque.hpp): each stage shows it its q
+// before the stage is evaluated, so that q feeds back into the rates.
+template <class Torque>
+concept reads_attitude = requires(const Torque& g, const quaternion<double>& q) { g.set_attitude(q); };
+
 // The problem's own equations (Eq. 5, or Eq. 1 in the direct form) with q: the euler formulation,
 // and the direct stretches of the VOP runs. Holds its own copy of the problem (member `problem`,
 // which the runs pin, as rk::problem_system's).
@@ -96,6 +103,7 @@ struct direct_attitude_system {
   body_rates<double> rates;
 
   void operator()(const attitude_state& s, attitude_state& ds, const double& t) const {
+    if constexpr (reads_attitude<typename Problem::torque_type>) problem.torque.set_attitude(quat(s));
     const vec3<double> y = head(s);
     vec3<double> dy;
     problem.rhs(t, y, dy);
@@ -119,6 +127,7 @@ struct element_attitude_system {
   const body_rates<double>& rates;
 
   void operator()(const attitude_state& s, attitude_state& ds, const double& t) {
+    if constexpr (requires { run.torque().set_attitude(quat(s)); }) run.torque().set_attitude(quat(s));
     const vec3<double> y = head(s);
     vec3<double> dy;
     run.system()(y, dy, t);
