@@ -55,7 +55,7 @@ std::string adaptive_table(const report_job& job, const computed_reference_info&
   out.put("reference: {} (computed, {:.1f} s)\n", job.precision.name(), ref.seconds);
   out.put("error samples: about {} per run, at its accepted steps\n", job.samples);
   if (job.attitude)
-    out.put("attitude: q beside the rates; attitude error = rotation angle from the reference's q (rad)\n");
+    out.put("attitude: {}; attitude error = rotation angle from the reference's q (rad)\n", attitude_mode(job.scn));
   out.put("\n");
   // The last column is the divergence note, when there is one.
   std::vector<std::vector<std::string>> rows = {{"formulation", "method", "tol", "steps", "rejected", "rhs evals",

@@ -61,7 +61,7 @@ std::string fixed_table(const report_job& job, const fixed_reference_info& ref, 
   out.put("reference: {} ({}{}), estimated max error {}\n", ref.precision, ref.source,
           ref.seconds ? fmt::format(", {:.1f} s", *ref.seconds) : "", optional_text(ref.estimated_max_error, "{:.2e}"));
   if (job.attitude)
-    out.put("attitude: q beside the rates; attitude error = rotation angle from the reference's q (rad){}\n",
+    out.put("attitude: {}; attitude error = rotation angle from the reference's q (rad){}\n", attitude_mode(job.scn),
             ref.estimated_max_attitude_error
                 ? fmt::format(", reference's estimated max {:.2e}", *ref.estimated_max_attitude_error)
                 : "");

@@ -97,6 +97,11 @@ nlohmann::ordered_json run_json(const run_spec& spec, const run_errors& e, nlohm
   return out;
 }
 
+std::string attitude_mode(const scene& s) {
+  return s.couples_attitude() ? "q and the rates as one problem (the torque reads q; each stage's torque at its q)"
+                              : "q beside the rates";
+}
+
 void record_errors(run_errors& e, std::size_t i, double tau, double error, std::optional<double> attitude) {
   if (std::isfinite(error)) {
     e.error[i] = error;

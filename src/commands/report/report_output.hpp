@@ -38,6 +38,9 @@ std::string optional_text(const std::optional<double>& x, const char* spec);
 // "diverged at tau=12.3 (why)" for a diverged run; empty otherwise.
 std::string divergence_note(const run_result& r);
 
+// How the runs carry q: beside the rates, or with them as one problem when the torque reads it.
+std::string attitude_mode(const scene& s);
+
 // One entry of summary.json's "runs": a fixed run has a step and no tolerance (and no
 // accepted/rejected counts), an adaptive run the reverse. With `attitude`, also
 // max_attitude_error and final_attitude_error (radians), after final_error.
