@@ -2,18 +2,20 @@
 // Boost.Odeint peer on the same equations (docs/benchmarks.md, "Every shipped problem"). A
 // benchmark, not a timed test: speed is measured here and never asserted by the test suite.
 //
-// Scenes: data/scenes/problems/*.toml, data/scenes/paper-fig1.toml and
-// data/scenes/spacecraft-physical.toml (found from the working directory or from this source
+// Scenes: data/scenes/problems/*.toml, data/scenes/paper-fig1.toml,
+// data/scenes/spacecraft-physical.toml and data/scenes/attitude/*.toml (found from the working directory or from this source
 // file's location), or the scene files named on the command line.
 //
 // Both sides integrate the problem the scene compiles in quad (scene::with_problem): its
 // equations (Eq. 5, Eq. 1 in the direct form, or the coefficient form), its torque (constant, of
 // time, of time and state, piecewise) and its variables (tau and Omega for a physical scene,
-// Eqs. 2-4). A scene's attitude q is ignored: only the rates are integrated.
-//   - Ours: integrate_reference_samples<quad> at the scene's reference settings (none of the
-//     shipped scenes sets any: tolerance = epsilon of quad), sampling as the run passes the
-//     samples, as `eulervop reference` does.
-//   - Peer: Boost.Odeint bulirsch_stoer<std::array<float128, 3>>, abs = rel = 1e-28 (the peer of
+// Eqs. 2-4). A scene's attitude q is ignored where the torque does not read it: only the rates
+// are integrated. Where it does (data/scenes/attitude/), both integrate the 7 states of
+// scene::to_coupled_problem, the rates and q.
+//   - Ours: integrate_reference_samples<quad> (integrate_coupled_samples for 7 states) at the
+//     scene's reference settings (none of the shipped scenes sets any: tolerance = epsilon of
+//     quad), sampling as the run passes the samples, as `eulervop reference` does.
+//   - Peer: Boost.Odeint bulirsch_stoer<std::array<float128, D>>, abs = rel = 1e-28 (the peer of
 //     bench_reference), integrate_times over the samples, with the compiled problem's
 //     rhs(t, y, dy) in float128 as its system. It stops exactly at each breakpoint of a
 //     piecewise torque and restarts there with a fresh stepper and the next interval's formulas
@@ -63,8 +65,7 @@ using eulervop::bench::clock_type;
 using eulervop::bench::seconds_since;
 using Q = eulervop::quad;
 using M = eulervop::mpfr_real;
-using state = std::array<Q, 3>;
-using text3 = std::array<std::string, 3>;
+using text_row = std::vector<std::string>;  // one sample of the truth, every component
 
 constexpr double peer_tolerance = 1e-28;
 
@@ -89,10 +90,17 @@ std::vector<fs::path> shipped_scenes() {
   std::sort(out.begin(), out.end(), [](const fs::path& a, const fs::path& b) { return a.stem() < b.stem(); });
   out.push_back(data_path("data/scenes/paper-fig1.toml"));
   out.push_back(data_path("data/scenes/spacecraft-physical.toml"));
+  std::vector<fs::path> attitude;
+  for (const auto& entry : fs::directory_iterator(data_path("data/scenes/attitude")))
+    if (entry.path().extension() == ".toml") attitude.push_back(entry.path());
+  std::sort(attitude.begin(), attitude.end());
+  out.insert(out.end(), attitude.begin(), attitude.end());
   return out;
 }
 
 std::string torque_text(const scene::scene& scn) {
+  if (scn.couples_attitude()) return scn.gravity_gradient ? "of the attitude (gravity gradient), 7 states"
+                                                         : "of the attitude (formulas), 7 states";
   if (!scn.has_torque_law()) return scn.torque ? "constant" : "none";
   std::string s = scn.torque_law->uses_state() ? "of t and state" : "of t";
   if (!scn.torque_law->pieces.empty()) s += ", piecewise";
@@ -116,14 +124,15 @@ struct error_result {
 };
 
 // The largest and the last |y - y_truth|_2 / max(1, |y_truth|_2) over the samples, in MPFR 400.
-error_result errors(const std::vector<state>& values, const std::vector<text3>& truth) {
+template <std::size_t D>
+error_result errors(const std::vector<std::array<Q, D>>& values, const std::vector<text_row>& truth) {
   using std::sqrt;
   eulervop::mpfr_precision_scope scope(400);
   error_result out;
   M worst = 0, last = 0;
   for (std::size_t k = 0; k < values.size(); ++k) {
     M d2 = 0, n2 = 0;
-    for (int i = 0; i < 3; ++i) {
+    for (std::size_t i = 0; i < D; ++i) {
       const M yt(truth[k][i]);
       const M d = exactly(values[k][i]) - yt;
       d2 += d * d;
@@ -147,56 +156,73 @@ std::string text_hash(const std::string& text) {
   return buf;
 }
 
-std::optional<std::vector<text3>> read_truth(const fs::path& path, const std::string& header, std::size_t n) {
+std::optional<std::vector<text_row>> read_truth(const fs::path& path, const std::string& header, std::size_t n,
+                                                std::size_t dimension) {
   std::ifstream in(path);
   std::string line;
   if (!in || !std::getline(in, line) || line != header) return std::nullopt;
-  std::vector<text3> rows;
-  text3 r;
-  while (in >> r[0] >> r[1] >> r[2]) rows.push_back(r);
+  std::vector<text_row> rows;
+  for (text_row r(dimension); in >> r[0];) {
+    for (std::size_t i = 1; i < dimension; ++i) in >> r[i];
+    if (in) rows.push_back(r);
+  }
   if (rows.size() != n) return std::nullopt;
   return rows;
 }
 
+template <std::size_t D>
+text_row text_of(const std::array<M, D>& y) {
+  text_row r;
+  for (const M& v : y) r.push_back(eulervop::to_text(v));
+  return r;
+}
+
 // Ours in mpfr:320, default settings, at the quad sample times converted exactly.
-std::vector<text3> compute_truth(const scene::scene& scn, const std::vector<Q>& taus_q) {
+std::vector<text_row> compute_truth(const scene::scene& scn, const std::vector<Q>& taus_q) {
   eulervop::mpfr_precision_scope scope(320);
   std::vector<M> taus;
   for (const Q& t : taus_q) taus.push_back(exactly(t));
   // A physical scene's span end in quad may round above the one at 320 bits.
   const M tau_end = std::max(scene::tau_end_of<M>(scn), taus.back());
-  std::vector<text3> rows(taus.size());
+  std::vector<text_row> rows(taus.size());
   eulervop::picard_stats st;
   const auto t0 = clock_type::now();
-  scene::with_problem<M>(scn, [&](const auto& problem) {
-    eulervop::integrate_reference_samples<M>(
-        problem, tau_end, taus,
-        [&](std::size_t i, const M&, const eulervop::vec3<M>& y) {
-          rows[i] = {eulervop::to_text(y[0]), eulervop::to_text(y[1]), eulervop::to_text(y[2])};
-        },
-        {}, eulervop::bench::progress_printer("truth " + scn.name), &st);
-  });
+  const auto progress = eulervop::bench::progress_printer("truth " + scn.name);
+  if (scn.couples_attitude())
+    eulervop::integrate_coupled_samples<M>(
+        scene::to_coupled_problem<M>(scn), tau_end, taus,
+        [&](std::size_t i, const M&, const std::array<M, 7>& y) { rows[i] = text_of(y); }, {}, progress, &st);
+  else
+    scene::with_problem<M>(scn, [&](const auto& problem) {
+      eulervop::integrate_reference_samples<M>(
+          problem, tau_end, taus, [&](std::size_t i, const M&, const eulervop::vec3<M>& y) { rows[i] = text_of(y); },
+          {}, progress, &st);
+    });
   std::fprintf(stderr, "truth %s: %.1f s, %zu segments, degree %u\n", scn.name.c_str(), seconds_since(t0),
                st.segments, st.degree);
   return rows;
 }
 
-std::vector<text3> load_or_make_truth(const scene::scene& scn, const std::vector<Q>& taus, bool recompute) {
+std::vector<text_row> load_or_make_truth(const scene::scene& scn, const std::vector<Q>& taus, bool recompute) {
+  const std::size_t dimension = scn.couples_attitude() ? 7 : 3;
   const fs::path path = eulervop::bench::executable_dir() / ("bench_problems_truth_320_" + scn.name + ".txt");
   const std::string header = "# eulervop bench_problems truth v1: integrate_reference_samples<mpfr_real> mpfr:320"
                              " default settings; scene " + scn.name + " text fnv1a " + text_hash(scn.source_text) +
                              "; samples " + std::to_string(taus.size()) + " at the quad sample times";
   if (!recompute)
-    if (auto rows = read_truth(path, header, taus.size())) {
+    if (auto rows = read_truth(path, header, taus.size(), dimension)) {
       std::fprintf(stderr, "truth %s: loaded %s\n", scn.name.c_str(), path.c_str());
       return *rows;
     }
-  std::vector<text3> rows = compute_truth(scn, taus);
+  std::vector<text_row> rows = compute_truth(scn, taus);
   const std::string tmp = path.string() + ".tmp";
   {
     std::ofstream out(tmp);
     out << header << '\n';
-    for (const auto& r : rows) out << r[0] << ' ' << r[1] << ' ' << r[2] << '\n';
+    for (const auto& r : rows) {
+      for (std::size_t i = 0; i < r.size(); ++i) out << (i ? " " : "") << r[i];
+      out << '\n';
+    }
   }
   fs::rename(tmp, path);
   return rows;
@@ -213,10 +239,15 @@ eulervop::picard_settings settings_of(const scene::scene& scn) {
 // One run of ours: returns its wall time; the samples land in `values`.
 template <class Problem>
 double run_ours(const Problem& problem, const Q& tau_end, const std::vector<Q>& taus,
-                const eulervop::picard_settings& settings, std::vector<state>& values, eulervop::picard_stats& st) {
+                const eulervop::picard_settings& settings, std::vector<typename Problem::state_type>& values,
+                eulervop::picard_stats& st) {
+  using state = typename Problem::state_type;
   const auto t0 = clock_type::now();
-  eulervop::integrate_reference_samples<Q>(
-      problem, tau_end, taus, [&](std::size_t i, const Q&, const state& y) { values[i] = y; }, settings, {}, &st);
+  const auto take = [&](std::size_t i, const Q&, const state& y) { values[i] = y; };
+  if constexpr (eulervop::is_coupled_problem_v<Problem>)
+    eulervop::integrate_coupled_samples<Q>(problem, tau_end, taus, take, settings, {}, &st);
+  else
+    eulervop::integrate_reference_samples<Q>(problem, tau_end, taus, take, settings, {}, &st);
   return seconds_since(t0);
 }
 
@@ -228,10 +259,10 @@ struct out_of_time {
 // The intervals between the torque's breakpoints inside (tau0, tau_end): tau0, b_1, ..., tau_end.
 template <class Problem>
 std::vector<Q> interval_bounds(const Problem& p, const Q& tau_end) {
-  std::vector<Q> out = {p.tau0};
+  std::vector<Q> out = {p.initial_time()};
   if constexpr (eulervop::piecewise_torque<typename Problem::torque_type>)
     for (const Q& b : p.torque.breakpoints())
-      if (b > p.tau0 && b < tau_end) out.push_back(b);
+      if (b > p.initial_time() && b < tau_end) out.push_back(b);
   out.push_back(tau_end);
   return out;
 }
@@ -242,11 +273,12 @@ std::vector<Q> interval_bounds(const Problem& p, const Q& tau_end) {
 // breakpoint sees the formulas of its own side, as in our integrator).
 template <class Problem>
 double run_peer(const Problem& problem, const Q& tau_end, const std::vector<Q>& taus, double cap,
-                std::vector<state>& values, std::size_t& steps) {
+                std::vector<typename Problem::state_type>& values, std::size_t& steps) {
+  using state = typename Problem::state_type;
   const Problem p = problem;  // pinned below: the peer's own copy
   const auto system = [&p](const state& y, state& dy, const Q& t) { p.rhs(t, y, dy); };
   const std::vector<Q> bounds = interval_bounds(p, std::max(tau_end, taus.back()));
-  state x = p.Omega0;
+  state x = p.initial_state();
   std::size_t next = 0;  // the first sample not yet taken
   const auto t0 = clock_type::now();
   const auto observe = [&](const state& y, const Q& t) {
@@ -260,7 +292,7 @@ double run_peer(const Problem& problem, const Q& tau_end, const std::vector<Q>& 
     if (times.back() != bounds[k + 1]) times.push_back(bounds[k + 1]);
     if constexpr (eulervop::piecewise_torque<typename Problem::torque_type>)
       p.torque.pin(p.torque.interval_at(bounds[k]));
-    auto stepper = eulervop::bench::bulirsch_stoer_maker<Q>()(Q(peer_tolerance));
+    auto stepper = eulervop::bench::bulirsch_stoer_maker<Q, Problem::dimension>()(Q(peer_tolerance));
     steps += odeint::integrate_times(stepper, system, x, times.begin(), times.end(), Q(1) / Q(100), observe);
   }
   return seconds_since(t0);
@@ -290,9 +322,9 @@ double median(std::vector<double> v) {
 // Times both sides on one problem, alternating in each repeat, then measures their errors.
 template <class Problem>
 void time_both(const Problem& problem, const scene::scene& scn, const std::vector<Q>& taus,
-               const std::vector<text3>& truth, const options& opt, row& r) {
+               const std::vector<text_row>& truth, const options& opt, row& r) {
   const Q tau_end = scene::tau_end_of<Q>(scn);
-  std::vector<state> ours_values(taus.size()), peer_values(taus.size());
+  std::vector<typename Problem::state_type> ours_values(taus.size()), peer_values(taus.size());
   std::vector<double> ours_times, peer_times;
   eulervop::picard_stats st;
   std::size_t steps = 0;
@@ -327,8 +359,11 @@ row run_scene(const fs::path& file, const options& opt) {
   try {
     const std::vector<Q> taus = scene::sample_times_of<Q>(scn).tau;
     r.samples = taus.size();
-    const std::vector<text3> truth = load_or_make_truth(scn, taus, opt.recompute_truth);
-    scene::with_problem<Q>(scn, [&](const auto& problem) { time_both(problem, scn, taus, truth, opt, r); });
+    const std::vector<text_row> truth = load_or_make_truth(scn, taus, opt.recompute_truth);
+    if (scn.couples_attitude())
+      time_both(scene::to_coupled_problem<Q>(scn), scn, taus, truth, opt, r);
+    else
+      scene::with_problem<Q>(scn, [&](const auto& problem) { time_both(problem, scn, taus, truth, opt, r); });
   } catch (const std::exception& e) {
     r.ours.status = std::string("failed: ") + e.what();
   }

@@ -10,6 +10,7 @@
 #include <boost/numeric/odeint.hpp>
 
 #include <array>
+#include <cstddef>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -83,11 +84,11 @@ inline std::filesystem::path executable_dir() {
   return ec ? std::filesystem::current_path() : p.parent_path();
 }
 
-// The peer every reference benchmark compares with: Boost.Odeint's bulirsch_stoer on a 3-state,
-// abs = rel = tol.
-template <class V>
+// The peer every reference benchmark compares with: Boost.Odeint's bulirsch_stoer on a state of
+// D components (3 rates, or 7 with the attitude coupled), abs = rel = tol.
+template <class V, std::size_t D = 3>
 auto bulirsch_stoer_maker() {
-  return [](const V& tol) { return boost::numeric::odeint::bulirsch_stoer<std::array<V, 3>, V>(tol, tol); };
+  return [](const V& tol) { return boost::numeric::odeint::bulirsch_stoer<std::array<V, D>, V>(tol, tol); };
 }
 
 }  // namespace eulervop::bench

@@ -262,7 +262,9 @@ TEST(Expression, MalformedProgramsAreRefused) {
   EXPECT_THROW(compiled_expression<double>{e}, std::invalid_argument);
   e.code = {{expression_op::constant, 0}};
   EXPECT_THROW(compiled_expression<double>{e}, std::invalid_argument);  // no constants
-  e.code = {{expression_op::variable, 4}};
+  e.code = {{expression_op::variable, 8}};
+  EXPECT_THROW(compiled_expression<double>{e}, std::invalid_argument);  // past q3 (slot 7)
+  e.code = {{expression_op::variable, -1}};
   EXPECT_THROW(compiled_expression<double>{e}, std::invalid_argument);
   e.code = {{expression_op::pi}, {expression_op::pi}};
   EXPECT_THROW(compiled_expression<double>{e}, std::invalid_argument);  // two values left

@@ -34,6 +34,11 @@ for scene in data/scenes/problems/*.toml; do
   datasets+=("$(basename "$scene" .toml)|$scene|")
 done
 
+# Torques of the attitude: the rates and q as one problem (docs/attitude.md).
+for scene in data/scenes/attitude/*.toml; do
+  datasets+=("$(basename "$scene" .toml)|$scene|")
+done
+
 for entry in "${datasets[@]}"; do
   IFS='|' read -r name scene flags <<<"$entry"
   echo "== $name: eulervop reference $scene $flags --verify" >&2

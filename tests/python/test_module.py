@@ -43,6 +43,18 @@ def test_reference_values_are_the_cli_cells(binary, scene, extra):
     assert ref.radius is None
 
 
+def test_a_torque_of_the_attitude_is_the_cli_coupled_run(binary):
+    path = eulervop.problems()["gravity-gradient-tumble"]
+    header, rows = cli_csv(binary, path, "--samples", "7")
+    ref = eulervop.reference(path, samples=7)
+    assert ref.decimal == rows
+    assert ref.columns[:7] == ["omega1", "omega2", "omega3", "q0", "q1", "q2", "q3"]
+    assert ref.meta["coupled"].startswith("the torque reads the attitude")
+    assert float(ref.meta["q_norm_drift"]) < 1e-31
+    with pytest.raises(ValueError, match="torque reads the attitude"):
+        eulervop.reference(path, samples=7, certify=True)
+
+
 def test_times_precision_and_certify(binary):
     path = eulervop.problems()["paper-fig1"]
     header, rows = cli_csv(binary, path, "--times", "0,0.5,1.25", "--precision", "mpfr:128", "--certify")
