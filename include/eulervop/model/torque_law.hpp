@@ -33,21 +33,22 @@ struct torque_law {
 
   // True when some component reads the state (its Jacobian enters the reference's correction).
   bool uses_state() const {
-    for (const expression& e : base)
-      if (e.uses_state()) return true;
-    for (const torque_piece& p : pieces)
-      for (const expression& e : p.terms)
-        if (e.uses_state()) return true;
-    return false;
+    return any_term([](const expression& e) { return e.uses_state(); });
   }
 
   // True when some component reads the attitude q0..q3: the rates and q are then one problem.
   bool uses_attitude() const {
+    return any_term([](const expression& e) { return e.uses_attitude(); });
+  }
+
+  // True when `test` holds for some component, of the base or of a piece.
+  template <class Test>
+  bool any_term(Test test) const {
     for (const expression& e : base)
-      if (e.uses_attitude()) return true;
+      if (test(e)) return true;
     for (const torque_piece& p : pieces)
       for (const expression& e : p.terms)
-        if (e.uses_attitude()) return true;
+        if (test(e)) return true;
     return false;
   }
 };
