@@ -97,6 +97,17 @@ TEST(CoupledScene, CommandsThatCannotRunItSayWhy) {
   EXPECT_EQ(left, (std::vector<std::string>{"r.toml", "rates.csv"}));
 }
 
+// A formula of q that is not finite where it is evaluated: exit 3, naming it and the time, no file.
+TEST(CoupledScene, ANonFiniteFormulaOfQIsANumericalFailureAtItsTime) {
+  temp_dir dir;
+  write_file(dir.path() / "s.toml", body_scene("[torque]\nM = [\"log(q0 - 0.8)\", 0.0, 0.0]"));
+  const run_result r = run(dir.path(), {"reference", "s.toml", "--out", "ref.csv"});
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("numerical failure at t=0 s"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("M1 = log(q0 - 0.8) is nan at t = 0"), std::string::npos) << r.err;
+  EXPECT_EQ(entries_except(dir.path(), "s.toml"), std::vector<std::string>{});
+}
+
 // The reference says it is coupled and how far |q| drifted; check passes the reference's own rows
 // and fails a planted error on q; batch runs the scene.
 TEST(CoupledScene, ReferenceCheckAndBatch) {
