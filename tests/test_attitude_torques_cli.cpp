@@ -125,7 +125,12 @@ TEST(CoupledScene, ReferenceCheckAndBatch) {
     if (line.empty() || line[0] == '#' || line[0] == 't') continue;
     std::vector<std::string> c = cells_of(line);
     std::string out;
-    for (int k = 0; k < 8; ++k) out += (k ? "," : "") + c[k].substr(0, 22) + c[k].substr(c[k].find('e'));
+    for (int k = 0; k < 8; ++k) {  // 20 digits of the mantissa, then the exponent
+      const std::size_t e = c[k].find('e');
+      ASSERT_NE(e, std::string::npos) << c[k];
+      out += (k ? "," : "");
+      out.append(c[k], 0, 22).append(c[k], e);
+    }
     trajectory += out + "\n";
     if (++row == 4) c[6] = std::to_string(std::stod(c[6]) + 1e-6);  // q2 off by 1e-6 on one row
     std::string bad;
