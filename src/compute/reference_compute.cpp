@@ -60,6 +60,16 @@ reference_run integrate_at(const euler_problem<T, Torque>& problem, const T& tau
   return {ref.stats, ref.wall_seconds};
 }
 
+// A sample of (y, q), seven values at tau, checked and handed to on_sample as y and q.
+template <scalar T>
+auto split_attitude_sample(const attitude_sample_function<T>& on_sample) {
+  return [&on_sample](std::size_t index, const T& tau, const std::array<T, 7>& v) {
+    const vec3<T> y = {v[0], v[1], v[2]};
+    const quaternion<T> q{v[3], v[4], v[5], v[6]};
+    on_sample(index, require_finite(y, tau), require_finite(q, tau));
+  };
+}
+
 template <scalar T, class Torque>
 reference_run integrate_attitude_streaming(const euler_problem<T, Torque>& problem, const body_rates<T>& rates,
                                            const quaternion<T>& q0, const T& tau_end, const std::vector<T>& taus,
@@ -67,14 +77,8 @@ reference_run integrate_attitude_streaming(const euler_problem<T, Torque>& probl
                                            const attitude_sample_function<T>& on_sample) {
   reference_run out;
   out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
-    integrate_attitude_samples(
-        problem, rates, q0, tau_end, taus,
-        [&](std::size_t index, const T& tau, const std::array<T, 7>& v) {
-          const vec3<T> y = {v[0], v[1], v[2]};
-          const quaternion<T> q{v[3], v[4], v[5], v[6]};
-          on_sample(index, require_finite(y, tau), require_finite(q, tau));
-        },
-        settings, progress, &out.stats);
+    integrate_attitude_samples(problem, rates, q0, tau_end, taus, split_attitude_sample(on_sample), settings, progress,
+                               &out.stats);
   });
   return out;
 }
@@ -91,14 +95,8 @@ reference_run integrate_scene_attitude(const scene& s, const T& tau_end, const s
   const coupled_problem<T> problem = to_coupled_problem<T>(s);
   reference_run out;
   out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
-    const coupled_stats c = integrate_coupled_samples(
-        problem, tau_end, taus,
-        [&](std::size_t index, const T& tau, const std::array<T, 7>& v) {
-          const vec3<T> y = {v[0], v[1], v[2]};
-          const quaternion<T> q{v[3], v[4], v[5], v[6]};
-          on_sample(index, require_finite(y, tau), require_finite(q, tau));
-        },
-        settings, progress, &out.stats);
+    const coupled_stats c =
+        integrate_coupled_samples(problem, tau_end, taus, split_attitude_sample(on_sample), settings, progress, &out.stats);
     out.norm_drift = c.norm_drift;
   });
   return out;

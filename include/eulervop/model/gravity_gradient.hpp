@@ -1,4 +1,4 @@
-// The gravity-gradient torque on a circular orbit (docs/attitude.md, "Gravity gradient").
+// The gravity-gradient torque on a circular orbit (docs/attitude.md, "The orbit's convention").
 //
 // The orbit lies in the inertial x-y plane with mean motion n: at time t the body's position
 // direction is r = (cos n t, sin n t, 0). In the body's axes r_b = R(q)^T r, R(q) the rotation of

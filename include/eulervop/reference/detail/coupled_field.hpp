@@ -34,7 +34,6 @@ class coupled_field {
   }
 
   const P& problem() const { return problem_; }
-  double a_max() const { return a_max_; }
 
   void rhs(const T& t, const std::array<T, D>& x, std::array<T, D>& dx) const { problem_.rhs(t, x, dx); }
   void rhs_double(double t, const std::array<double, D>& x, std::array<double, D>& dx) const {

@@ -43,10 +43,6 @@ class euler_field {
   }
 
   const P& problem() const { return problem_; }
-  // The coefficients in double ((-1, 1, -1) for Eq. 5), the rest of them (a - a_d, for the
-  // double-double updates) and max |a_i|.
-  const std::array<double, 3>& a_d() const { return a_d_; }
-  double a_max() const { return a_max_; }
 
   void rhs(const T& t, const vec3<T>& x, vec3<T>& dx) const { problem_.rhs(t, x, dx); }
   void rhs_double(double t, const vec3<double>& x, vec3<double>& dx) const {

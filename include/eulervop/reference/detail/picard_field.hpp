@@ -9,7 +9,6 @@
 #include <eulervop/reference/detail/coupled_field.hpp>
 #include <eulervop/reference/detail/euler_field.hpp>
 
-
 namespace eulervop {
 
 template <class P>

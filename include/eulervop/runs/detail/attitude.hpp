@@ -14,10 +14,10 @@
 // With a torque that reads the attitude (reads_attitude below) each stage shows the torque its
 // own q first, and q feeds back into y: the run integrates the coupled problem of 7 states. With
 // any other torque q never feeds back into y: every stage of y is formed, evaluated and summed
-// exactly as without q (component by component, the same operations), and the error estimate of an adaptive step is
-// measured on y alone (attitude_embedded_rk below: the same norm, over the same three
-// components, as rk::embedded_rk), as is the starting step. So the rates, their steps, their
-// samples and their errors are bit for bit those of the run without the attitude
+// exactly as without q (component by component, the same operations), and the error estimate of
+// an adaptive step is measured on y alone (attitude_embedded_rk below: the same norm, over the
+// same three components, as rk::embedded_rk), as is the starting step. So the rates, their steps,
+// their samples and their errors are bit for bit those of the run without the attitude
 // (tests/test_report_attitude.cpp checks it).
 #pragma once
 
