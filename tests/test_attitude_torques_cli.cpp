@@ -76,13 +76,13 @@ INSTANTIATE_TEST_SUITE_P(
                  "[torque.gravity_gradient]: the gravity gradient acts on a body"}),
     [](const auto& info) { return info.param.label; });
 
-// --certify, sweep and map refuse a coupled scene in one line; `report --reference` a file
-// without q.
+// --certify (for the gravity gradient's cos n t and sin n t), sweep and map refuse a coupled scene
+// in one line; `report --reference` a file without q.
 TEST(CoupledScene, CommandsThatCannotRunItSayWhy) {
   temp_dir dir;
   write_file(dir.path() / "s.toml", body_scene(gravity));
   expect_one_line_error(run(dir.path(), {"reference", "s.toml", "--certify", "--out", "c.csv"}),
-                        "its torque reads the attitude (the gravity gradient, or a formula naming q0..q3)");
+                        "its torque includes the gravity gradient, whose orbit enters as cos(n t) and sin(n t)");
   expect_one_line_error(run(dir.path(), {"sweep", "s.toml", "--out-dir", "sw"}),
                         "its torque reads the attitude");
   expect_one_line_error(run(dir.path(), {"map", "s.toml", "--out-dir", "mp"}), "its torque reads the attitude");

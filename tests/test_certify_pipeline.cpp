@@ -51,7 +51,7 @@ std::vector<std::string> radii(unsigned workers,
   std::vector<quad> taus;
   for (int i = 0; i <= 48; ++i) taus.push_back(quad(12) * i / 48);
   std::optional<certifier> cert;
-  std::optional<certify_pipeline> pipeline;
+  std::optional<certify_pipeline<certifier>> pipeline;
   std::vector<std::string> out;
   eulervop::segment_sampler<quad> sampler(taus, [&](std::size_t, const quad& tau, const vec3<quad>& Om) {
     const std::array<std::string, 3> cells = {eulervop::to_text(Om[0]), eulervop::to_text(Om[1]),

@@ -185,15 +185,18 @@ TEST(TorqueWindows, OutsideTheSpanAreNoted) {
       << early.err;
 }
 
-// --certify names every reason at once: here a torque of time (the pieces) and the attitude.
+// --certify names every reason at once: here a formula of the time that is not a polynomial (in a
+// piece) and the gravity gradient; and the precision, with --precision double.
 TEST(Certify, NamesEveryReasonInOneMessage) {
   temp_dir dir;
   write_file(dir.path() / "s.toml",
-             thruster_scene("from = 50.0\nto = 60.0", "[0.05, 0.0, 0.0]", "t_end = 600.0\nsamples = 3"));
+             thruster_scene("from = 50.0\nto = 60.0", "[\"0.05*sin(t)\", 0.0, 0.0]",
+                            "t_end = 600.0\nsamples = 3\n[torque.gravity_gradient]\nmean_motion = 0.0011"));
   const run_result r = run(dir.path(), {"reference", "s.toml", "--certify"});
-  expect_one_line_error(r, "--certify: scene thruster cannot be certified, for 2 reasons: (1) its torque changes "
-                           "with the time");
-  EXPECT_NE(r.err.find("(2) it has an attitude ([initial] q)"), std::string::npos) << r.err;
+  expect_one_line_error(r, "--certify: scene thruster cannot be certified, for 2 reasons: (1) its torque includes "
+                           "the gravity gradient");
+  EXPECT_NE(r.err.find("(2) M1 = `0.05*sin(t)` in the piece [50.0, 60.0) is not a polynomial"), std::string::npos)
+      << r.err;
   const run_result three = run(dir.path(), {"reference", "s.toml", "--certify", "--precision", "double"});
   EXPECT_NE(three.err.find("for 3 reasons: (1) precision double"), std::string::npos) << three.err;
 }

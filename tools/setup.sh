@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
-  libboost1.81-dev libmpfr-dev libgmp-dev libmpfi-dev
+  libboost1.81-dev libmpfr-dev libgmp-dev libmpfi-dev libflint-arb-dev
   libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   googletest libgtest-dev libbenchmark-dev
   parallel  # the tests run the GNU parallel recipes of docs/batch.md

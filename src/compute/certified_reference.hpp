@@ -1,28 +1,39 @@
-// `--certify` in the program: which scenes and precisions can be certified, the certificate of
-// a streamed run, and the radius column's text (docs/certified.md; the mathematics is in
-// include/eulervop/certify/).
+// `--certify` in the program: which scenes and precisions can be certified and on which path,
+// the certificate of a streamed run, and the radius columns' text (docs/certified.md; the
+// mathematics is in include/eulervop/certify/).
+//
+// Two paths prove the same statement. The fast one (certify/certifier.hpp) takes Eq. 5 with a
+// constant torque: the paper's problem, with kernels built for its unit coefficients. The general
+// one (certify/ball_certifier.hpp) takes every scene whose field is a polynomial in the time and
+// the state: the coefficient and direct forms, torques of time and state, pieces, and the
+// attitude with the rates as one problem of 7 states.
 #pragma once
 
 #include "compute/certify_pipeline.hpp"
 #include "compute/scene_library.hpp"
 
+#include <eulervop/certify/ball.hpp>
+#include <eulervop/certify/ball_certifier.hpp>
+#include <eulervop/certify/ball_row_radius.hpp>
 #include <eulervop/certify/certifier.hpp>
 #include <eulervop/certify/interval.hpp>
 #include <eulervop/certify/omega_radius.hpp>
 #include <eulervop/certify/row_enclosure.hpp>
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/reference/segment.hpp>
+#include <eulervop/scene/scene_certification_problem.hpp>
 #include <eulervop/scene/scene_exact_problem.hpp>
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <functional>
 #include <optional>
 #include <string>
-#include <vector>
 #include <thread>
 #include <variant>
+#include <vector>
 
 #include <mpfr.h>
 #include <sched.h>
@@ -36,6 +47,13 @@ inline mpfr_prec_t certify_bits(const eulervop::precision& p) {
   return static_cast<mpfr_prec_t>(bits + 64);
 }
 
+// The fast path takes Eq. 5 with a constant torque and no attitude; everything else that
+// --certify takes goes the general path.
+inline bool takes_fast_path(const scene& s) {
+  return !s.has_torque_law() && !s.has_attitude() && !s.gravity_gradient && !s.is_coefficient_form() &&
+         !uses_direct_form(s);
+}
+
 // Why `--certify` cannot run on this scene at this precision (an input_error, exit 2), or nothing.
 inline void require_certifiable(const scene& s, const eulervop::precision& p) {
   // Every reason at once, so that one try tells the user all that stands in the way.
@@ -43,19 +61,7 @@ inline void require_certifiable(const scene& s, const eulervop::precision& p) {
   if (p.type == eulervop::precision::kind::binary64)
     reasons.push_back("precision double is not certified (its reference is the double run's own rounding; use quad "
                       "or mpfr:BITS)");
-  if (s.couples_attitude())
-    reasons.push_back("its torque reads the attitude (the gravity gradient, or a formula naming q0..q3), so the rates "
-                      "and q are one problem of 7 states, which is not certified");
-  else if (s.has_torque_law())
-    reasons.push_back(fmt::format("its torque changes with {} (a formula or pieces); only a constant torque is certified",
-                                  torque_kind_of(s) == torque_kind::of_state ? "the state" : "the time"));
-  if (s.has_attitude() && !s.couples_attitude())
-    reasons.push_back("it has an attitude ([initial] q), which is not certified (its rates are: leave q out)");
-  if (s.is_coefficient_form())
-    reasons.push_back("it is in the coefficient form ([equations] a); only Eq. 5 is certified");
-  else if (uses_direct_form(s))
-    reasons.push_back("its moments of inertia are (nearly) equal, so it is integrated in the direct form of Eq. 1, "
-                      "which is not certified");
+  for (std::string& why : eulervop::scene::non_polynomial_reasons(s)) reasons.push_back(std::move(why));
   if (const auto* e = std::get_if<eulervop::scene::initial_elements>(&s.initial); e && e->u.value != 0)
     reasons.push_back(fmt::format("its initial u = {} needs elliptic functions of the decimals, which are not "
                                   "enclosed (give [initial] Omega, or u = 0)",
@@ -91,78 +97,202 @@ inline std::string upper_text(const interval& x) {
   mpfr_clear(hi);
   return out;
 }
+inline std::string upper_text(const ball& x) {
+  arf_t u;
+  arf_init(u);
+  arb_get_abs_ubound_arf(u, x.get(), 64);
+  mpfr_t m;
+  mpfr_init2(m, 64);
+  arf_get_mpfr(m, u, MPFR_RNDU);
+  char* text = nullptr;
+  mpfr_asprintf(&text, "%.2RUe", m);
+  std::string out = text;
+  mpfr_free_str(text);
+  mpfr_clear(m);
+  arf_clear(u);
+  return out;
+}
+
+// A row's cells as printed: the integrator's state (Omega, omega in the direct form, or y), and
+// for a physical body in the normalized form omega in rad/s (listed axes), and q with an attitude.
+struct certified_cells {
+  std::array<std::string, 3> state;
+  std::optional<std::array<std::string, 3>> omega;
+  std::optional<std::array<std::string, 4>> q;
+};
+
+// The radii of a row: of the state (the `radius` column, or `radius_omega` in the direct form), of
+// omega in rad/s (`radius_omega`, a physical body in the normalized form) and of q (`radius_q`).
+struct certified_radii {
+  std::string state;
+  std::optional<std::string> omega, q;
+};
+
+// The largest radius of each column so far.
+struct certified_maxima {
+  std::string state, omega, q;
+};
 
 // The certificate of one streamed run: created at the first segment (which tells the degree).
 // With `workers` > 0 it runs on threads (certify_pipeline.hpp); rows then go through row().
 class run_certificate {
  public:
   run_certificate(const scene& s, const eulervop::precision& p, unsigned workers)
-      : scene_(s), bits_(certify_bits(p)), workers_(workers) {
-    if (s.is_physical()) omega_.emplace(exact_scaling_of(s, bits_));
+      : scene_(s), precision_(p), bits_(certify_bits(p)), workers_(workers), fast_(takes_fast_path(s)) {
+    if (fast_ && s.is_physical()) omega_.emplace(exact_scaling_of(s, bits_));
   }
 
-  template <scalar T>
-  void add_segment(const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
-    if (!cert_) {
-      cert_.emplace(bits_, nodes.size() - 1, exact_problem_of(scene_, bits_));
-      if (workers_ > 0) pipeline_.emplace(*cert_, workers_, segments_in_flight(nodes.size()));
-    }
-    if (pipeline_)
-      pipeline_->add_segment(seg);
-    else
-      cert_->add_segment(seg);
-  }
-  // Runs `task` (a row: it may call radius or physical_radii) once every segment added before
-  // it is checked, and before any added after it.
+  bool fast() const { return fast_; }
+
+  template <scalar T, std::size_t D>
+  void add_segment(const chebyshev_segment<T, D>& seg, const std::vector<T>& nodes);
+  // Runs `task` (a row: it may call radii) once every segment added before it is checked, and
+  // before any added after it.
   void row(std::function<void()> task) {
-    if (pipeline_)
-      pipeline_->add_row(std::move(task));
+    if (fast_pipeline_)
+      fast_pipeline_->add_row(std::move(task));
+    else if (general_pipeline_)
+      general_pipeline_->add_row(std::move(task));
     else
       task();
   }
   // Waits for every segment and row (rethrowing the first failure).
   void finish() {
-    if (pipeline_) pipeline_->finish();
+    if (fast_pipeline_) fast_pipeline_->finish();
+    if (general_pipeline_) general_pipeline_->finish();
   }
   // Stops the threads, dropping what has not run (for a run that is abandoned).
-  void close() { pipeline_.reset(); }
+  void close() {
+    fast_pipeline_.reset();
+    general_pipeline_.reset();
+  }
 
-  // The radius of a row printed as `cells` (the three state texts), at tau.
+  // The radii of a row at tau (and t, a physical scene's time) printed as `cells`.
   template <scalar T>
-  std::string radius(const T& tau, const std::array<std::string, 3>& cells) {
-    return upper_text(cert_->row_radius(tau, cells));
-  }
-  // A physical scene's row: the radius of Omega (at the row's tau), and of omega in rad/s at the
-  // row's t (omega_radius.hpp).
-  template <scalar T>
-  std::array<std::string, 2> physical_radii(const T& tau, const T& t, const std::array<std::string, 3>& Omega_cells,
-                                            const std::array<std::string, 3>& omega_cells) {
-    const row_enclosure at = cert_->enclose(tau);
-    const std::string Omega_radius = upper_text(cert_->row_radius(at, Omega_cells));
-    return {Omega_radius, upper_text(omega_->at(at, tau, t, omega_cells))};
-  }
-  std::string max_radius() const { return upper_text(cert_->max_radius()); }
-  std::string max_radius_omega() const { return upper_text(omega_->max_radius()); }
+  certified_radii radii(const T& tau, const T& t, const certified_cells& cells);
+
+  const certified_maxima& maxima() const { return max_; }
   std::string method() const {
-    return fmt::format("mpfi bits={} interval Chebyshev residual, Lohner QR propagation", bits_);
+    if (fast_) return fmt::format("mpfi bits={} interval Chebyshev residual, Lohner QR propagation", bits_);
+    return fmt::format("arb bits={} ball Chebyshev models, {}-state Lohner QR propagation (general path)", bits_,
+                       general_ ? general_->problem().dimension : 0);
   }
 
  private:
   // Segments the pipeline may hold: as many as about 16 MB of checks allow (a check of n1 nodes
-  // at b bits takes about 26 n1 b bytes, measured: 0.2 MB in quad), at least 2 per worker and
-  // 2 more, at most 32 per worker (beyond, the runs got no faster).
+  // at b bits takes about 26 n1 b bytes on the fast path, measured: 0.2 MB in quad; the general
+  // path's about eight times that), at least 2 per worker and 2 more, at most 32 per worker
+  // (beyond, the runs got no faster).
   std::size_t segments_in_flight(std::size_t n1) const {
-    const double check_bytes = 26.0 * static_cast<double>(n1) * static_cast<double>(bits_);
+    const double check_bytes = (fast_ ? 26.0 : 200.0) * static_cast<double>(n1) * static_cast<double>(bits_);
     const auto fit = static_cast<std::size_t>(16e6 / check_bytes);
     return std::clamp<std::size_t>(fit, 2 * workers_ + 2, 32 * workers_ + 2);
   }
+  void raise(std::string& max, const std::string& text) {
+    if (max.empty() || std::stod(text) > std::stod(max)) max = text;
+  }
+  template <scalar T>
+  certified_radii fast_radii(const T& tau, const T& t, const certified_cells& cells);
+  template <scalar T>
+  certified_radii general_radii(const T& tau, const T& t, const certified_cells& cells);
 
   const scene& scene_;
+  eulervop::precision precision_;
   mpfr_prec_t bits_;
   unsigned workers_;
-  std::optional<certifier> cert_;
+  bool fast_;
+  std::optional<certifier> fast_cert_;
+  std::optional<ball_certifier> general_;
   std::optional<omega_radius> omega_;
-  std::optional<certify_pipeline> pipeline_;  // last: stopped before the certifier goes
+  certified_maxima max_;
+  // Last: stopped before the certifiers go.
+  std::optional<certify_pipeline<certifier>> fast_pipeline_;
+  std::optional<certify_pipeline<ball_certifier>> general_pipeline_;
 };
+
+template <scalar T, std::size_t D>
+void run_certificate::add_segment(const chebyshev_segment<T, D>& seg, const std::vector<T>& nodes) {
+  if (fast_) {
+    if constexpr (D == 3) {
+      if (!fast_cert_) {
+        fast_cert_.emplace(bits_, nodes.size() - 1, exact_problem_of(scene_, bits_));
+        if (workers_ > 0) fast_pipeline_.emplace(*fast_cert_, workers_, segments_in_flight(nodes.size()));
+      }
+      if (fast_pipeline_)
+        fast_pipeline_->add_segment(seg);
+      else
+        fast_cert_->add_segment(seg);
+    } else {
+      throw std::logic_error("run_certificate: a fast-path scene with 7 states");
+    }
+    return;
+  }
+  if (!general_) {
+    general_.emplace(eulervop::scene::certification_problem_of<T>(scene_, bits_), nodes.size() - 1);
+    if (workers_ > 0) general_pipeline_.emplace(*general_, workers_, segments_in_flight(nodes.size()));
+  }
+  if (general_pipeline_)
+    general_pipeline_->add_segment(seg);
+  else
+    general_->add_segment(seg);
+}
+
+template <scalar T>
+certified_radii run_certificate::radii(const T& tau, const T& t, const certified_cells& cells) {
+  certified_radii out = fast_ ? fast_radii(tau, t, cells) : general_radii(tau, t, cells);
+  raise(max_.state, out.state);
+  if (out.omega) raise(max_.omega, *out.omega);
+  if (out.q) raise(max_.q, *out.q);
+  return out;
+}
+
+template <scalar T>
+certified_radii run_certificate::fast_radii(const T& tau, const T& t, const certified_cells& cells) {
+  certified_radii out;
+  const row_enclosure at = fast_cert_->enclose(tau);
+  out.state = upper_text(fast_cert_->row_radius(at, cells.state));
+  if (cells.omega) out.omega = upper_text(omega_->at(at, tau, t, *cells.omega));
+  return out;
+}
+
+template <scalar T>
+certified_radii run_certificate::general_radii(const T& tau, const T& t, const certified_cells& cells) {
+  const certification_problem& p = general_->problem();
+  const slong prec = p.prec;
+  const ball_row row = general_->enclose(tau);
+  // A physical row in the normalized form stands for t, whose exact tau is t dtau/dt.
+  ball shift;
+  if (cells.omega) {
+    ball rate;
+    arb_inv(rate.get(), p.variables.rate_inverse.get(), prec);
+    set_exact(shift, t);
+    arb_mul(shift.get(), shift.get(), rate.get(), prec);
+    ball b;
+    set_exact(b, tau);
+    arb_sub(shift.get(), shift.get(), b.get(), prec);
+  }
+  certified_radii out;
+  const std::vector<std::string> state(cells.state.begin(), cells.state.end());
+  const ball none;
+  try {
+    out.state = upper_text(group_radius(row, 0, 3, state, none, std::nullopt, prec));
+    if (cells.omega) {
+      const group_map map{p.variables.axes, p.variables.state_scale};
+      const std::vector<std::string> omega(cells.omega->begin(), cells.omega->end());
+      out.omega = upper_text(group_radius(row, 0, 3, omega, shift, map, prec));
+    }
+    if (cells.q) {
+      const std::vector<std::string> q(cells.q->begin(), cells.q->end());
+      out.q = upper_text(group_radius(row, 3, 4, q, shift, std::nullopt, prec));
+    }
+  } catch (const std::domain_error&) {
+    outcome o;
+    o.kind = outcome_kind::certification_failed;
+    o.cause = outcome_kind::certify_growth;
+    o.tau = static_cast<double>(tau);
+    throw numerical_failure(o);
+  }
+  return out;
+}
 
 }  // namespace eulervop::app

@@ -1,6 +1,7 @@
 // The certificate of a streamed reference, on threads (docs/certified.md, "Threads"). While the
 // reference integrates on, `workers` threads prepare the segments it has accepted (the checks
-// that do not depend on earlier segments, certify/certifier.hpp: prepared_segment), and one more
+// that do not depend on earlier segments: certify/certifier.hpp's prepared_segment on the fast
+// path, certify/ball_certifier.hpp's ball_segment_check on the general one), and one more
 // thread takes everything that depends on order, in order: it advances the certificate through
 // the prepared segments and runs the row tasks (a row's radius and its line of output) between
 // them. So the output is the same bytes as checking and writing on one thread.
@@ -11,7 +12,6 @@
 // its next call.
 #pragma once
 
-#include <eulervop/certify/certifier.hpp>
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/reference/segment.hpp>
 
@@ -31,39 +31,42 @@
 
 namespace eulervop::app {
 
+// Certifier: the fast or the general certifier, with its `check` type, make_segment() and advance().
+template <class Certifier>
 class certify_pipeline {
  public:
-  certify_pipeline(certifier& cert, unsigned workers, std::size_t max_in_flight);
+  using check = typename Certifier::check;
+  certify_pipeline(Certifier& cert, unsigned workers, std::size_t max_in_flight);
   ~certify_pipeline();
   certify_pipeline(const certify_pipeline&) = delete;
   certify_pipeline& operator=(const certify_pipeline&) = delete;
 
   // The next accepted segment (copied; prepared on a worker).
-  template <scalar T>
-  void add_segment(const chebyshev_segment<T>& seg);
+  template <scalar T, std::size_t D>
+  void add_segment(const chebyshev_segment<T, D>& seg);
   // A task that runs after every segment added before it, and before any added after it.
   void add_row(std::function<void()> task);
   // Waits until everything added has run; rethrows the first failure.
   void finish();
 
  private:
-  using prepared = std::future<std::unique_ptr<prepared_segment>>;
+  using prepared = std::future<std::unique_ptr<check>>;
   using item = std::variant<prepared, std::function<void()>>;
 
-  std::unique_ptr<prepared_segment> take_check();
+  std::unique_ptr<check> take_check();
   void push(item next, bool is_segment);
   void throw_if_failed();
   void work();      // a worker: preparations, in the order given
   void sequence();  // the order-dependent part
 
-  certifier& cert_;
+  Certifier& cert_;
   std::size_t max_in_flight_;
   std::mutex mutex_;
   // Each waits for its own condition, so that a change wakes only who can act on it.
   std::condition_variable job_ready_, item_ready_, item_done_;
-  std::deque<std::packaged_task<std::unique_ptr<prepared_segment>()>> jobs_;
+  std::deque<std::packaged_task<std::unique_ptr<check>()>> jobs_;
   std::deque<item> items_;
-  std::vector<std::unique_ptr<prepared_segment>> spare_checks_;
+  std::vector<std::unique_ptr<check>> spare_checks_;
   std::size_t segments_in_flight_ = 0;
   bool stop_ = false, busy_ = false;
   std::exception_ptr failure_;
@@ -73,7 +76,8 @@ class certify_pipeline {
 
 // The threads take the caller's MPFR precision (a thread-local setting): the rows format their
 // times in it, as on the caller's thread.
-inline certify_pipeline::certify_pipeline(certifier& cert, unsigned workers, std::size_t max_in_flight)
+template <class Certifier>
+certify_pipeline<Certifier>::certify_pipeline(Certifier& cert, unsigned workers, std::size_t max_in_flight)
     : cert_(cert), max_in_flight_(std::max<std::size_t>(max_in_flight, 1)) {
   const unsigned digits10 = mpfr_real::thread_default_precision();
   for (unsigned w = 0; w < workers; ++w)
@@ -87,7 +91,8 @@ inline certify_pipeline::certify_pipeline(certifier& cert, unsigned workers, std
   });
 }
 
-inline certify_pipeline::~certify_pipeline() {
+template <class Certifier>
+certify_pipeline<Certifier>::~certify_pipeline() {
   {
     const std::lock_guard<std::mutex> lock(mutex_);
     stop_ = true;
@@ -105,14 +110,15 @@ inline certify_pipeline::~certify_pipeline() {
   sequencer_.join();
 }
 
-template <scalar T>
-void certify_pipeline::add_segment(const chebyshev_segment<T>& seg) {
+template <class Certifier>
+template <scalar T, std::size_t D>
+void certify_pipeline<Certifier>::add_segment(const chebyshev_segment<T, D>& seg) {
   throw_if_failed();
   // The worker takes (or builds) the check: building one costs more than a segment's copy.
-  std::packaged_task<std::unique_ptr<prepared_segment>()> job([this, seg] {
-    std::unique_ptr<prepared_segment> check = take_check();
-    check->prepare(seg);
-    return check;
+  std::packaged_task<std::unique_ptr<check>()> job([this, seg] {
+    std::unique_ptr<check> c = take_check();
+    c->prepare(seg);
+    return c;
   });
   prepared result = job.get_future();
   {
@@ -124,12 +130,14 @@ void certify_pipeline::add_segment(const chebyshev_segment<T>& seg) {
   push(std::move(result), true);
 }
 
-inline void certify_pipeline::add_row(std::function<void()> task) {
+template <class Certifier>
+void certify_pipeline<Certifier>::add_row(std::function<void()> task) {
   throw_if_failed();
   push(std::move(task), false);
 }
 
-inline void certify_pipeline::finish() {
+template <class Certifier>
+void certify_pipeline<Certifier>::finish() {
   {
     std::unique_lock<std::mutex> lock(mutex_);
     item_done_.wait(lock, [this] { return (items_.empty() && !busy_) || failure_; });
@@ -137,19 +145,21 @@ inline void certify_pipeline::finish() {
   throw_if_failed();
 }
 
-inline std::unique_ptr<prepared_segment> certify_pipeline::take_check() {
+template <class Certifier>
+auto certify_pipeline<Certifier>::take_check() -> std::unique_ptr<check> {
   {
     const std::lock_guard<std::mutex> lock(mutex_);
     if (!spare_checks_.empty()) {
-      std::unique_ptr<prepared_segment> check = std::move(spare_checks_.back());
+      std::unique_ptr<check> c = std::move(spare_checks_.back());
       spare_checks_.pop_back();
-      return check;
+      return c;
     }
   }
   return cert_.make_segment();
 }
 
-inline void certify_pipeline::push(item next, bool is_segment) {
+template <class Certifier>
+void certify_pipeline<Certifier>::push(item next, bool is_segment) {
   {
     const std::lock_guard<std::mutex> lock(mutex_);
     items_.push_back(std::move(next));
@@ -158,7 +168,8 @@ inline void certify_pipeline::push(item next, bool is_segment) {
   item_ready_.notify_one();
 }
 
-inline void certify_pipeline::throw_if_failed() {
+template <class Certifier>
+void certify_pipeline<Certifier>::throw_if_failed() {
   std::exception_ptr failure;
   {
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -167,9 +178,10 @@ inline void certify_pipeline::throw_if_failed() {
   if (failure) std::rethrow_exception(failure);
 }
 
-inline void certify_pipeline::work() {
+template <class Certifier>
+void certify_pipeline<Certifier>::work() {
   for (;;) {
-    std::packaged_task<std::unique_ptr<prepared_segment>()> job;
+    std::packaged_task<std::unique_ptr<check>()> job;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       job_ready_.wait(lock, [this] { return !jobs_.empty() || stop_; });
@@ -181,7 +193,8 @@ inline void certify_pipeline::work() {
   }
 }
 
-inline void certify_pipeline::sequence() {
+template <class Certifier>
+void certify_pipeline<Certifier>::sequence() {
   for (;;) {
     item next;
     {
@@ -192,7 +205,7 @@ inline void certify_pipeline::sequence() {
       items_.pop_front();
       busy_ = true;
     }
-    std::unique_ptr<prepared_segment> spare;
+    std::unique_ptr<check> spare;
     std::exception_ptr failure;
     try {
       if (auto* segment = std::get_if<prepared>(&next))

@@ -74,11 +74,12 @@ template <scalar T, class Torque>
 reference_run integrate_attitude_streaming(const euler_problem<T, Torque>& problem, const body_rates<T>& rates,
                                            const quaternion<T>& q0, const T& tau_end, const std::vector<T>& taus,
                                            const picard_settings& settings, const std::string& label,
-                                           const attitude_sample_function<T>& on_sample) {
+                                           const attitude_sample_function<T>& on_sample,
+                                           const segment_sink<T, 7>& after_segment) {
   reference_run out;
   out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
     integrate_attitude_samples(problem, rates, q0, tau_end, taus, split_attitude_sample(on_sample), settings, progress,
-                               &out.stats);
+                               &out.stats, after_segment);
   });
   return out;
 }
@@ -86,17 +87,18 @@ reference_run integrate_attitude_streaming(const euler_problem<T, Torque>& probl
 template <scalar T>
 reference_run integrate_scene_attitude(const scene& s, const T& tau_end, const std::vector<T>& taus,
                                        const picard_settings& settings, const std::string& label,
-                                       const attitude_sample_function<T>& on_sample) {
+                                       const attitude_sample_function<T>& on_sample,
+                                       const segment_sink<T, 7>& after_segment) {
   if (!s.couples_attitude())
     return with_problem<T>(s, [&](const auto& problem) {
       return integrate_attitude_streaming<T>(problem, body_rates_of<T>(s), attitude_of<T>(s), tau_end, taus, settings,
-                                             label, on_sample);
+                                             label, on_sample, after_segment);
     });
   const coupled_problem<T> problem = to_coupled_problem<T>(s);
   reference_run out;
   out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
-    const coupled_stats c =
-        integrate_coupled_samples(problem, tau_end, taus, split_attitude_sample(on_sample), settings, progress, &out.stats);
+    const coupled_stats c = integrate_coupled_samples(problem, tau_end, taus, split_attitude_sample(on_sample), settings,
+                                                      progress, &out.stats, after_segment);
     out.norm_drift = c.norm_drift;
   });
   return out;
@@ -115,11 +117,12 @@ reference_run integrate_scene_attitude(const scene& s, const T& tau_end, const s
   template reference_run integrate_attitude_streaming(const euler_problem<T, G>&, const body_rates<T>&,          \
                                                       const quaternion<T>&, const T&, const std::vector<T>&,      \
                                                       const picard_settings&, const std::string&,                 \
-                                                      const attitude_sample_function<T>&);
+                                                      const attitude_sample_function<T>&, const segment_sink<T, 7>&);
 #define EULERVOP_REFERENCE_COMPUTE_ALL(T)                                                                  \
   template reference_run integrate_scene_attitude(const scene&, const T&, const std::vector<T>&,           \
                                                   const picard_settings&, const std::string&,             \
-                                                  const attitude_sample_function<T>&);                    \
+                                                  const attitude_sample_function<T>&,                     \
+                                                  const segment_sink<T, 7>&);                             \
   EULERVOP_REFERENCE_COMPUTE(T, constant_torque<T>) \
   EULERVOP_REFERENCE_COMPUTE(T, time_torque<T>)     \
   EULERVOP_REFERENCE_COMPUTE(T, state_torque<T>)

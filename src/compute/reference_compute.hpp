@@ -145,17 +145,20 @@ template <scalar T, class Torque>
 reference_run integrate_attitude_streaming(const euler_problem<T, Torque>& problem, const body_rates<T>& rates,
                                            const quaternion<T>& q0, const T& tau_end, const std::vector<T>& taus,
                                            const picard_settings& settings, const std::string& label,
-                                           const attitude_sample_function<T>& on_sample);
+                                           const attitude_sample_function<T>& on_sample,
+                                           const segment_sink<T, 7>& after_segment = {});
 
 // The rates and the attitude of a scene with one (s.has_attitude()) at `taus` (non-decreasing):
 // q beside the rates (integrate_attitude_streaming) when the torque does not read q, and the two
 // as one problem of 7 states when it does (model/coupled_problem.hpp; run.norm_drift is then
-// set). on_sample receives the state in the integrator's variables and q. A non-finite sample is
-// a numerical_failure at its tau.
+// set). on_sample receives the state in the integrator's variables and q, and `after_segment` each
+// segment of (y, q) after the samples before its start. A non-finite sample is a numerical_failure
+// at its tau.
 template <scalar T>
 reference_run integrate_scene_attitude(const scene& s, const T& tau_end, const std::vector<T>& taus,
                                        const picard_settings& settings, const std::string& label,
-                                       const attitude_sample_function<T>& on_sample);
+                                       const attitude_sample_function<T>& on_sample,
+                                       const segment_sink<T, 7>& after_segment = {});
 
 // The settings the integrator actually used (it derives degree and tolerance from the
 // precision when they are left at 0).

@@ -67,6 +67,8 @@ reference_metadata metadata_of(const csv_rows& rows) {
       m.certified_max_error = non_negative("certified_max_error", *ce);
     } else if (auto co = value("certified_max_error_omega")) {
       m.certified_max_error_omega = non_negative("certified_max_error_omega", *co);
+    } else if (auto cq = value("certified_max_error_q")) {
+      m.certified_max_error_q = non_negative("certified_max_error_q", *cq);
     } else if (auto cm = value("certify_method")) {
       m.certify_method = *cm;
     } else if (auto note = value("note")) {
@@ -137,6 +139,7 @@ std::string reference_csv_header(const reference_metadata& m, reference_layout l
   if (m.certified_max_error) {
     line("# certified_max_error: {}", m.certified_max_error->text);
     if (m.certified_max_error_omega) line("# certified_max_error_omega: {}", m.certified_max_error_omega->text);
+    if (m.certified_max_error_q) line("# certified_max_error_q: {}", m.certified_max_error_q->text);
     line("# certify_method: {}", m.certify_method);
   }
   for (const std::string& note : m.notes) line("# note: {}", note);
@@ -149,16 +152,20 @@ std::string reference_csv_header(const reference_metadata& m, reference_layout l
     line("# scene_text: {}", l);
   }
   const char* q = m.attitude.empty() ? "" : ",q0,q1,q2,q3";
+  // A certified file ends each row with its radii: of the state (`radius`; in the direct form the
+  // state is omega: `radius_omega`), of omega in rad/s for a physical body, and of q.
+  const bool certified = m.certified_max_error.has_value();
+  const char* radius_q = certified && !m.attitude.empty() ? ",radius_q" : "";
   switch (layout) {
     case reference_layout::normalized:
-      line("tau,Omega1,Omega2,Omega3{}", m.certified_max_error ? ",radius" : "");
+      line("tau,Omega1,Omega2,Omega3{}", certified ? ",radius" : "");
       break;
     case reference_layout::physical:
-      line("t,omega1,omega2,omega3{},tau,Omega1,Omega2,Omega3{}", q,
-           m.certified_max_error ? ",radius,radius_omega" : "");
+      line("t,omega1,omega2,omega3{},tau,Omega1,Omega2,Omega3{}{}", q, certified ? ",radius,radius_omega" : "",
+           radius_q);
       break;
-    case reference_layout::direct: line("t,omega1,omega2,omega3{}", q); break;
-    case reference_layout::coefficient: line("t,y1,y2,y3"); break;
+    case reference_layout::direct: line("t,omega1,omega2,omega3{}{}{}", q, certified ? ",radius_omega" : "", radius_q); break;
+    case reference_layout::coefficient: line("t,y1,y2,y3{}", certified ? ",radius" : ""); break;
   }
   return fmt::to_string(out);
 }

@@ -43,6 +43,7 @@ struct reference_metadata {
   std::optional<double> wall_seconds_verify;     // # wall_seconds_verify
   std::optional<decimal> certified_max_error;    // # certified_max_error (--certify; rows then carry `radius`)
   std::optional<decimal> certified_max_error_omega;  // # certified_max_error_omega (physical scenes, rad/s)
+  std::optional<decimal> certified_max_error_q;  // # certified_max_error_q (with an attitude: |q - q*|_2)
   std::string certify_method;                    // # certify_method (with --certify)
   std::vector<std::string> notes;                // # note lines (the scene's notes)
   std::string attitude;                          // # attitude (its convention): rows carry q0..q3
@@ -111,21 +112,13 @@ class reference_csv_row_writer {
     cells(tau, Omega);
     end_row();
   }
-  // A certified row of the normalized layout: tau, the state as the texts `cells` (already
-  // formatted, as the radius was computed for them), then the radius.
-  template <scalar T>
-  void certified_row(const T& tau, const std::array<std::string, 3>& cells, const std::string& radius) {
-    fmt::format_to(std::back_inserter(buffer_), "{},{},{},{},{}", to_text(tau), cells[0], cells[1], cells[2], radius);
-    end_row();
-  }
-  // A certified row of the physical layout: t and omega's cells, tau and Omega's, then the radius
-  // of Omega and that of omega.
-  template <scalar T>
-  void certified_row(const T& tau, const std::array<std::string, 3>& Omega_cells, const T& t,
-                     const std::array<std::string, 3>& omega_cells, const std::array<std::string, 2>& radii) {
-    fmt::format_to(std::back_inserter(buffer_), "{},{},{},{},{},{},{},{},{},{}", to_text(t), omega_cells[0],
-                   omega_cells[1], omega_cells[2], to_text(tau), Omega_cells[0], Omega_cells[1], Omega_cells[2],
-                   radii[0], radii[1]);
+  // A certified row: its cells as texts, already formatted (the radii were computed for them), in
+  // the layout's order (reference_csv_header).
+  void certified_row(const std::vector<std::string>& cells) {
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      if (i) buffer_.push_back(',');
+      buffer_.append(cells[i].data(), cells[i].data() + cells[i].size());
+    }
     end_row();
   }
   // Hands over the rows still buffered.

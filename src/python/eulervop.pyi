@@ -35,6 +35,7 @@ class Reference:
     meta: dict[str, Any]
     radius: Optional[npt.NDArray[np.float64]]
     radius_omega: Optional[npt.NDArray[np.float64]]
+    radius_q: Optional[npt.NDArray[np.float64]]
     csv: str
     def __len__(self) -> int: ...
 

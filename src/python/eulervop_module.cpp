@@ -151,7 +151,7 @@ struct py_reference {
   std::vector<std::vector<std::string>> decimal;    // every cell's text, row by row
   std::vector<std::string> columns;                 // the state columns of y
   py::array_t<double> t, y;
-  std::optional<py::array_t<double>> radius, radius_omega;
+  std::optional<py::array_t<double>> radius, radius_omega, radius_q;
   py::dict meta;
 };
 
@@ -198,13 +198,15 @@ py_reference reference_of_csv(std::string csv) {
   // The time is the first column; y holds the state columns after it, but tau (a second time)
   // and the radii.
   std::vector<std::size_t> state;
-  std::optional<std::size_t> radius, radius_omega;
+  std::optional<std::size_t> radius, radius_omega, radius_q;
   for (std::size_t c = 1; c < r.all_columns.size(); ++c) {
     const std::string& name = r.all_columns[c];
     if (name == "radius")
       radius = c;
     else if (name == "radius_omega")
       radius_omega = c;
+    else if (name == "radius_q")
+      radius_q = c;
     else if (name != "tau")
       state.push_back(c), r.columns.push_back(name);
   }
@@ -227,6 +229,7 @@ py_reference reference_of_csv(std::string csv) {
   }
   if (radius) r.radius = column(*radius);
   if (radius_omega) r.radius_omega = column(*radius_omega);
+  if (radius_q) r.radius_q = column(*radius_q);
   return r;
 }
 
@@ -394,9 +397,14 @@ void bind_classes(py::module_& m) {
       .def_readonly("decimal", &py_reference::decimal,
                     "Every cell's text, row by row in all_columns' order: every digit of the precision.")
       .def_readonly("meta", &py_reference::meta, "The CSV's '#' lines as a dict (scene_text joined, note a list).")
-      .def_readonly("radius", &py_reference::radius, "With certify=True: each row's proven radius (Omega), else None.")
+      .def_readonly("radius", &py_reference::radius,
+                    "With certify=True: each row's proven radius of the integrator's state (Omega, or y in the "
+                    "coefficient form), else None (a body in the direct form has radius_omega alone).")
       .def_readonly("radius_omega", &py_reference::radius_omega,
                     "With certify=True on a physical scene: the radius of omega in rad/s, else None.")
+      .def_readonly("radius_q", &py_reference::radius_q,
+                    "With certify=True on a scene with an attitude: the radius of |q - q*|_2 of the printed "
+                    "quaternion, else None.")
       .def_readonly("csv", &py_reference::csv, "The whole CSV text.")
       .def("__len__", [](const py_reference& r) { return r.decimal.size(); })
       .def("__repr__", [](const py_reference& r) {

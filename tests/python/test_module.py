@@ -51,8 +51,19 @@ def test_a_torque_of_the_attitude_is_the_cli_coupled_run(binary):
     assert ref.columns[:7] == ["omega1", "omega2", "omega3", "q0", "q1", "q2", "q3"]
     assert ref.meta["coupled"].startswith("the torque reads the attitude")
     assert float(ref.meta["q_norm_drift"]) < 1e-31
-    with pytest.raises(ValueError, match="torque reads the attitude"):
+    with pytest.raises(ValueError, match="gravity gradient"):
         eulervop.reference(path, samples=7, certify=True)
+
+
+def test_certify_gives_the_radius_of_q(binary):
+    path = eulervop.problems()["pd-slew"]
+    header, rows = cli_csv(binary, path, "--samples", "7", "--certify")
+    ref = eulervop.reference(path, samples=7, certify=True)
+    assert ref.decimal == rows
+    assert ref.radius_q is not None and ref.radius_q.shape == (7,)
+    assert ref.radius_omega is not None and ref.radius.shape == (7,)
+    assert float(ref.meta["certified_max_error_q"]) == ref.radius_q.max()
+    assert ref.radius_q.max() < 1e-29
 
 
 def test_times_precision_and_certify(binary):

@@ -67,6 +67,27 @@ CASES = {
                       w=('0.002', '0.001', '-0.0015'), q=('0.1', '0.7', '0.7', '0.1')),
     'libration': dict(I=('500', '12250', '12250'), n='0.0011', m0=Z3, kq=Z3, kw=Z3,
                       w=('0', '0', '0.0011'), q='libration', t_end=4000, dt_out=500),
+    # Torques that do not read q (the rates then evolve on their own), for the general path of
+    # --certify: the body of data/scenes/spacecraft-attitude.toml torque-free and with its
+    # constant torque, an axisymmetric and a nearly symmetric body, moments listed out of order,
+    # and rate damping.
+    'free_attitude': dict(I=('100', '150', '200'), n=None, m0=Z3, kq=Z3, kw=Z3,
+                          w=('0.02', '0.1', '0.05'), q=('1', '0', '0', '0'), t_end=3600, dt_out=600),
+    'constant_attitude': dict(I=('100', '150', '200'), n=None, m0=('0.01', '-0.02', '0.005'), kq=Z3, kw=Z3,
+                              w=('0.02', '0.1', '0.05'), q=('1', '0', '0', '0'), t_end=3600, dt_out=600),
+    'axisymmetric_attitude': dict(I=('1000', '1000', '2000'), n=None, m0=('0.002', '-0.001', '0.0015'), kq=Z3,
+                                  kw=Z3, w=('0.02', '0.01', '0.05'), q=('0.5', '0.5', '0.5', '0.5'),
+                                  t_end=3600, dt_out=600),
+    'near_symmetric': dict(I=('1000', '1000.000001', '2000'), n=None, m0=('0.002', '-0.001', '0.0015'), kq=Z3,
+                           kw=Z3, w=('0.02', '0.01', '0.05'), q=('1', '0', '0', '0'), t_end=3600, dt_out=600),
+    'unordered_attitude': dict(I=('200', '100', '150'), n=None, m0=('0.01', '-0.02', '0.005'), kq=Z3, kw=Z3,
+                               w=('0.1', '0.02', '0.05'), q=('0.6', '0', '0.8', '0'), t_end=3600, dt_out=600),
+    'damped_ordered': dict(I=('100', '150', '200'), n=None, m0=('0.01', '-0.02', '0.005'), kq=Z3,
+                           kw=('-0.5', '-0.5', '-0.5'), w=('0.02', '0.1', '0.05'), q=('1', '0', '0', '0'),
+                           t_end=600, dt_out=60),
+    'damped_unordered': dict(I=('150', '200', '100'), n=None, m0=('0.01', '-0.02', '0.005'), kq=Z3,
+                             kw=('-0.5', '-0.3', '-0.2'), w=('0.1', '0.05', '0.02'), q=('1', '0', '0', '0'),
+                             t_end=600, dt_out=60),
 }
 CASE_NOTES = {
     'libration': 'q(0) = (cos(a/2), 0, 0, sin(a/2)) with a = 5 degrees = pi/36, evaluated by formula '

@@ -100,6 +100,7 @@ void prepared_segment::prepare(const chebyshev_segment<T>& seg) {
 
 class certifier {
  public:
+  using check = prepared_segment;
   // `bits`: the working precision (the reference's bits + 64 or more); `degree`: the reference's
   // N; `problem`: the exact data (exact_problem.hpp), with coefficients a of -1, 0 or 1
   // (std::invalid_argument otherwise), as Eq. 5. Only a constant torque is certified: the

@@ -39,6 +39,7 @@ enum class outcome_kind {
   certify_growth,        // the propagated bound grew beyond `value` (relative to the state)
   certify_segment_gap,   // a segment does not start where the previous one ends
   certify_non_finite,    // a non-finite value in the segment or the variational matrix
+  certify_formula,       // a formula of the torque has no enclosure on the segment (the detail says why)
   // A torque given by a formula (model/expression_torque.hpp) that is not finite where evaluated:
   torque_non_finite,
 };

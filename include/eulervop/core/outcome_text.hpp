@@ -50,6 +50,7 @@ inline std::string describe_kind(outcome_kind kind, const outcome& o) {
     }
     case outcome_kind::certify_segment_gap: return "a segment does not start where the previous one ends";
     case outcome_kind::certify_non_finite: return "a non-finite value in the segment or its variational matrix";
+    case outcome_kind::certify_formula: return "the torque's formulas cannot be enclosed on the segment";
     case outcome_kind::torque_non_finite: return "the torque is not finite";
   }
   return "?";

@@ -54,13 +54,15 @@ void integrate_reference_samples(const euler_problem<T, Torque>& problem, const 
 // The attitude beside the rates (attitude_cascade.hpp), in constant memory: emit(index, tau, v)
 // receives each sample with v = (y1, y2, y3, q0, q1, q2, q3), y the state as above and q the
 // attitude (body to inertial) from q0 at problem.tau0. `rates` maps the state to the body rates
-// per unit of the problem's time. Returns the attitude's statistics. Throws numerical_failure.
+// per unit of the problem's time. Returns the attitude's statistics. `after_segment`, if set, sees
+// each combined segment as integrate_reference_samples's does. Throws numerical_failure.
 template <scalar T, class Torque>
 attitude_stats integrate_attitude_samples(const euler_problem<T, Torque>& problem, const body_rates<T>& rates,
                                           const quaternion<T>& q0, const T& tau_end, const std::vector<T>& taus,
                                           const typename segment_sampler<T, 7>::emit_function& emit,
                                           const picard_settings& settings = {}, const progress_callback& progress = {},
-                                          picard_stats* stats = nullptr) {
+                                          picard_stats* stats = nullptr,
+                                          const segment_sink<T, 7>& after_segment = {}) {
   attitude_cascade<T> cascade(q0, rates, settings);
   segment_sampler<T, 7> sampler(taus, emit);
   chebyshev_picard<euler_problem<T, Torque>> integrator(settings);
@@ -69,7 +71,11 @@ attitude_stats integrate_attitude_samples(const euler_problem<T, Torque>& proble
   };
   integrator.run_segments(
       problem, tau_end,
-      [&](const chebyshev_segment<T>& seg, const std::vector<T>& nodes) { sampler(cascade.commit(seg), nodes); },
+      [&](const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
+        const chebyshev_segment<T, 7>& combined = cascade.commit(seg);
+        sampler(combined, nodes);
+        if (after_segment) after_segment(combined, nodes);
+      },
       progress, stats, check);
   sampler.finish();
   return cascade.stats();
@@ -123,12 +129,13 @@ void fold_norm_drift(const chebyshev_segment<T, 7>& seg, double& drift) {
 
 // The rates and the attitude as one problem (model/coupled_problem.hpp), in constant memory:
 // emit(index, tau, v) receives each sample with v = (y1, y2, y3, q0, q1, q2, q3), as
-// integrate_attitude_samples gives them. Throws numerical_failure.
+// integrate_attitude_samples gives them, and `after_segment` each segment. Throws numerical_failure.
 template <scalar T>
 coupled_stats integrate_coupled_samples(const coupled_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
                                         const typename segment_sampler<T, 7>::emit_function& emit,
                                         const picard_settings& settings = {}, const progress_callback& progress = {},
-                                        picard_stats* stats = nullptr) {
+                                        picard_stats* stats = nullptr,
+                                        const segment_sink<T, 7>& after_segment = {}) {
   coupled_stats out;
   segment_sampler<T, 7> sampler(taus, emit);
   chebyshev_picard<coupled_problem<T>> integrator(settings);
@@ -137,6 +144,7 @@ coupled_stats integrate_coupled_samples(const coupled_problem<T>& problem, const
       [&](const chebyshev_segment<T, 7>& seg, const std::vector<T>& nodes) {
         detail::fold_norm_drift(seg, out.norm_drift);
         sampler(seg, nodes);
+        if (after_segment) after_segment(seg, nodes);
       },
       progress, stats);
   sampler.finish();
@@ -179,7 +187,7 @@ dense_trajectory<T, 7> integrate_coupled(const coupled_problem<T>& problem, cons
   EXTERN template attitude_stats integrate_attitude_samples(                                                     \
       const euler_problem<T, G<T>>&, const body_rates<T>&, const quaternion<T>&, const T&, const std::vector<T>&, \
       const typename segment_sampler<T, 7>::emit_function&, const picard_settings&, const progress_callback&,     \
-      picard_stats*);                                                                                            \
+      picard_stats*, const segment_sink<T, 7>&);                                                                 \
   EXTERN template dense_trajectory<T, 7> integrate_attitude(const euler_problem<T, G<T>>&, const body_rates<T>&, \
                                                             const quaternion<T>&, const T&, const picard_settings&, \
                                                             picard_stats*, attitude_stats*);
@@ -187,7 +195,7 @@ dense_trajectory<T, 7> integrate_coupled(const coupled_problem<T>& problem, cons
 #define EULERVOP_REFERENCE_COUPLED_CELL(EXTERN, T)                                                               \
   EXTERN template coupled_stats integrate_coupled_samples(                                                       \
       const coupled_problem<T>&, const T&, const std::vector<T>&, const typename segment_sampler<T, 7>::emit_function&, \
-      const picard_settings&, const progress_callback&, picard_stats*);                                          \
+      const picard_settings&, const progress_callback&, picard_stats*, const segment_sink<T, 7>&);               \
   EXTERN template dense_trajectory<T, 7> integrate_coupled(const coupled_problem<T>&, const T&,                 \
                                                            const picard_settings&, picard_stats*, coupled_stats*);
 #ifdef EULERVOP_COMPILED_KERNELS

@@ -137,8 +137,9 @@ reference_columns<T> reference_columns_of(const check_job& job, reference_csv_re
                          "no columns q0..q3");
   r.t.attitude = cols.q.has_value();
   if (r.t.attitude) c.q = {ref.column("q0"), ref.column("q1"), ref.column("q2"), ref.column("q3")};
-  // A certified reference: each row's radius, of the state compared (radius_omega of omega).
-  c.radius = ref.rows().column(c.vars.physical() ? "radius_omega" : "radius");
+  // A certified reference: each row's radius, of the state compared (radius_omega of omega, which
+  // a body in the direct form has as its only radius of the rates).
+  c.radius = ref.rows().column(c.vars.physical() || cols.state == "omega" ? "radius_omega" : "radius");
   r.t.certified = c.radius.has_value();
   return c;
 }

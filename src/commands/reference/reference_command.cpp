@@ -73,81 +73,117 @@ reference_job make_job(const reference_options& o) {
   return job;
 }
 
+// The texts of three or four values, as the rows print them.
+template <scalar T, std::size_t N>
+std::array<std::string, N> texts_of(const std::array<T, N>& v) {
+  std::array<std::string, N> out;
+  for (std::size_t i = 0; i < N; ++i) out[i] = to_text(v[i]);
+  return out;
+}
+
+// One row of a reference file, in the job's layout: the state (Omega, omega in the direct form, or
+// y), for a physical body in the normalized form also t and omega in rad/s, and q with an
+// attitude. With a certificate the row's cells are formatted first and its radii computed for
+// them, on the certificate's thread (run_certificate::row), then appended in the header's order.
+template <scalar T>
+class row_emitter {
+ public:
+  row_emitter(const reference_job& job, reference_csv_row_writer& rows, run_certificate* certificate)
+      : job_(job), rows_(rows), certificate_(certificate) {
+    if (job.layout == reference_layout::physical) scale_.emplace(scaling_of<T>(job.scn));
+  }
+
+  // The sample at tau (and t), with q when the scene has an attitude.
+  void operator()(const T& tau, const T* t, const vec3<T>& y, const quaternion<T>* q) {
+    const bool physical = job_.layout == reference_layout::physical;
+    if (!certificate_) {
+      if (physical && q) rows_.row(tau, y, *t, scale_->omega_of_Omega(y), *q);
+      else if (physical) rows_.row(tau, y, *t, scale_->omega_of_Omega(y));
+      else if (q) rows_.row(t ? *t : tau, y, *q);
+      else rows_.row(t ? *t : tau, y);
+      return;
+    }
+    certified_cells cells;
+    cells.state = texts_of(y);
+    if (physical) cells.omega = texts_of(scale_->omega_of_Omega(y));
+    if (q) cells.q = texts_of(std::array<T, 4>{q->w, q->x, q->y, q->z});
+    std::string time = to_text(tau), scene_time = t ? to_text(*t) : time;
+    certificate_->row([this, tau, t = t ? *t : tau, cells = std::move(cells), time = std::move(time),
+                       scene_time = std::move(scene_time)] {
+      const certified_radii r = certificate_->radii(tau, t, cells);
+      std::vector<std::string> out;
+      const auto add = [&out](const auto& texts) { out.insert(out.end(), texts.begin(), texts.end()); };
+      if (job_.layout == reference_layout::physical) {
+        out.push_back(scene_time);
+        add(*cells.omega);
+        if (cells.q) add(*cells.q);
+        out.push_back(time);
+        add(cells.state);
+        out.push_back(r.state);
+        out.push_back(*r.omega);
+      } else {
+        // normalized (tau, Omega), direct (t, omega) or the coefficient form (t, y)
+        out.push_back(job_.layout == reference_layout::normalized ? time : scene_time);
+        add(cells.state);
+        if (cells.q) add(*cells.q);
+        out.push_back(r.state);
+      }
+      if (r.q) out.push_back(*r.q);
+      rows_.certified_row(out);
+    });
+  }
+
+ private:
+  const reference_job& job_;
+  reference_csv_row_writer& rows_;
+  run_certificate* certificate_;
+  std::optional<physical_scaling<T>> scale_;
+};
+
 // Integrates the job's scene in T and writes each sample's row, in the job's layout, to
-// `rows_out` as it is evaluated. `kept`, if given, receives the samples too. With --certify,
-// `certificate` checks every segment and each row carries the radius of the state as printed
-// (its cells formatted first, as the radius is computed for them).
+// `rows_out` as it is evaluated: the rates alone, or with q beside them (integrated beside the
+// rates, reference/attitude_cascade.hpp, or with them as one problem for a torque of the
+// attitude, model/coupled_problem.hpp). `kept` and `kept_q`, if given, receive the samples too.
+// With --certify, `certificate` checks every segment and each row carries its radii.
 template <scalar T>
 reference_run stream_rows(const reference_job& job, const T& tau_end, const sample_times<T>& times,
-                          scratch_file& rows_out, std::vector<vec3<T>>* kept, run_certificate* certificate) {
-  std::optional<physical_scaling<T>> scale;
-  if (job.layout == reference_layout::physical) scale.emplace(scaling_of<T>(job.scn));
+                          scratch_file& rows_out, std::vector<vec3<T>>* kept, std::vector<quaternion<T>>* kept_q,
+                          run_certificate* certificate) {
   reference_csv_row_writer rows([&](std::string_view chunk) { rows_out.write(chunk); });
   // The certificate's threads write rows: they stop before `rows` goes, even on an exception.
   const std::unique_ptr<run_certificate, void (*)(run_certificate*)> closing(
       certificate, [](run_certificate* c) { if (c) c->close(); });
-  segment_sink<T> certify_segment;
-  if (certificate)
-    certify_segment = [&](const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
-      certificate->add_segment(seg, nodes);
+  row_emitter<T> emit(job, rows, certificate);
+  const auto time_of = [&](std::size_t i) { return times.t.empty() ? nullptr : &times.t[i]; };
+  reference_run run;
+  if (job.scn.has_attitude()) {
+    segment_sink<T, 7> certify_segment;
+    if (certificate)
+      certify_segment = [&](const chebyshev_segment<T, 7>& seg, const std::vector<T>& nodes) {
+        certificate->add_segment(seg, nodes);
+      };
+    const auto on_sample = [&](std::size_t i, const vec3<T>& y, const quaternion<T>& q) {
+      emit(times.tau[i], time_of(i), y, &q);
+      if (kept) kept->push_back(y);
+      if (kept_q) kept_q->push_back(q);
     };
-  const auto on_sample = [&](std::size_t i, const vec3<T>& Om) {
-    switch (job.layout) {
-      case reference_layout::normalized:
-        if (certificate) {
-          std::array<std::string, 3> cells = {to_text(Om[0]), to_text(Om[1]), to_text(Om[2])};
-          certificate->row([&rows, certificate, tau = times.tau[i], cells = std::move(cells)] {
-            rows.certified_row(tau, cells, certificate->radius(tau, cells));
-          });
-        } else {
-          rows.row(times.tau[i], Om);
-        }
-        break;
-      case reference_layout::physical:
-        if (certificate) {
-          const vec3<T> om = scale->omega_of_Omega(Om);
-          std::array<std::string, 3> Omega_cells = {to_text(Om[0]), to_text(Om[1]), to_text(Om[2])};
-          std::array<std::string, 3> omega_cells = {to_text(om[0]), to_text(om[1]), to_text(om[2])};
-          certificate->row([&rows, certificate, tau = times.tau[i], t = times.t[i], Omega_cells = std::move(Omega_cells),
-                            omega_cells = std::move(omega_cells)] {
-            rows.certified_row(tau, Omega_cells, t, omega_cells,
-                               certificate->physical_radii(tau, t, Omega_cells, omega_cells));
-          });
-        } else {
-          rows.row(times.tau[i], Om, times.t[i], scale->omega_of_Omega(Om));
-        }
-        break;
-      case reference_layout::direct: rows.row(times.t[i], Om); break;  // the state is omega, and tau is t
-      case reference_layout::coefficient: rows.row(times.tau[i], Om); break;  // the time is t, the state y
-    }
-    if (kept) kept->push_back(Om);
-  };
-  const reference_run run = with_problem<T>(job.scn, [&](const auto& problem) {
-    return integrate_streaming<T>(problem, tau_end, times.tau, job.settings, "reference", on_sample, certify_segment);
-  });
+    run = integrate_scene_attitude<T>(job.scn, tau_end, times.tau, job.settings, "reference", on_sample,
+                                      certify_segment);
+  } else {
+    segment_sink<T> certify_segment;
+    if (certificate)
+      certify_segment = [&](const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
+        certificate->add_segment(seg, nodes);
+      };
+    const auto on_sample = [&](std::size_t i, const vec3<T>& y) {
+      emit(times.tau[i], time_of(i), y, nullptr);
+      if (kept) kept->push_back(y);
+    };
+    run = with_problem<T>(job.scn, [&](const auto& problem) {
+      return integrate_streaming<T>(problem, tau_end, times.tau, job.settings, "reference", on_sample, certify_segment);
+    });
+  }
   if (certificate) certificate->finish();
-  rows.flush();
-  return run;
-}
-
-// The same for a scene with an attitude (no --certify): the rates and q0..q3 on every row, q
-// integrated beside the rates (reference/attitude_cascade.hpp), or with them as one problem for a
-// torque of the attitude (model/coupled_problem.hpp).
-template <scalar T>
-reference_run stream_attitude_rows(const reference_job& job, const T& tau_end, const sample_times<T>& times,
-                                   scratch_file& rows_out, std::vector<vec3<T>>* kept,
-                                   std::vector<quaternion<T>>* kept_q) {
-  const physical_scaling<T> scale = scaling_of<T>(job.scn);
-  reference_csv_row_writer rows([&](std::string_view chunk) { rows_out.write(chunk); });
-  const auto on_sample = [&](std::size_t i, const vec3<T>& Om, const quaternion<T>& q) {
-    if (job.layout == reference_layout::physical)
-      rows.row(times.tau[i], Om, times.t[i], scale.omega_of_Omega(Om), q);
-    else
-      rows.row(times.t[i], Om, q);  // the direct form: the state is omega, and tau is t
-    if (kept) kept->push_back(Om);
-    if (kept_q) kept_q->push_back(q);
-  };
-  const reference_run run = integrate_scene_attitude<T>(job.scn, tau_end, times.tau, job.settings, "reference", on_sample);
   rows.flush();
   return run;
 }
@@ -174,12 +210,15 @@ reference_metadata metadata_of(const reference_job& job, const reference_run& ru
   return m;
 }
 
-// --certify's lines: the largest radius (and that of omega for a physical scene) and the method.
+// --certify's lines: the largest radius of each column (the state; omega in rad/s for a physical
+// scene, which in the direct form is the state; q) and the method.
 void add_certificate(const reference_job& job, const run_certificate& certificate, reference_metadata& m) {
-  m.certified_max_error = decimal_of(certificate.max_radius());
+  const certified_maxima& max = certificate.maxima();
+  m.certified_max_error = decimal_of(max.state);
   m.certify_method = certificate.method();
-  if (job.layout == reference_layout::physical)
-    m.certified_max_error_omega = decimal_of(certificate.max_radius_omega());
+  if (job.layout == reference_layout::physical) m.certified_max_error_omega = decimal_of(max.omega);
+  if (job.layout == reference_layout::direct) m.certified_max_error_omega = decimal_of(max.state);
+  if (!max.q.empty()) m.certified_max_error_q = decimal_of(max.q);
 }
 
 // Runs the job in T, streaming the CSV rows to `rows_out`.
@@ -194,11 +233,9 @@ reference_metadata run_in(const reference_job& job, scratch_file& rows_out) {
   std::optional<run_certificate> certificate;
   if (job.certify) certificate.emplace(job.scn, job.precision, job.certify_workers);
   const bool attitude = job.scn.has_attitude();
-  const reference_run run =
-      attitude ? stream_attitude_rows<T>(job, tau_end, times, rows_out, job.verify ? &kept : nullptr,
-                                         job.verify ? &kept_q : nullptr)
-               : stream_rows<T>(job, tau_end, times, rows_out, job.verify ? &kept : nullptr,
-                                certificate ? &*certificate : nullptr);
+  const reference_run run = stream_rows<T>(job, tau_end, times, rows_out, job.verify ? &kept : nullptr,
+                                           job.verify && attitude ? &kept_q : nullptr,
+                                           certificate ? &*certificate : nullptr);
   reference_metadata m = metadata_of(job, run);
   if (certificate) add_certificate(job, *certificate, m);
   if (job.verify) {

@@ -29,8 +29,10 @@ struct segment_bounds {
   // R and ell, once rho_a holds |e(a)| (fails when no a-priori bound closes).
   void a_priori(const exact_problem& problem, const segment_polynomial& P);
   // The doubles of the linear parts (variational matrix, integral term).
-  linear_growth growth(const segment_polynomial& P) const {
-    return {mpfi_get_d(P.hl.get()), magnitude_up(mu), magnitude_up(jmax), magnitude_up(P.h)};
+  linear_growth growth(const segment_polynomial& P) {
+    const double hl = mpfi_get_d(P.hl.get());
+    mpfi_sub_d(t_.get(), P.hl.get(), hl);  // the exact hl (113 bits in quad) less its double
+    return {hl, magnitude_up(mu), magnitude_up(jmax), magnitude_up(P.h), magnitude_up(t_)};
   }
 
   interval rho_a;  // [0, an upper bound of |e(a)|_2]

@@ -51,10 +51,13 @@ struct product_term {
 
 // H(s) = hl int_{-1}^s sum_t sign_t a_t(x) b_t(x) dx in Chebyshev form (coefficients `out`, of
 // length max(na + nb) + 1), with `error` bounding sup |exact H - computed H| on [-1, 1], where
-// "exact" uses the exact polynomials the views stand for.
+// "exact" uses the exact polynomials the views stand for and the exact hl, of which `hl` is the
+// nearest double and hl_error bounds the distance (the exact integral, over a length of at most
+// 2, is at most the products' magnitudes, with the views' radii, times 2: hl_error times that).
 struct integrated_products {
   std::vector<double> coeffs;
   double error = 0;
+  double hl_error = 0;
 
   void compute(double hl, std::span<const product_term> terms) {
     std::size_t ng = 0, count = 0;
@@ -95,6 +98,7 @@ struct integrated_products {
     // roundings; the scaling by hl.
     error = std::abs(hl) * ((2 * (gamma * magnitude + from_radii) + gamma * (abs_g + 2 * abs_F)) * (1 + gamma) +
                             gamma * abs_F);
+    error += 2 * hl_error * (magnitude + from_radii) * (1 + gamma);
     error += underflow_allowance(4 * count * count + 4 * nF);
     error *= 1 + 1e-12;  // the roundings of this bound's own arithmetic (relative ~ n u)
   }

@@ -37,10 +37,10 @@ inline jacobian_rows jacobian_pattern(const std::array<int, 3>& a) {
   return rows;
 }
 
-// A segment's bounds as doubles rounded up (hl itself as the nearest double): mu >= the
-// logarithmic norm of J, jmax >= |J|_2, h = 2 hl.
+// A segment's bounds as doubles rounded up (hl itself as the nearest double, and hl_error >= its
+// distance to the exact hl): mu >= the logarithmic norm of J, jmax >= |J|_2, h = 2 hl.
 struct linear_growth {
-  double hl, mu, jmax, h;
+  double hl, mu, jmax, h, hl_error;
 
   // A Picard residual bound sup|R| of a linear solution on the segment, as an error bound at its
   // end: E = R + hl int J E gives |E(1)| <= sup|R| (1 + h exp(mu h) |J|).

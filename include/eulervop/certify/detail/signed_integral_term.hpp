@@ -57,6 +57,7 @@ inline void signed_integral_term::compute(const segment_polynomial& P, const pic
                                           integrated_products& sums) {
   shorten(P);
   iterate(P, r, rows, g.hl, sums);
+  sums.hl_error = g.hl_error;
   g.error_at_end(eps, residual_sup(P, r, rows, g.hl, sums), P);
   for (int i = 0; i < 3; ++i) {
     enclose_double_sum(u1[i], &ud_[i * nr_], nr_, scratch_);  // u_num(1) = sum_k u_k

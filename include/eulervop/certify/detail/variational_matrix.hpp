@@ -53,6 +53,7 @@ inline void variational_matrix::compute(const segment_polynomial& P, const jacob
   jacobian_at_nodes(P, rows);
   iterate(P, g.hl);
   coefficients();
+  sums.hl_error = g.hl_error;
   g.error_at_end(eps, residual_sup(P, rows, g.hl, sums), P);
   for (int q = 0; q < 9; ++q) enclose_double_sum(Phi1[q], &phi_[q * m1_], m1_, scratch_);  // Phi_num(1)
 }

@@ -1,0 +1,163 @@
+// A ball of Arb (Johansson 2017, "Arb: efficient arbitrary-precision midpoint-radius interval
+// arithmetic", IEEE Trans. Computers 66): a midpoint and a radius, each operation rounding its
+// result outward into the radius. The general path of --certify (docs/certified.md, "The general
+// path") computes every number of its proof as one, so that no rounding needs an analysis of its
+// own. This header holds the owner type and the exact entries of the program's numbers.
+#pragma once
+
+#include <eulervop/certify/interval.hpp>
+#include <eulervop/core/scalar.hpp>
+
+#include <arb.h>
+
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+
+namespace eulervop {
+
+class ball {
+ public:
+  ball() { arb_init(x_); }
+  explicit ball(long value) {
+    arb_init(x_);
+    arb_set_si(x_, value);
+  }
+  ball(const ball& o) {
+    arb_init(x_);
+    arb_set(x_, o.x_);
+  }
+  ball(ball&& o) noexcept {
+    arb_init(x_);
+    arb_swap(x_, o.x_);
+  }
+  ball& operator=(const ball& o) {
+    arb_set(x_, o.x_);
+    return *this;
+  }
+  ball& operator=(ball&& o) noexcept {
+    arb_swap(x_, o.x_);
+    return *this;
+  }
+  ~ball() { arb_clear(x_); }
+
+  arb_ptr get() { return x_; }
+  arb_srcptr get() const { return x_; }
+
+ private:
+  arb_t x_;
+};
+
+// An upper bound as Arb's mag (a magnitude rounded up by every operation), freed with its owner.
+struct mag_value {
+  mag_value() { mag_init(m); }
+  mag_value(const mag_value& o) {
+    mag_init(m);
+    mag_set(m, o.m);
+  }
+  mag_value& operator=(const mag_value& o) {
+    mag_set(m, o.m);
+    return *this;
+  }
+  ~mag_value() { mag_clear(m); }
+  mag_t m;
+};
+
+namespace detail {
+
+// A binary128 number exactly, from its fields (IEEE 754-2008, 3.4; as set_exact_binary128 in
+// interval.hpp): the 113-bit integer as two words, and the exponent.
+inline void set_exact_binary128(ball& out, __float128 x) {
+  static_assert(std::endian::native == std::endian::little, "binary128 fields read as little-endian words");
+  std::uint64_t w[2];
+  std::memcpy(w, &x, sizeof w);
+  const unsigned biased = static_cast<unsigned>(w[1] >> 48) & 0x7fffu;
+  if (biased == 0x7fffu) {  // infinite or NaN: the indeterminate ball, which fails every test
+    arb_indeterminate(out.get());
+    return;
+  }
+  std::uint64_t high = w[1] & ((std::uint64_t{1} << 48) - 1);
+  long exponent = 1 - 16383 - 112;
+  if (biased != 0) {
+    high |= std::uint64_t{1} << 48;
+    exponent = static_cast<long>(biased) - 16383 - 112;
+  }
+  arf_t low;
+  arf_init(low);
+  arf_set_ui_2exp_si(arb_midref(out.get()), high, exponent + 64);
+  arf_set_ui_2exp_si(low, w[0], exponent);
+  arf_add(arb_midref(out.get()), arb_midref(out.get()), low, ARF_PREC_EXACT, ARF_RND_DOWN);
+  arf_clear(low);
+  if (w[1] >> 63) arf_neg(arb_midref(out.get()), arb_midref(out.get()));
+  mag_zero(arb_radref(out.get()));
+}
+
+}  // namespace detail
+
+// The exact value of a scalar as a point ball (any precision: Arb's midpoints are exact).
+template <scalar T>
+void set_exact(ball& out, const T& x) {
+  if constexpr (std::is_same_v<T, double>) {
+    arb_set_d(out.get(), x);
+  } else if constexpr (std::is_same_v<T, mpfr_real>) {
+    arf_set_mpfr(arb_midref(out.get()), x.backend().data());
+    mag_zero(arb_radref(out.get()));
+  } else {
+    detail::set_exact_binary128(out, x.backend().value());
+  }
+}
+
+// The ball of an MPFI interval (its two ends, rounded outward to `prec` bits).
+inline void set_interval(ball& out, const interval& x, slong prec) {
+  arb_set_interval_mpfr(out.get(), &x.get()->left, &x.get()->right, prec);
+}
+inline ball ball_of(const interval& x, slong prec) {
+  ball out;
+  set_interval(out, x, prec);
+  return out;
+}
+
+// A ball that holds the real number a decimal text denotes ("0.1" is one tenth).
+inline ball decimal_ball(const std::string& text, slong prec) {
+  ball out;
+  if (arb_set_str(out.get(), text.c_str(), prec) != 0)
+    throw std::invalid_argument("decimal_ball: not a decimal number: " + text);
+  return out;
+}
+
+// An upper bound of |x| as a double (+inf when x is not finite).
+inline double magnitude_up(const ball& x) {
+  arf_t u;
+  arf_init(u);
+  arb_get_abs_ubound_arf(u, x.get(), 53);
+  const double d = arf_get_d(u, ARF_RND_UP);
+  arf_clear(u);
+  return d;
+}
+
+// [0, an upper bound of |x|]: the magnitude as a ball, for sums of bounds.
+inline void set_magnitude(ball& out, const ball& x) {
+  mag_t m;
+  mag_init(m);
+  arb_get_mag(m, x.get());
+  arf_set_mag(arb_midref(out.get()), m);
+  mag_zero(arb_radref(out.get()));
+  mag_clear(m);
+}
+
+// x = [0, sup |x|] as the ball whose upper end bounds |x| from above (midpoint and radius both
+// half of it, rounded up): what a bound's interval [0, b] is in midpoint-radius form.
+inline void to_zero_hull(ball& x) {
+  mag_t zero, m;
+  mag_init(zero);
+  mag_init(m);
+  arb_get_mag(m, x.get());
+  arb_set_interval_mag(x.get(), zero, m, MAG_BITS);
+  mag_clear(m);
+  mag_clear(zero);
+}
+
+}  // namespace eulervop

@@ -1,0 +1,295 @@
+// The error at a segment's start, e(a), in D dimensions, for the general path of --certify, as a
+// parallelepiped M v: M a point matrix of doubles, v a vector of balls (Lohner 1987; Nedialkov and
+// Jackson 2001; the three-dimensional fast path's is lohner_box.hpp). Across a segment, e(b) lies
+// in Phi e(a) + w + [-b_i, b_i], w = r(b) + u(b) signed, and the new set is
+//   v' = (M'^-1 Phi M) v + M'^-1 (w + [-b_i, b_i]).
+// M' = mid(Phi M) (the parallelepiped method), so that (M'^-1 Phi M) is the identity but for
+// rounding: the flow's shear, which is large where q's error follows the rates', lives in the
+// matrix and wraps nothing. (The QR form of lohner_box.hpp wraps under that shear: its
+// parallelepiped's columns turn at every segment, and the boxes' corners accumulate; on the
+// spacecraft with its attitude it gave radii a thousand times larger.) A ball added in M^-1's
+// coordinates grows by up to M's condition; what enters as a ball is therefore kept small: the
+// signed terms (the residuals, the jumps at joins and breakpoints) enter with their signs, and only
+// bounds of what is below them as balls. Should M' pass a condition of 10^6 (an exponentially
+// stretching flow), M' is the Q of a QR factorisation of mid(Phi M) instead (modified Gram-Schmidt,
+// columns by decreasing length times the size of their v), whose inverse is enclosed from Q:
+// Q^-1 = (I + E)^-1 Q^T with E = Q^T Q - I, |Q^-1 - Q^T|_inf <= d/(1 - d) |Q^T|_inf, d = |E|_inf; a
+// general M' is inverted in balls (Arb).
+#pragma once
+
+#include <eulervop/certify/ball.hpp>
+
+#include <arb.h>
+#include <arb_mat.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <numeric>
+#include <vector>
+
+namespace eulervop::detail {
+
+// The largest condition number (in the infinity norm) at which the signed part's matrix is
+// mid(Phi M_s) itself.
+inline constexpr double parallelepiped_condition = 1e6;
+
+class ball_lohner_box {
+ public:
+  ball_lohner_box(std::size_t dimension, slong prec) : D_(dimension), prec_(prec), set_(dimension) {}
+
+  // The first segment's: e(a) itself, M = I.
+  void start(const std::vector<ball>& e0) {
+    set_.identity();
+    set_.v = e0;
+  }
+  // Adds `jump` to e (the jump between two segments' polynomials at their join, a breakpoint's).
+  void join(const std::vector<ball>& jump) { set_.add(jump, prec_); }
+  // An upper bound of |W e|_2 over the set, W = diag(weight) (powers of two).
+  void norm(mag_t out, const std::vector<double>& weight) const {
+    std::vector<ball> e;
+    image_of_identity(e);
+    mag_t m;
+    mag_init(m);
+    mag_zero(out);
+    for (std::size_t i = 0; i < D_; ++i) {
+      arb_get_mag(m, e[i].get());
+      mag_mul_2exp_si(m, m, std::ilogb(weight[i]));
+      mag_addmul(out, m, m);
+    }
+    mag_sqrt(out, out);
+    mag_clear(m);
+  }
+  // e componentwise.
+  void image_of_identity(std::vector<ball>& out) const {
+    out.assign(D_, ball());
+    set_.image_add(out, prec_);
+  }
+  // Phi e componentwise, for a D x D matrix of balls Phi.
+  void image(const std::vector<ball>& Phi, std::vector<ball>& out) const {
+    out.assign(D_, ball());
+    std::vector<ball> A(D_ * D_);
+    set_.times(Phi, A, prec_);
+    for (std::size_t i = 0; i < D_; ++i)
+      for (std::size_t k = 0; k < D_; ++k) arb_addmul(out[i].get(), A[i * D_ + k].get(), set_.v[k].get(), prec_);
+  }
+  // To the segment's end: e(b) in Phi1 e(a) + w + [-b_i, b_i] in each component. False when a new
+  // matrix's inverse cannot be enclosed.
+  bool step(const std::vector<ball>& Phi1, const std::vector<ball>& w, const std::vector<mag_value>& b);
+
+ private:
+  // One set M v: M a point matrix of doubles (row-major), v balls, Minv an enclosure of M^-1.
+  struct part {
+    explicit part(std::size_t D) : D(D), M(D * D), v(D), Minv(D * D) { identity(); }
+    void identity() {
+      std::fill(M.begin(), M.end(), 0.0);
+      for (std::size_t q = 0; q < D * D; ++q) arb_zero(Minv[q].get());
+      for (std::size_t i = 0; i < D; ++i) {
+        M[i * D + i] = 1;
+        arb_one(Minv[i * D + i].get());
+      }
+    }
+    // v += M^-1 x.
+    void add(const std::vector<ball>& x, slong prec) {
+      for (std::size_t i = 0; i < D; ++i)
+        for (std::size_t k = 0; k < D; ++k) arb_addmul(v[i].get(), Minv[i * D + k].get(), x[k].get(), prec);
+    }
+    // out += M v.
+    void image_add(std::vector<ball>& out, slong prec) const {
+      ball t;
+      for (std::size_t i = 0; i < D; ++i)
+        for (std::size_t k = 0; k < D; ++k) {
+          if (M[i * D + k] == 0) continue;
+          arb_set_d(t.get(), M[i * D + k]);
+          arb_addmul(out[i].get(), t.get(), v[k].get(), prec);
+        }
+    }
+    // A = Phi M.
+    void times(const std::vector<ball>& Phi, std::vector<ball>& A, slong prec) const {
+      ball d;
+      for (std::size_t i = 0; i < D; ++i)
+        for (std::size_t j = 0; j < D; ++j) {
+          arb_zero(A[i * D + j].get());
+          for (std::size_t k = 0; k < D; ++k) {
+            if (M[k * D + j] == 0) continue;
+            arb_set_d(d.get(), M[k * D + j]);
+            arb_addmul(A[i * D + j].get(), Phi[i * D + k].get(), d.get(), prec);
+          }
+        }
+    }
+    std::size_t D;
+    std::vector<double> M;
+    std::vector<ball> v, Minv;
+  };
+
+  // Moves p across the segment with A = Phi M_p: p.M = Mnew, p.v = (Mnew^-1 A) v + Mnew^-1 local.
+  bool move(part& p, const std::vector<ball>& A, const std::vector<double>& Mnew, const std::vector<ball>& local);
+  void orthogonal_factor(const std::vector<ball>& A, const std::vector<ball>& v, std::vector<double>& Q) const;
+  bool enclose_orthogonal_inverse(const std::vector<double>& Q, std::vector<ball>& inv) const;
+  bool enclose_general_inverse(const std::vector<double>& M, double limit, std::vector<ball>& inv) const;
+
+  std::size_t D_;
+  slong prec_;
+  part set_;
+};
+
+// Q from modified Gram-Schmidt on mid(A), columns by decreasing length times the size of v.
+inline void ball_lohner_box::orthogonal_factor(const std::vector<ball>& A, const std::vector<ball>& v,
+                                               std::vector<double>& Q) const {
+  const std::size_t D = D_;
+  std::vector<double> Am(D * D);
+  for (std::size_t q = 0; q < D * D; ++q) Am[q] = arf_get_d(arb_midref(A[q].get()), ARF_RND_NEAR);
+  std::vector<std::size_t> order(D);
+  std::iota(order.begin(), order.end(), 0);
+  std::vector<double> weight(D);
+  for (std::size_t j = 0; j < D; ++j) {
+    double len = 0;
+    for (std::size_t i = 0; i < D; ++i) len += Am[i * D + j] * Am[i * D + j];
+    weight[j] = std::sqrt(len) * magnitude_up(v[j]);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t p, std::size_t q) { return weight[p] > weight[q]; });
+  Q.assign(D * D, 0.0);
+  std::vector<double> x(D);
+  const auto orthogonalize = [&](std::size_t c) {
+    for (std::size_t prev = 0; prev < c; ++prev) {
+      double d = 0;
+      for (std::size_t i = 0; i < D; ++i) d += x[i] * Q[i * D + prev];
+      for (std::size_t i = 0; i < D; ++i) x[i] -= d * Q[i * D + prev];
+    }
+  };
+  const auto length = [&] {
+    double s = 0;
+    for (double y : x) s += y * y;
+    return std::sqrt(s);
+  };
+  for (std::size_t c = 0; c < D; ++c) {
+    for (std::size_t i = 0; i < D; ++i) x[i] = Am[i * D + order[c]];
+    orthogonalize(c);
+    double len = length();
+    // A degenerate column (a zero set): a unit vector orthogonal to the previous ones.
+    if (!(len > 0) || !std::isfinite(len))
+      for (std::size_t e = 0; e < D && !(len > 1e-3 && std::isfinite(len)); ++e) {
+        std::fill(x.begin(), x.end(), 0.0);
+        x[e] = 1;
+        orthogonalize(c);
+        len = length();
+      }
+    for (std::size_t i = 0; i < D; ++i) Q[i * D + c] = x[i] / len;
+  }
+}
+
+inline bool ball_lohner_box::enclose_orthogonal_inverse(const std::vector<double>& Q, std::vector<ball>& inv) const {
+  const std::size_t D = D_;
+  ball delta, row, t, p, q, qt_inf, slack;
+  for (std::size_t i = 0; i < D; ++i) {
+    arb_zero(row.get());
+    for (std::size_t j = 0; j < D; ++j) {
+      arb_set_si(t.get(), i == j ? -1 : 0);
+      for (std::size_t k = 0; k < D; ++k) {
+        arb_set_d(p.get(), Q[k * D + i]);
+        arb_set_d(q.get(), Q[k * D + j]);
+        arb_addmul(t.get(), p.get(), q.get(), prec_);
+      }
+      arb_abs(t.get(), t.get());
+      arb_add(row.get(), row.get(), t.get(), prec_);
+    }
+    arb_max(delta.get(), delta.get(), row.get(), prec_);
+    arb_zero(row.get());  // row i of Q^T: column i of Q
+    for (std::size_t k = 0; k < D; ++k) {
+      arb_set_d(p.get(), std::abs(Q[k * D + i]));
+      arb_add(row.get(), row.get(), p.get(), prec_);
+    }
+    arb_max(qt_inf.get(), qt_inf.get(), row.get(), prec_);
+  }
+  ball one(1);
+  arb_sub(one.get(), one.get(), delta.get(), prec_);
+  if (!arb_is_positive(one.get())) return false;
+  arb_div(slack.get(), delta.get(), one.get(), prec_);
+  arb_mul(slack.get(), slack.get(), qt_inf.get(), prec_);
+  mag_value m;
+  arb_get_mag(m.m, slack.get());
+  inv.assign(D * D, ball());
+  for (std::size_t i = 0; i < D; ++i)
+    for (std::size_t j = 0; j < D; ++j) {
+      arb_set_d(inv[i * D + j].get(), Q[j * D + i]);
+      arb_add_error_mag(inv[i * D + j].get(), m.m);
+    }
+  return true;
+}
+
+// The inverse of the point matrix M (row-major) in balls; false if it is singular or its condition
+// exceeds `limit` (|M|_inf |M^-1|_inf, from the enclosure).
+inline bool ball_lohner_box::enclose_general_inverse(const std::vector<double>& M, double limit,
+                                                     std::vector<ball>& inv) const {
+  const std::size_t D = D_;
+  const slong n = static_cast<slong>(D);
+  arb_mat_t m, r;
+  arb_mat_init(m, n, n);
+  arb_mat_init(r, n, n);
+  double norm = 0, inv_norm = 0;
+  for (std::size_t i = 0; i < D; ++i) {
+    double row = 0;
+    for (std::size_t j = 0; j < D; ++j) {
+      arb_set_d(arb_mat_entry(m, static_cast<slong>(i), static_cast<slong>(j)), M[i * D + j]);
+      row += std::abs(M[i * D + j]);
+    }
+    norm = std::max(norm, row);
+  }
+  bool ok = arb_mat_inv(r, m, prec_) != 0 && arb_mat_is_finite(r);
+  if (ok) {
+    mag_value e;
+    for (std::size_t i = 0; i < D; ++i) {
+      double row = 0;
+      for (std::size_t j = 0; j < D; ++j) {
+        arb_get_mag(e.m, arb_mat_entry(r, static_cast<slong>(i), static_cast<slong>(j)));
+        row += mag_get_d(e.m);
+      }
+      inv_norm = std::max(inv_norm, row);
+    }
+    ok = norm * inv_norm <= limit;
+  }
+  if (ok) {
+    inv.assign(D * D, ball());
+    for (std::size_t i = 0; i < D; ++i)
+      for (std::size_t j = 0; j < D; ++j)
+        arb_set(inv[i * D + j].get(), arb_mat_entry(r, static_cast<slong>(i), static_cast<slong>(j)));
+  }
+  arb_mat_clear(m);
+  arb_mat_clear(r);
+  return ok;
+}
+
+inline bool ball_lohner_box::move(part& p, const std::vector<ball>& A, const std::vector<double>& Mnew,
+                                  const std::vector<ball>& local) {
+  const std::size_t D = D_;
+  std::vector<ball> C(D * D), next(D);
+  for (std::size_t i = 0; i < D; ++i)
+    for (std::size_t j = 0; j < D; ++j)
+      for (std::size_t k = 0; k < D; ++k)
+        arb_addmul(C[i * D + j].get(), p.Minv[i * D + k].get(), A[k * D + j].get(), prec_);
+  for (std::size_t i = 0; i < D; ++i)
+    for (std::size_t k = 0; k < D; ++k) {
+      arb_addmul(next[i].get(), C[i * D + k].get(), p.v[k].get(), prec_);
+      arb_addmul(next[i].get(), p.Minv[i * D + k].get(), local[k].get(), prec_);
+    }
+  p.v.swap(next);
+  p.M = Mnew;
+  return true;
+}
+
+inline bool ball_lohner_box::step(const std::vector<ball>& Phi1, const std::vector<ball>& w,
+                                  const std::vector<mag_value>& b) {
+  const std::size_t D = D_;
+  std::vector<ball> local = w, A(D * D);
+  for (std::size_t i = 0; i < D; ++i) arb_add_error_mag(local[i].get(), b[i].m);
+  set_.times(Phi1, A, prec_);
+  std::vector<double> M(D * D);
+  for (std::size_t q = 0; q < D * D; ++q) M[q] = arf_get_d(arb_midref(A[q].get()), ARF_RND_NEAR);
+  if (!enclose_general_inverse(M, parallelepiped_condition, set_.Minv)) {
+    orthogonal_factor(A, set_.v, M);
+    if (!enclose_orthogonal_inverse(M, set_.Minv)) return false;
+  }
+  return move(set_, A, M, local);
+}
+
+}  // namespace eulervop::detail

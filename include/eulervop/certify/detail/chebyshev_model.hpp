@@ -1,0 +1,437 @@
+// A Chebyshev model on s in [-1, 1]: a polynomial with ball coefficients and a remainder bound,
+//   f(s) in sum_k c_k T_k(s) + [-rem, rem]   for every s in [-1, 1],
+// where each c_k is some point of its ball (Brisebarre and Joldes, "Chebyshev interpolation
+// polynomial-based tools for rigorous computing", ISSAC 2010; Joldes' thesis, ENS Lyon 2011).
+// The general path of --certify (docs/certified.md, "The general path") computes a segment's
+// polynomial, the field along it, its residual and its Jacobian as such models.
+//
+// The remainder is kept apart from the coefficients' radii because the two mean different
+// things: a radius is an uncertainty about one coefficient, while the remainder is any function
+// bounded by rem. Products and sums treat both by the triangle inequality; the integral cannot
+// move a remainder into a coefficient (int_{-1}^s of a function bounded by rem is bounded by
+// (s + 1) rem, not by the integral of a T_k), so it doubles it instead. A model whose remainder
+// is zero is exactly a polynomial with enclosed coefficients.
+//
+// Products use T_m T_n = (T_{m+n} + T_{|m-n|}) / 2: 2 c_k = sum_{m+n=k} a_m b_n + sum_{|m-n|=k}
+// a_m b_n, the second sum a convolution of a with b reversed, so one product is two of Arb's
+// polynomial products (exact integer convolutions with one error bound each).
+#pragma once
+
+#include <eulervop/certify/ball.hpp>
+
+#include <arb.h>
+#include <arb_poly.h>
+#include <flint/fmpz_poly.h>
+
+#include <algorithm>
+#include <utility>
+
+namespace eulervop::detail {
+
+class chebyshev_model {
+ public:
+  chebyshev_model() { mag_init(rem_); }
+  explicit chebyshev_model(slong length) : chebyshev_model() { resize(length); }
+  chebyshev_model(const chebyshev_model& o) : chebyshev_model() { *this = o; }
+  chebyshev_model(chebyshev_model&& o) noexcept : chebyshev_model() { swap(o); }
+  chebyshev_model& operator=(const chebyshev_model& o) {
+    if (this == &o) return *this;
+    resize(o.len_);
+    _arb_vec_set(c_, o.c_, o.len_);
+    mag_set(rem_, o.rem_);
+    return *this;
+  }
+  chebyshev_model& operator=(chebyshev_model&& o) noexcept {
+    swap(o);
+    return *this;
+  }
+  ~chebyshev_model() {
+    if (c_) _arb_vec_clear(c_, alloc_);
+    mag_clear(rem_);
+  }
+  void swap(chebyshev_model& o) noexcept {
+    std::swap(c_, o.c_);
+    std::swap(len_, o.len_);
+    std::swap(alloc_, o.alloc_);
+    mag_swap(rem_, o.rem_);
+  }
+
+  slong length() const { return len_; }
+  arb_ptr coeffs() { return c_; }
+  arb_srcptr coeffs() const { return c_; }
+  arb_ptr coeff(slong k) { return c_ + k; }
+  arb_srcptr coeff(slong k) const { return c_ + k; }
+  mag_ptr remainder() { return rem_; }
+  mag_srcptr remainder() const { return rem_; }
+
+  // The length becomes n; new coefficients are zero. The remainder is kept.
+  void resize(slong n) {
+    if (n > alloc_) {
+      const slong grown = std::max<slong>(n, 2 * alloc_);
+      arb_ptr c = _arb_vec_init(grown);
+      if (c_) {
+        _arb_vec_swap(c, c_, len_);
+        _arb_vec_clear(c_, alloc_);
+      }
+      c_ = c;
+      alloc_ = grown;
+    }
+    for (slong k = len_; k < n; ++k) arb_zero(c_ + k);
+    len_ = n;
+  }
+  void set_zero() {
+    len_ = 0;
+    mag_zero(rem_);
+  }
+  void set_constant(const ball& x) {
+    resize(1);
+    arb_set(c_, x.get());
+    mag_zero(rem_);
+  }
+  // True when the model is the zero function (no coefficient, no remainder).
+  bool is_zero() const { return len_ == 0 && mag_is_zero(rem_); }
+
+ private:
+  arb_ptr c_ = nullptr;
+  slong len_ = 0, alloc_ = 0;
+  mag_t rem_;
+};
+
+// sum_k |c_k| (an upper bound; coefficients k >= first only).
+inline void coefficient_magnitude(mag_t out, const chebyshev_model& a, slong first = 0) {
+  mag_t t;
+  mag_init(t);
+  mag_zero(out);
+  for (slong k = first; k < a.length(); ++k) {
+    arb_get_mag(t, a.coeff(k));
+    mag_add(out, out, t);
+  }
+  mag_clear(t);
+}
+
+// An upper bound of sup |f| on [-1, 1]: sum |c_k| + rem.
+inline void sup_bound(mag_t out, const chebyshev_model& a) {
+  coefficient_magnitude(out, a);
+  mag_add(out, out, a.remainder());
+}
+
+// A ball that holds f(s) for every s in [-1, 1]: c_0 widened by the rest.
+inline void range_of(ball& out, const chebyshev_model& a) {
+  mag_t rest;
+  mag_init(rest);
+  coefficient_magnitude(rest, a, 1);
+  mag_add(rest, rest, a.remainder());
+  if (a.length() > 0)
+    arb_set(out.get(), a.coeff(0));
+  else
+    arb_zero(out.get());
+  arb_add_error_mag(out.get(), rest);
+  mag_clear(rest);
+}
+
+// acc += b.
+inline void add_to(chebyshev_model& acc, const chebyshev_model& b, slong prec) {
+  if (b.length() > acc.length()) acc.resize(b.length());
+  for (slong k = 0; k < b.length(); ++k) arb_add(acc.coeff(k), acc.coeff(k), b.coeff(k), prec);
+  mag_add(acc.remainder(), acc.remainder(), b.remainder());
+}
+
+// acc -= b.
+inline void subtract_from(chebyshev_model& acc, const chebyshev_model& b, slong prec) {
+  if (b.length() > acc.length()) acc.resize(b.length());
+  for (slong k = 0; k < b.length(); ++k) arb_sub(acc.coeff(k), acc.coeff(k), b.coeff(k), prec);
+  mag_add(acc.remainder(), acc.remainder(), b.remainder());
+}
+
+inline void negate(chebyshev_model& a) {
+  for (slong k = 0; k < a.length(); ++k) arb_neg(a.coeff(k), a.coeff(k));
+}
+
+// a *= x (a number).
+inline void scale(chebyshev_model& a, const ball& x, slong prec) {
+  for (slong k = 0; k < a.length(); ++k) arb_mul(a.coeff(k), a.coeff(k), x.get(), prec);
+  mag_t m;
+  mag_init(m);
+  arb_get_mag(m, x.get());
+  mag_mul(a.remainder(), a.remainder(), m);
+  mag_clear(m);
+}
+
+// x = n 2^e exactly.
+inline void set_fmpz_2exp(arf_t x, const fmpz_t n, slong e) {
+  arf_set_fmpz(x, n);
+  arf_mul_2exp_si(x, x, e);
+}
+
+// A polynomial with integer coefficients, freed with its owner (scratch kept per thread).
+struct integer_poly {
+  integer_poly() { fmpz_poly_init(p); }
+  ~integer_poly() { fmpz_poly_clear(p); }
+  integer_poly(integer_poly&& o) noexcept {
+    fmpz_poly_init(p);
+    fmpz_poly_swap(p, o.p);
+  }
+  integer_poly& operator=(integer_poly&& o) noexcept {
+    fmpz_poly_swap(p, o.p);
+    return *this;
+  }
+  integer_poly(const integer_poly&) = delete;
+  integer_poly& operator=(const integer_poly&) = delete;
+  fmpz_poly_t p;
+};
+
+// A model's coefficients on the binary grid 2^e: the integers n_k = trunc(mid(c_k) 2^-e), and in
+// `moved` the sum of the distances to the grid plus the radii, sum_k (rad c_k + |c_k - n_k 2^e|),
+// which bounds |f - 2^e sum n_k T_k| beyond the model's own remainder (|T_k| <= 1).
+inline void to_grid(fmpz_poly_t n, mag_t moved, const chebyshev_model& a, slong e) {
+  fmpz_poly_fit_length(n, a.length());
+  arf_t step, d;
+  arf_init(step);
+  arf_init(d);
+  mag_t m;
+  mag_init(m);
+  mag_zero(moved);
+  for (slong k = 0; k < a.length(); ++k) {
+    fmpz* nk = n->coeffs + k;
+    if (arf_get_fmpz_fixed_si(nk, arb_midref(a.coeff(k)), e)) {
+      set_fmpz_2exp(step, nk, e);
+      arf_sub(d, arb_midref(a.coeff(k)), step, ARF_PREC_EXACT, ARF_RND_DOWN);
+      arf_get_mag(m, d);
+      mag_add(moved, moved, m);
+    }
+    mag_add(moved, moved, arb_radref(a.coeff(k)));
+  }
+  _fmpz_poly_set_length(n, a.length());
+  _fmpz_poly_normalise(n);
+  mag_clear(m);
+  arf_clear(step);
+  arf_clear(d);
+}
+
+// The exponent of the grid with `bits` bits below the largest midpoint of a (0 for zero).
+inline slong grid_exponent(const chebyshev_model& a, slong bits) {
+  slong top = WORD_MIN;
+  for (slong k = 0; k < a.length(); ++k)
+    if (!arf_is_zero(arb_midref(a.coeff(k)))) top = std::max(top, arf_abs_bound_lt_2exp_si(arb_midref(a.coeff(k))));
+  return top == WORD_MIN ? 0 : top - bits;
+}
+
+// sum_k |n_k| 2^e, rounded up.
+inline void grid_magnitude(mag_t out, const fmpz_poly_t n, slong e) {
+  mag_t t;
+  mag_init(t);
+  mag_zero(out);
+  for (slong k = 0; k < n->length; ++k) {
+    mag_set_fmpz(t, n->coeffs + k);
+    mag_add(out, out, t);
+  }
+  mag_mul_2exp_si(out, out, e);
+  mag_clear(t);
+}
+
+// 2 c = A * B + (the sums over |i - j| = k), exactly in integers: c on the grid 2^(ea + eb - 1).
+inline void grid_product(fmpz_poly_t c, const fmpz_poly_t A, const fmpz_poly_t B) {
+  const slong la = A->length, lb = B->length;
+  if (la == 0 || lb == 0) {
+    fmpz_poly_zero(c);
+    return;
+  }
+  thread_local integer_poly scratch_diff, scratch_rev;
+  fmpz_poly_struct* diff = scratch_diff.p;
+  fmpz_poly_struct* rev = scratch_rev.p;
+  fmpz_poly_mul(c, A, B);
+  fmpz_poly_reverse(rev, B, lb);
+  fmpz_poly_mul(diff, A, rev);  // diff[l] = sum over i - j = l - (lb - 1) of A_i B_j
+  const slong n = la + lb - 1;
+  fmpz_poly_fit_length(c, n);
+  for (slong k = c->length; k < n; ++k) fmpz_zero(c->coeffs + k);
+  _fmpz_poly_set_length(c, n);
+  for (slong k = 0; k < n; ++k) {
+    const slong up = lb - 1 + k, down = lb - 1 - k;
+    if (k < la && up < diff->length) fmpz_add(c->coeffs + k, c->coeffs + k, diff->coeffs + up);
+    if (k > 0 && down >= 0 && down < diff->length) fmpz_add(c->coeffs + k, c->coeffs + k, diff->coeffs + down);
+  }
+  _fmpz_poly_normalise(c);
+}
+
+// The model of 2^e sum n_k T_k (exact coefficients) with remainder `rem`.
+inline void from_grid(chebyshev_model& out, const fmpz_poly_t n, slong e, const mag_t rem) {
+  out.resize(n->length);
+  for (slong k = 0; k < n->length; ++k) {
+    set_fmpz_2exp(arb_midref(out.coeff(k)), n->coeffs + k, e);
+    mag_zero(arb_radref(out.coeff(k)));
+  }
+  mag_set(out.remainder(), rem);
+}
+
+// out = a b (out distinct from a and b), `bits` bits below each factor's largest coefficient:
+// each factor is moved to its grid (the distance and its radii into its remainder: to_grid), the
+// product is then exact in integers (FLINT's polynomial products), and the remainder
+// |(p + e)(q + d) - p q| <= sup|p| |d| + |e| (sup|q| + |d|).
+inline void multiply(chebyshev_model& out, const chebyshev_model& a, const chebyshev_model& b, slong bits) {
+  if (a.is_zero() || b.is_zero()) {
+    out.set_zero();
+    return;
+  }
+  // A constant factor (one coefficient, no remainder): a scaling, in balls at bits + 64.
+  if (b.length() == 1 && mag_is_zero(b.remainder())) {
+    out = a;
+    ball x;
+    arb_set(x.get(), b.coeff(0));
+    scale(out, x, bits + 64);
+    return;
+  }
+  if (a.length() == 1 && mag_is_zero(a.remainder())) {
+    multiply(out, b, a, bits);
+    return;
+  }
+  thread_local integer_poly scratch_a, scratch_b, scratch_c;
+  fmpz_poly_struct *A = scratch_a.p, *B = scratch_b.p, *C = scratch_c.p;
+  const slong ea = grid_exponent(a, bits), eb = grid_exponent(b, bits);
+  mag_t ra, rb, Am, Bm, t;
+  mag_init(ra);
+  mag_init(rb);
+  mag_init(Am);
+  mag_init(Bm);
+  mag_init(t);
+  to_grid(A, ra, a, ea);
+  to_grid(B, rb, b, eb);
+  mag_add(ra, ra, a.remainder());
+  mag_add(rb, rb, b.remainder());
+  grid_magnitude(Am, A, ea);
+  grid_magnitude(Bm, B, eb);
+  grid_product(C, A, B);
+  mag_add(t, Bm, rb);
+  mag_mul(t, t, ra);
+  mag_addmul(t, Am, rb);
+  from_grid(out, C, ea + eb - 1, t);
+  mag_clear(ra);
+  mag_clear(rb);
+  mag_clear(Am);
+  mag_clear(Bm);
+  mag_clear(t);
+}
+
+// out = hl int_{-1}^s a (out distinct from a): b_1 = a_0 - a_2/2, b_k = (a_{k-1} - a_{k+1})/(2k)
+// for k >= 2, b_0 such that the integral vanishes at -1; the remainder times 2 |hl|.
+inline void integrate(chebyshev_model& out, const chebyshev_model& a, const ball& hl, slong prec) {
+  const slong n = a.length();
+  out.resize(n + 1);
+  ball t;
+  auto coeff = [&](slong k) -> arb_srcptr { return k < n ? a.coeff(k) : nullptr; };
+  arb_zero(out.coeff(0));
+  for (slong k = 1; k <= n; ++k) {
+    arb_ptr b = out.coeff(k);
+    if (coeff(k - 1)) arb_set(b, coeff(k - 1)); else arb_zero(b);
+    if (k == 1) {
+      if (coeff(2)) {
+        arb_mul_2exp_si(t.get(), coeff(2), -1);
+        arb_sub(b, b, t.get(), prec);
+      }
+    } else {
+      if (coeff(k + 1)) arb_sub(b, b, coeff(k + 1), prec);
+      arb_div_ui(b, b, static_cast<ulong>(2 * k), prec);
+    }
+    if (k % 2)
+      arb_add(out.coeff(0), out.coeff(0), b, prec);
+    else
+      arb_sub(out.coeff(0), out.coeff(0), b, prec);
+  }
+  for (slong k = 0; k <= n; ++k) arb_mul(out.coeff(k), out.coeff(k), hl.get(), prec);
+  mag_t m;
+  mag_init(m);
+  arb_get_mag(m, hl.get());
+  mag_mul(out.remainder(), a.remainder(), m);
+  mag_mul_2exp_si(out.remainder(), out.remainder(), 1);
+  mag_clear(m);
+}
+
+// T_0(s), ..., T_{n-1}(s) at a point s in [-1, 1] (a ball, intersected with [-1, 1] first), from
+// the three-term recurrence, each intersected with [-1, 1] (where the exact value lies) once its
+// ball reaches beyond: the recurrence's widths grow like 2.4^k, but they multiply coefficients
+// that decay faster (Clenshaw's algorithm would instead multiply the coefficients' own widths).
+class chebyshev_values {
+ public:
+  chebyshev_values(slong n, const ball& s, slong prec) : n_(n), T_(_arb_vec_init(n)) {
+    ball unit, x;
+    arb_zero_pm_one(unit.get());
+    if (!arb_intersection(x.get(), s.get(), unit.get(), prec)) arb_set(x.get(), unit.get());
+    for (slong k = 0; k < n; ++k) {
+      if (k == 0) {
+        arb_one(T_);
+      } else if (k == 1) {
+        arb_set(T_ + 1, x.get());
+      } else {
+        arb_mul(T_ + k, T_ + k - 1, x.get(), prec);
+        arb_mul_2exp_si(T_ + k, T_ + k, 1);
+        arb_sub(T_ + k, T_ + k, T_ + k - 2, prec);
+        if (!arb_contains(unit.get(), T_ + k)) arb_intersection(T_ + k, T_ + k, unit.get(), prec);
+      }
+    }
+  }
+  ~chebyshev_values() { _arb_vec_clear(T_, n_); }
+  chebyshev_values(const chebyshev_values&) = delete;
+  chebyshev_values& operator=(const chebyshev_values&) = delete;
+
+  slong length() const { return n_; }
+  arb_srcptr get() const { return T_; }
+
+ private:
+  slong n_;
+  arb_ptr T_;
+};
+
+// f(s) enclosed from the values T_k(s) (at least a's length of them); the remainder included.
+inline void evaluate(ball& out, const chebyshev_model& a, const chebyshev_values& T, slong prec) {
+  const slong n = a.length();
+  if (n == 0)
+    arb_zero(out.get());
+  else
+    arb_dot(out.get(), nullptr, 0, a.coeffs(), 1, T.get(), 1, n, prec);
+  arb_add_error_mag(out.get(), a.remainder());
+}
+
+// f(s) enclosed, s in [-1, 1] (a ball); the remainder included.
+inline void evaluate(ball& out, const chebyshev_model& a, const ball& s, slong prec) {
+  const chebyshev_values T(std::max<slong>(a.length(), 1), s, prec);
+  evaluate(out, a, T, prec);
+}
+
+// The coefficients at `prec` bits (their rounding goes into their radii).
+inline void round_coefficients(chebyshev_model& a, slong prec) {
+  for (slong k = 0; k < a.length(); ++k) arb_set_round(a.coeff(k), a.coeff(k), prec);
+}
+
+// Drops the coefficients from `length` on into the remainder (|T_k| <= 1).
+inline void truncate(chebyshev_model& a, slong length) {
+  if (length >= a.length()) return;
+  mag_t tail;
+  mag_init(tail);
+  coefficient_magnitude(tail, a, length);
+  mag_add(a.remainder(), a.remainder(), tail);
+  mag_clear(tail);
+  a.resize(length);
+}
+
+// Drops the trailing coefficients whose magnitudes sum to at most `level` into the remainder.
+inline void truncate_below(chebyshev_model& a, const mag_t level) {
+  mag_t tail, t;
+  mag_init(tail);
+  mag_init(t);
+  slong keep = a.length();
+  while (keep > 1) {
+    arb_get_mag(t, a.coeff(keep - 1));
+    mag_add(t, tail, t);
+    if (mag_cmp(t, level) > 0) break;
+    mag_swap(tail, t);
+    --keep;
+  }
+  if (keep < a.length()) {
+    mag_add(a.remainder(), a.remainder(), tail);
+    a.resize(keep);
+  }
+  mag_clear(tail);
+  mag_clear(t);
+}
+
+}  // namespace eulervop::detail

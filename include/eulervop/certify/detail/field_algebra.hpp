@@ -1,0 +1,418 @@
+// The number types a problem's field is evaluated in by the general path of --certify
+// (certification_model.hpp), each with the derivatives it needs, and the evaluation of a formula
+// (model/expression.hpp) in them.
+//
+//   - series_algebra: Chebyshev models of a segment (chebyshev_model.hpp) with their first
+//     partial derivatives by the state (forward mode): the field along P and its Jacobian J.
+//   - box_algebra: balls with first and second partial derivatives: the field and its Hessian
+//     over a box of states, for the quadratic remainder c(R) and the bound of |F| over the tube.
+//
+// A formula's constant subexpressions are folded into one ball each, evaluated by Arb's
+// functions (sin, cos, exp, log, sqrt enclose the exact value); every operation on a variable is
+// a ring operation, a division by a constant, or a power with an exponent >= 0, so the formula is
+// a polynomial in the variables (polynomial_formula below says which formulas are). Anything else
+// on a variable throws not_polynomial; a function undefined on a constant's ball (the log of a
+// ball that reaches 0) throws undefined_formula: neither is ever a bound.
+#pragma once
+
+#include <eulervop/certify/ball.hpp>
+#include <eulervop/certify/detail/chebyshev_model.hpp>
+#include <eulervop/model/expression.hpp>
+
+#include <arb.h>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace eulervop {
+
+// A formula that is not a polynomial in the time and the state.
+struct not_polynomial : std::domain_error {
+  using std::domain_error::domain_error;
+};
+// A function undefined on the ball of its argument (log or sqrt of a ball reaching 0 or below,
+// a division by a ball that holds 0).
+struct undefined_formula : std::domain_error {
+  using std::domain_error::domain_error;
+};
+
+// Why the formula is not a polynomial in its variables ("sin of a variable"), or empty when it is:
+// its program applies a function, a division or a negative power only to constant operands.
+inline std::string polynomial_formula(const expression& e) {
+  std::vector<bool> constant;  // the stack: true where the entry depends on no variable
+  for (const expression_step& s : e.code) {
+    switch (s.op) {
+      case expression_op::constant:
+      case expression_op::pi: constant.push_back(true); break;
+      case expression_op::variable: constant.push_back(false); break;
+      case expression_op::add:
+      case expression_op::sub:
+      case expression_op::mul: {
+        const bool b = constant.back();
+        constant.pop_back();
+        constant.back() = constant.back() && b;
+        break;
+      }
+      case expression_op::div: {
+        const bool b = constant.back();
+        constant.pop_back();
+        if (!b) return "a division by a variable";
+        break;
+      }
+      case expression_op::neg: break;
+      case expression_op::pow:
+        if (s.arg < 0 && !constant.back()) return "a negative power of a variable";
+        break;
+      case expression_op::sin:
+      case expression_op::cos:
+      case expression_op::exp:
+      case expression_op::log:
+      case expression_op::sqrt:
+        if (!constant.back()) {
+          static const char* names[] = {"sin", "cos", "exp", "log", "sqrt"};
+          return std::string(names[static_cast<int>(s.op) - static_cast<int>(expression_op::sin)]) + " of a variable";
+        }
+        break;
+    }
+  }
+  return "";
+}
+
+namespace detail {
+
+// A segment's Chebyshev model and its partial derivatives by the state (an empty model where a
+// partial is zero).
+struct series_jet {
+  chebyshev_model f;
+  std::vector<chebyshev_model> d;
+};
+
+class series_algebra {
+ public:
+  using value = series_jet;
+  series_algebra(slong prec, std::size_t variables) : prec_(prec), n_(variables) {}
+
+  slong prec() const { return prec_; }
+  value constant(const ball& c) const {
+    value v;
+    v.f.set_constant(c);
+    v.d.resize(n_);
+    return v;
+  }
+  // Variable k (a state component) with the model `f`: its partial by itself is 1.
+  value variable(chebyshev_model f, std::size_t k) const {
+    value v;
+    v.f = std::move(f);
+    v.d.resize(n_);
+    v.d[k].set_constant(ball(1));
+    return v;
+  }
+  // A model with no partials (the time).
+  value independent(chebyshev_model f) const {
+    value v;
+    v.f = std::move(f);
+    v.d.resize(n_);
+    return v;
+  }
+  void add(value& a, const value& b) const {
+    add_to(a.f, b.f, prec_);
+    for (std::size_t k = 0; k < n_; ++k)
+      if (!b.d[k].is_zero()) add_to(a.d[k], b.d[k], prec_);
+  }
+  void sub(value& a, const value& b) const {
+    subtract_from(a.f, b.f, prec_);
+    for (std::size_t k = 0; k < n_; ++k)
+      if (!b.d[k].is_zero()) subtract_from(a.d[k], b.d[k], prec_);
+  }
+  void neg(value& a) const {
+    negate(a.f);
+    for (chebyshev_model& d : a.d) negate(d);
+  }
+  void scale(value& a, const ball& x) const {
+    eulervop::detail::scale(a.f, x, prec_);
+    for (chebyshev_model& d : a.d) eulervop::detail::scale(d, x, prec_);
+  }
+  // a = a b: (a b)' = a' b + a b'.
+  void mul(value& a, const value& b) const {
+    chebyshev_model t, u;
+    for (std::size_t k = 0; k < n_; ++k) {
+      const bool da = !a.d[k].is_zero(), db = !b.d[k].is_zero();
+      if (!da && !db) continue;
+      if (da) multiply(t, a.d[k], b.f, prec_); else t.set_zero();
+      if (db) {
+        multiply(u, a.f, b.d[k], prec_);
+        add_to(t, u, prec_);
+      }
+      a.d[k].swap(t);
+    }
+    multiply(t, a.f, b.f, prec_);
+    a.f.swap(t);
+  }
+
+ private:
+  slong prec_;
+  std::size_t n_;
+};
+
+// A ball with its gradient and Hessian by n variables (H row-major, n x n, symmetric).
+struct box_jet {
+  ball f;
+  std::vector<ball> g, H;
+};
+
+class box_algebra {
+ public:
+  using value = box_jet;
+  box_algebra(slong prec, std::size_t variables) : prec_(prec), n_(variables) {}
+
+  slong prec() const { return prec_; }
+  value constant(const ball& c) const {
+    value v;
+    v.f = c;
+    v.g.resize(n_);
+    v.H.resize(n_ * n_);
+    return v;
+  }
+  value variable(const ball& x, std::size_t k) const {
+    value v = constant(x);
+    arb_one(v.g[k].get());
+    return v;
+  }
+  value independent(const ball& x) const { return constant(x); }
+  void add(value& a, const value& b) const {
+    arb_add(a.f.get(), a.f.get(), b.f.get(), prec_);
+    for (std::size_t k = 0; k < n_; ++k) arb_add(a.g[k].get(), a.g[k].get(), b.g[k].get(), prec_);
+    for (std::size_t k = 0; k < n_ * n_; ++k) arb_add(a.H[k].get(), a.H[k].get(), b.H[k].get(), prec_);
+  }
+  void sub(value& a, const value& b) const {
+    arb_sub(a.f.get(), a.f.get(), b.f.get(), prec_);
+    for (std::size_t k = 0; k < n_; ++k) arb_sub(a.g[k].get(), a.g[k].get(), b.g[k].get(), prec_);
+    for (std::size_t k = 0; k < n_ * n_; ++k) arb_sub(a.H[k].get(), a.H[k].get(), b.H[k].get(), prec_);
+  }
+  void neg(value& a) const {
+    arb_neg(a.f.get(), a.f.get());
+    for (ball& x : a.g) arb_neg(x.get(), x.get());
+    for (ball& x : a.H) arb_neg(x.get(), x.get());
+  }
+  void scale(value& a, const ball& x) const {
+    arb_mul(a.f.get(), a.f.get(), x.get(), prec_);
+    for (ball& y : a.g) arb_mul(y.get(), y.get(), x.get(), prec_);
+    for (ball& y : a.H) arb_mul(y.get(), y.get(), x.get(), prec_);
+  }
+  // a = a b: H(ab) = a H(b) + b H(a) + grad a grad b^T + grad b grad a^T.
+  void mul(value& a, const value& b) const {
+    ball t;
+    for (std::size_t i = 0; i < n_; ++i)
+      for (std::size_t j = 0; j < n_; ++j) {
+        arb_ptr h = a.H[i * n_ + j].get();
+        arb_mul(h, h, b.f.get(), prec_);
+        arb_addmul(h, a.f.get(), b.H[i * n_ + j].get(), prec_);
+        arb_addmul(h, a.g[i].get(), b.g[j].get(), prec_);
+        arb_addmul(h, b.g[i].get(), a.g[j].get(), prec_);
+      }
+    for (std::size_t k = 0; k < n_; ++k) {
+      arb_mul(t.get(), a.g[k].get(), b.f.get(), prec_);
+      arb_addmul(t.get(), a.f.get(), b.g[k].get(), prec_);
+      std::swap(a.g[k], t);
+    }
+    arb_mul(a.f.get(), a.f.get(), b.f.get(), prec_);
+  }
+
+ private:
+  slong prec_;
+  std::size_t n_;
+};
+
+// The variables a formula reads, in an algebra: the scene's time, its state (three) and, for a
+// body with an attitude, q0..q3.
+template <class Algebra>
+struct formula_variables {
+  const typename Algebra::value* time = nullptr;
+  std::array<const typename Algebra::value*, 3> state{};
+  std::array<const typename Algebra::value*, 4> attitude{};
+};
+
+// A formula compiled for the general path: its program, each constant enclosed at `prec`.
+class ball_formula {
+ public:
+  ball_formula() = default;
+  ball_formula(const expression& e, slong prec) : source_(&e) {
+    constants_.reserve(e.constants.size());
+    for (const std::string& c : e.constants) constants_.push_back(decimal_ball(c, prec));
+    arb_const_pi(pi_.get(), prec);
+  }
+
+  const expression& source() const { return *source_; }
+  bool is_constant() const { return source_->is_constant(); }
+
+  // The formula's value in the algebra (throws not_polynomial, undefined_formula).
+  template <class Algebra>
+  typename Algebra::value operator()(const Algebra& alg, const formula_variables<Algebra>& vars) const;
+  // The value of a constant formula.
+  ball constant_value(slong prec) const;
+
+ private:
+  template <class Value>
+  struct slot {
+    bool constant = true;
+    ball c;
+    Value v{};
+  };
+  void apply_function(expression_op op, ball& x, slong prec) const;
+  static void power(ball& x, std::int32_t n, slong prec);
+
+  const expression* source_ = nullptr;
+  std::vector<ball> constants_;
+  ball pi_;
+};
+
+inline void ball_formula::power(ball& x, std::int32_t n, slong prec) {
+  if (n >= 0) {
+    arb_pow_ui(x.get(), x.get(), static_cast<ulong>(n), prec);
+  } else {
+    arb_pow_ui(x.get(), x.get(), static_cast<ulong>(-static_cast<long>(n)), prec);
+    arb_inv(x.get(), x.get(), prec);
+  }
+}
+
+inline void ball_formula::apply_function(expression_op op, ball& x, slong prec) const {
+  const auto undefined = [&](const char* why) {
+    return undefined_formula("`" + source_->text + "`: " + why);
+  };
+  switch (op) {
+    case expression_op::sin: arb_sin(x.get(), x.get(), prec); break;
+    case expression_op::cos: arb_cos(x.get(), x.get(), prec); break;
+    case expression_op::exp: arb_exp(x.get(), x.get(), prec); break;
+    case expression_op::log:
+      if (!arb_is_positive(x.get())) throw undefined("the log of a number that is not certainly positive");
+      arb_log(x.get(), x.get(), prec);
+      break;
+    default:
+      if (!arb_is_nonnegative(x.get())) throw undefined("the square root of a number that is not certainly >= 0");
+      arb_sqrt(x.get(), x.get(), prec);
+      break;
+  }
+  if (!arb_is_finite(x.get())) throw undefined("a value that is not finite");
+}
+
+template <class Algebra>
+typename Algebra::value ball_formula::operator()(const Algebra& alg, const formula_variables<Algebra>& vars) const {
+  using value = typename Algebra::value;
+  const slong prec = alg.prec();
+  std::vector<slot<value>> stack;
+  stack.reserve(source_->stack_depth);
+  const auto as_value = [&](slot<value>& s) -> value& {
+    if (s.constant) {
+      s.v = alg.constant(s.c);
+      s.constant = false;
+    }
+    return s.v;
+  };
+  for (const expression_step& step : source_->code) {
+    switch (step.op) {
+      case expression_op::constant:
+        stack.push_back({true, constants_[static_cast<std::size_t>(step.arg)], value{}});
+        break;
+      case expression_op::pi: stack.push_back({true, pi_, value{}}); break;
+      case expression_op::variable: {
+        const value* v = step.arg == expression::time_slot ? vars.time
+                         : step.arg <= expression::state_slots
+                             ? vars.state[static_cast<std::size_t>(step.arg - 1)]
+                             : vars.attitude[static_cast<std::size_t>(step.arg - expression::attitude_slot)];
+        if (!v) throw std::logic_error("ball_formula: `" + source_->text + "` names a variable that is not given");
+        stack.push_back({false, ball(), *v});
+        break;
+      }
+      case expression_op::add:
+      case expression_op::sub:
+      case expression_op::mul:
+      case expression_op::div: {
+        slot<value> b = std::move(stack.back());
+        stack.pop_back();
+        slot<value>& a = stack.back();
+        if (a.constant && b.constant) {
+          switch (step.op) {
+            case expression_op::add: arb_add(a.c.get(), a.c.get(), b.c.get(), prec); break;
+            case expression_op::sub: arb_sub(a.c.get(), a.c.get(), b.c.get(), prec); break;
+            case expression_op::mul: arb_mul(a.c.get(), a.c.get(), b.c.get(), prec); break;
+            default:
+              if (arb_contains_zero(b.c.get()))
+                throw undefined_formula("`" + source_->text + "`: a division by a number that may be 0");
+              arb_div(a.c.get(), a.c.get(), b.c.get(), prec);
+              break;
+          }
+          break;
+        }
+        if (step.op == expression_op::div) {
+          if (!b.constant) throw not_polynomial("`" + source_->text + "`: a division by a variable");
+          if (arb_contains_zero(b.c.get()))
+            throw undefined_formula("`" + source_->text + "`: a division by a number that may be 0");
+          arb_inv(b.c.get(), b.c.get(), prec);
+          alg.scale(as_value(a), b.c);
+        } else if (step.op == expression_op::mul && b.constant) {
+          alg.scale(a.v, b.c);
+        } else if (step.op == expression_op::mul && a.constant) {
+          alg.scale(b.v, a.c);
+          a.v = std::move(b.v);
+          a.constant = false;
+        } else if (step.op == expression_op::mul) {
+          alg.mul(a.v, b.v);
+        } else if (step.op == expression_op::add) {
+          alg.add(as_value(a), as_value(b));
+        } else {
+          alg.sub(as_value(a), as_value(b));
+        }
+        break;
+      }
+      case expression_op::neg:
+        if (stack.back().constant)
+          arb_neg(stack.back().c.get(), stack.back().c.get());
+        else
+          alg.neg(stack.back().v);
+        break;
+      case expression_op::pow: {
+        slot<value>& a = stack.back();
+        if (a.constant) {
+          if (step.arg < 0 && arb_contains_zero(a.c.get()))
+            throw undefined_formula("`" + source_->text + "`: a negative power of a number that may be 0");
+          power(a.c, step.arg, prec);
+          break;
+        }
+        if (step.arg < 0) throw not_polynomial("`" + source_->text + "`: a negative power of a variable");
+        if (step.arg == 0) {
+          a.constant = true;
+          a.c = ball(1);
+          break;
+        }
+        const value base = a.v;
+        for (std::int32_t k = 1; k < step.arg; ++k) alg.mul(a.v, base);
+        break;
+      }
+      default: {
+        slot<value>& a = stack.back();
+        if (!a.constant) {
+          static const char* names[] = {"sin", "cos", "exp", "log", "sqrt"};
+          throw not_polynomial("`" + source_->text + "`: " +
+                               names[static_cast<int>(step.op) - static_cast<int>(expression_op::sin)] +
+                               " of a variable");
+        }
+        apply_function(step.op, a.c, prec);
+        break;
+      }
+    }
+  }
+  return std::move(as_value(stack.back()));
+}
+
+inline ball ball_formula::constant_value(slong prec) const {
+  box_algebra alg(prec, 0);
+  return (*this)(alg, formula_variables<box_algebra>{}).f;
+}
+
+}  // namespace detail
+}  // namespace eulervop

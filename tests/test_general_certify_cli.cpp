@@ -1,0 +1,294 @@
+// `eulervop reference --certify` on the general path (docs/certified.md, "The general path"):
+// every row's radii against independent oracles, the rows themselves those of the plain run, the
+// same bytes on any number of threads, mpfr:256, breakpoints at irrational times, and the scenes
+// it still refuses.
+//
+// Truth: tests/data/general_oracles/ (tools/oracles/coupled_taylor.py, Taylor series in mpmath at
+// 45 and 70 digits, and tools/oracles/b5_closed_form.py, Jacobi's functions in mpmath at 90
+// digits, each file's header giving its command and the agreement of its runs, 1e-42 relative or
+// better) and tests/data/coupled_oracles/pd_law.csv. Errors are measured in MPFR at 256 bits, far
+// below the quad rows' rounding (about 1e-34 relative).
+//
+// What must hold: each row's true error lies inside its radius (radius_omega in rad/s or radius of
+// y, and radius_q of the quaternion), and the largest radius is at most 1e-29 times
+// max(1, |y|) and at most 30 times the largest true error, or within 1000 ulps (quad) of the
+// printed values where the true error is smaller still.
+#include "cli_test_support.hpp"
+
+#include <eulervop/core/scalar.hpp>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace eulervop::cli_test;
+using eulervop::mpfr_real;
+
+// A CSV file as written by `reference` or by an oracle: '#' lines, a header, rows of cells.
+struct table {
+  std::vector<std::string> meta, header;
+  std::vector<std::vector<std::string>> rows;
+
+  std::optional<std::size_t> column(const std::string& name) const {
+    const auto it = std::find(header.begin(), header.end(), name);
+    if (it == header.end()) return std::nullopt;
+    return static_cast<std::size_t>(it - header.begin());
+  }
+  std::string meta_value(const std::string& key) const {
+    for (const std::string& l : meta)
+      if (l.starts_with("# " + key + ": ")) return l.substr(key.size() + 4);
+    return "";
+  }
+};
+
+table read_table(const fs::path& path) {
+  table t;
+  for (const std::string& l : lines_of(read_file(path))) {
+    if (l.empty()) continue;
+    if (l[0] == '#') t.meta.push_back(l);
+    else if (t.header.empty()) t.header = cells_of(l);
+    else t.rows.push_back(cells_of(l));
+  }
+  return t;
+}
+
+mpfr_real number(const std::string& text) { return *eulervop::from_text<mpfr_real>(text); }
+
+struct oracle_case {
+  const char* label;
+  const char* scene;   // under the source directory
+  std::vector<std::string> args;
+  const char* oracle;  // under tests/data
+  bool coefficient;    // the state is y (radius), not omega (radius_omega)
+};
+
+// The worst true error and the largest radius of one group of columns, with every row checked.
+struct group_result {
+  mpfr_real error = 0, radius = 0, size = 0;
+  std::size_t rows = 0;
+};
+
+group_result check_group(const table& ref, const table& oracle, const std::vector<std::string>& names,
+                         const std::string& radius_name, const std::string& label) {
+  group_result g;
+  const std::size_t rc = *ref.column(radius_name);
+  std::map<std::string, const std::vector<std::string>*> by_time;
+  for (const auto& row : oracle.rows) by_time[row[0]] = &row;
+  const std::size_t time = 0;
+  for (const auto& row : ref.rows) {
+    const mpfr_real t = number(row[time]);
+    const std::vector<std::string>* truth = nullptr;
+    for (const auto& [text, r] : by_time)
+      if (number(text) == t) truth = r;
+    if (!truth) continue;
+    mpfr_real e2 = 0;
+    for (const std::string& n : names) {
+      const mpfr_real d = number(row[*ref.column(n)]) - number((*truth)[*oracle.column(n)]);
+      e2 += d * d;
+      g.size = std::max(g.size, mpfr_real(abs(number(row[*ref.column(n)]))));
+    }
+    const mpfr_real error = sqrt(e2), radius = number(row[rc]);
+    EXPECT_LE(error, radius) << label << ": " << radius_name << " at t = " << row[time] << " misses the truth";
+    g.error = std::max(g.error, error);
+    g.radius = std::max(g.radius, radius);
+    ++g.rows;
+  }
+  return g;
+}
+
+// The tightness the general path promises (see the header).
+void expect_tight(const group_result& g, const std::string& what) {
+  const mpfr_real one = 1;
+  EXPECT_LE(g.radius, mpfr_real("1e-29") * std::max(one, g.size)) << what;
+  const mpfr_real ulps = 1000 * mpfr_real(std::ldexp(1.0, -112)) * std::max(one, g.size);
+  EXPECT_TRUE(g.radius <= 30 * g.error || g.radius <= ulps)
+      << what << ": radius " << g.radius << " against a true error of " << g.error;
+}
+
+class GeneralOracle : public ::testing::TestWithParam<oracle_case> {};
+
+TEST_P(GeneralOracle, EveryRowInsideItsRadiiAndTheRadiiTight) {
+  const eulervop::mpfr_precision_scope scope(256);
+  const oracle_case& c = GetParam();
+  temp_dir dir;
+  std::vector<std::string> args = {"reference", source_dir + "/" + c.scene, "--certify", "--out", "c.csv"};
+  args.insert(args.end(), c.args.begin(), c.args.end());
+  const run_result r = run(dir.path(), args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const table ref = read_table(dir.path() / "c.csv");
+  const table oracle = read_table(source_dir + "/tests/data/" + c.oracle);
+  const std::vector<std::string> state = c.coefficient ? std::vector<std::string>{"y1", "y2", "y3"}
+                                                       : std::vector<std::string>{"omega1", "omega2", "omega3"};
+  const group_result rates = check_group(ref, oracle, state, c.coefficient ? "radius" : "radius_omega", c.label);
+  EXPECT_GE(rates.rows, 4u) << c.label << ": the rows checked";
+  expect_tight(rates, std::string(c.label) + " rates");
+  if (ref.column("radius_q")) {
+    const group_result q = check_group(ref, oracle, {"q0", "q1", "q2", "q3"}, "radius_q", c.label);
+    expect_tight(q, std::string(c.label) + " q");
+    EXPECT_EQ(number(ref.meta_value("certified_max_error_q")), q.radius) << c.label;
+  }
+  EXPECT_NE(ref.meta_value("certify_method").find("general path"), std::string::npos) << c.label;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, GeneralOracle,
+    ::testing::Values(
+        oracle_case{"b5", "data/scenes/problems/enright-pryce-b5.toml", {"--samples", "11"}, "general_oracles/b5.csv",
+                    true},
+        oracle_case{"damped_ordered", "tests/scenes/general/damped_ordered.toml", {},
+                    "general_oracles/damped_ordered.csv", false},
+        oracle_case{"damped_unordered", "tests/scenes/general/damped_unordered.toml", {},
+                    "general_oracles/damped_unordered.csv", false},
+        oracle_case{"axisymmetric", "data/scenes/axisymmetric.toml", {"--samples", "7"},
+                    "general_oracles/axisymmetric_attitude.csv", false},
+        oracle_case{"near_symmetric", "data/scenes/hard/near-symmetric.toml", {"--samples", "7"},
+                    "general_oracles/near_symmetric.csv", false},
+        oracle_case{"free_attitude", "tests/scenes/general/free_attitude.toml", {},
+                    "general_oracles/free_attitude.csv", false},
+        oracle_case{"constant_attitude", "data/scenes/spacecraft-attitude.toml", {"--samples", "7"},
+                    "general_oracles/constant_attitude.csv", false},
+        oracle_case{"axisymmetric_attitude", "tests/scenes/general/axisymmetric_attitude.toml", {},
+                    "general_oracles/axisymmetric_attitude.csv", false},
+        oracle_case{"unordered_attitude", "tests/scenes/general/unordered_attitude.toml", {},
+                    "general_oracles/unordered_attitude.csv", false},
+        oracle_case{"pd_law", "tests/scenes/general/pd_law.toml", {}, "coupled_oracles/pd_law.csv", false}),
+    [](const auto& info) { return std::string(info.param.label); });
+
+// The rows of a certified run are those of the plain run, cell for cell: the certificate only
+// appends radii.
+TEST(GeneralCertify, RowsAreThoseOfThePlainRun) {
+  temp_dir dir;
+  for (const char* scene : {"data/scenes/problems/enright-pryce-b5.toml", "data/scenes/attitude/pd-slew.toml",
+                            "data/scenes/hard/near-symmetric.toml"}) {
+    const std::string path = source_dir + "/" + scene;
+    ASSERT_EQ(run(dir.path(), {"reference", path, "--certify", "--samples", "13", "--out", "c.csv"}).exit_code, 0);
+    ASSERT_EQ(run(dir.path(), {"reference", path, "--samples", "13", "--out", "p.csv"}).exit_code, 0);
+    const table c = read_table(dir.path() / "c.csv"), p = read_table(dir.path() / "p.csv");
+    ASSERT_EQ(c.rows.size(), 13u) << scene;
+    ASSERT_EQ(p.rows.size(), c.rows.size()) << scene;
+    for (std::size_t i = 0; i < c.rows.size(); ++i) {
+      ASSERT_GT(c.rows[i].size(), p.rows[i].size()) << scene;
+      EXPECT_EQ(std::vector<std::string>(c.rows[i].begin(), c.rows[i].begin() + p.rows[i].size()), p.rows[i])
+          << scene << " row " << i;
+    }
+    // The header names the radii after the plain run's columns.
+    EXPECT_TRUE(std::equal(p.header.begin(), p.header.end(), c.header.begin())) << scene;
+  }
+}
+
+// The radii are the same bytes whatever the number of threads: on one core (no worker: all in the
+// integration's thread) and on the machine's.
+TEST(GeneralCertify, RadiiAreTheSameOnOneThreadAndOnSeveral) {
+  if (std::system("command -v taskset > /dev/null 2>&1") != 0) GTEST_SKIP() << "no taskset";
+  temp_dir dir;
+  const std::string scene = source_dir + "/data/scenes/attitude/pd-slew.toml";
+  ASSERT_EQ(run(dir.path(), {"reference", scene, "--certify", "--samples", "61", "--out", "a.csv"}).exit_code, 0);
+  const std::string one = "cd " + shell_quote(dir.path().string()) + " && taskset -c 0 " + shell_quote(binary) +
+                          " reference " + shell_quote(scene) + " --certify --samples 61 --out b.csv";
+  ASSERT_EQ(std::system(one.c_str()), 0);
+  const table a = read_table(dir.path() / "a.csv"), b = read_table(dir.path() / "b.csv");
+  EXPECT_EQ(a.rows, b.rows);
+  for (const char* key : {"certified_max_error", "certified_max_error_omega", "certified_max_error_q"})
+    EXPECT_EQ(a.meta_value(key), b.meta_value(key)) << key;
+}
+
+// mpfr:256 takes the same scenes, and its radii follow the precision.
+TEST(GeneralCertify, Mpfr256CertifiesFarBelowQuad) {
+  temp_dir dir;
+  for (const char* scene : {"data/scenes/problems/enright-pryce-b5.toml", "data/scenes/attitude/pd-slew.toml"}) {
+    const run_result r = run(dir.path(), {"reference", source_dir + "/" + scene, "--certify", "--precision",
+                                          "mpfr:256", "--t-end", "5", "--samples", "6", "--out", "m.csv"});
+    ASSERT_EQ(r.exit_code, 0) << scene << ": " << r.err;
+    const table t = read_table(dir.path() / "m.csv");
+    EXPECT_LT(std::strtod(t.meta_value("certified_max_error").c_str(), nullptr), 1e-70) << scene;
+    if (t.column("radius_q")) EXPECT_LT(std::strtod(t.meta_value("certified_max_error_q").c_str(), nullptr), 1e-70);
+  }
+}
+
+// A physical scene with polynomial pieces at decimal times: in tau = t dtau/dt each breakpoint is
+// irrational, so the reference's breakpoint (a quad number) and the exact one differ. The radius
+// covers the distance to an mpfr:256 run of the same scene (whose breakpoints are 2^-256 close to
+// the exact ones), and to the truth through it.
+TEST(GeneralCertify, PiecesAtIrrationalBreakpointsAreCrossed) {
+  const eulervop::mpfr_precision_scope scope(256);
+  temp_dir dir;
+  write_file(dir.path() / "s.toml", R"(name = "thrusts"
+[body]
+inertia = [100.0, 150.0, 200.0]
+[torque]
+M = [0.01, -0.02, "0.005 - 0.2*omega3"]
+[[torque.piece]]
+from = 100.1
+to = 300.7
+M = ["0.05 + 0.001*t", 0.0, "-0.3*omega3"]
+[initial]
+omega = [0.02, 0.1, 0.05]
+q = [1.0, 0.0, 0.0, 0.0]
+[span]
+t_end = 600.0
+samples = 13
+)");
+  const run_result c = run(dir.path(), {"reference", "s.toml", "--certify", "--out", "c.csv"});
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  ASSERT_EQ(run(dir.path(), {"reference", "s.toml", "--precision", "mpfr:256", "--out", "m.csv"}).exit_code, 0);
+  const table ref = read_table(dir.path() / "c.csv"), wide = read_table(dir.path() / "m.csv");
+  // The mpfr:256 run is about 1e-70 from the truth, far inside any radius here.
+  const group_result w = check_group(ref, wide, {"omega1", "omega2", "omega3"}, "radius_omega", "pieces");
+  const group_result q = check_group(ref, wide, {"q0", "q1", "q2", "q3"}, "radius_q", "pieces");
+  EXPECT_EQ(w.rows, 13u);
+  expect_tight(w, "pieces: rates");
+  expect_tight(q, "pieces: q");
+}
+
+// What the general path cannot take yet is refused before any computation, in one line naming the
+// formula (or the gravity gradient) and why.
+TEST(GeneralCertify, FormulasThatAreNotPolynomialsAreRefusedByName) {
+  temp_dir dir;
+  expect_one_line_error(run(dir.path(), {"reference", source_dir + "/data/scenes/problems/sciml-rigid-body.toml",
+                                         "--certify", "--out", "x.csv"}),
+                        "f3 = `0.25*sin(t)^2` is not a polynomial in the time and the state (sin of a variable)");
+  expect_one_line_error(run(dir.path(), {"reference",
+                                         source_dir + "/data/scenes/attitude/gravity-gradient-tumble.toml",
+                                         "--certify", "--out", "x.csv"}),
+                        "the gravity gradient");
+  write_file(dir.path() / "d.toml", R"toml(name = "d"
+[body]
+inertia = [100.0, 150.0, 200.0]
+[torque]
+M = ["-0.1*omega1/(1 + omega2^2)", 0.0, 0.0]
+[initial]
+omega = [0.02, 0.1, 0.05]
+[span]
+t_end = 10.0
+samples = 3
+)toml");
+  expect_one_line_error(run(dir.path(), {"reference", "d.toml", "--certify", "--out", "x.csv"}),
+                        "a division by a variable");
+  EXPECT_FALSE(fs::exists(dir.path() / "x.csv"));
+}
+
+// check against a certified file of a body in the direct form reads its radius_omega.
+TEST(GeneralCertify, CheckReadsTheDirectFormsRadius) {
+  temp_dir dir;
+  const std::string scene = source_dir + "/data/scenes/axisymmetric.toml";
+  ASSERT_EQ(run(dir.path(), {"reference", scene, "--certify", "--samples", "7", "--out", "ref.csv"}).exit_code, 0);
+  const table ref = read_table(dir.path() / "ref.csv");
+  EXPECT_EQ(ref.header, (std::vector<std::string>{"t", "omega1", "omega2", "omega3", "radius_omega"}));
+  std::string traj = "t,omega1,omega2,omega3\n";
+  for (const auto& row : ref.rows) traj += fmt::format("{},{},{},{}\n", row[0], row[1], row[2], row[3]);
+  write_file(dir.path() / "traj.csv", traj);
+  const run_result r = run(dir.path(), {"check", "ref.csv", "traj.csv", "--tol", "1e-20", "--format", "json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"certified_reference\": true"), std::string::npos) << r.out;
+}
+
+}  // namespace
