@@ -1,0 +1,488 @@
+// The kernels of the general path of --certify (include/eulervop/certify/: chebyshev_model.hpp,
+// ball_node_transform.hpp, field_algebra.hpp, certification_problem.hpp, ball_lohner_box.hpp),
+// tested as an adversary would: every enclosure must hold the exact value of every function the
+// model stands for, at random and extreme inputs.
+//
+// Truth: MPFR at 1000 bits (about 300 digits, so that its own rounding is far below any radius
+// here), evaluating the functions a model stands for directly: Chebyshev sums with coefficients
+// chosen at the ends of their balls, plus a function of size up to the remainder (rem sin(17 s + 1)).
+// Exact closed forms where there are some: the interpolant at the Lobatto nodes reproduces a
+// polynomial of its degree; the Hessian of Eq. 5 is constant.
+#include <eulervop/certify/ball.hpp>
+#include <eulervop/certify/certification_problem.hpp>
+#include <eulervop/certify/detail/ball_lohner_box.hpp>
+#include <eulervop/certify/detail/ball_node_transform.hpp>
+#include <eulervop/certify/detail/chebyshev_model.hpp>
+#include <eulervop/certify/detail/field_algebra.hpp>
+#include <eulervop/core/scalar.hpp>
+#include <eulervop/scene/expression_parser.hpp>
+#include <eulervop/scene/scene.hpp>
+#include <eulervop/scene/scene_certification_problem.hpp>
+#include <eulervop/scene/scene_problem.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using eulervop::ball;
+using eulervop::mag_value;
+using eulervop::mpfr_real;
+using eulervop::detail::chebyshev_model;
+
+constexpr unsigned truth_bits = 1000;
+
+mpfr_real to_mpfr(const arf_t x) {
+  mpfr_real out;
+  arf_get_mpfr(out.backend().data(), x, MPFR_RNDN);  // exact at 1000 bits for these inputs
+  return out;
+}
+
+// True when the ball x holds v (v exact at 1000 bits).
+bool holds(const ball& x, const mpfr_real& v) {
+  arb_t t;
+  arb_init(t);
+  arb_set_interval_mpfr(t, v.backend().data(), v.backend().data(), truth_bits);
+  const bool in = arb_contains(x.get(), t);
+  arb_clear(t);
+  return in;
+}
+
+// One function a model stands for: its coefficients each at an end of its ball (chosen at random),
+// plus rem sin(17 s + 1) (which is at most rem in size).
+struct represented {
+  std::vector<mpfr_real> c;
+  mpfr_real rem;
+  mpfr_real operator()(const mpfr_real& s) const {
+    // T_k(s) = cos(k acos s), directly.
+    const mpfr_real theta = acos(s);
+    mpfr_real sum = 0;
+    for (std::size_t k = 0; k < c.size(); ++k) sum += c[k] * cos(mpfr_real(k) * theta);
+    return sum + rem * sin(17 * s + 1);
+  }
+};
+
+represented pick(const chebyshev_model& m, std::mt19937_64& rng) {
+  represented f;
+  arf_t end, r;
+  arf_init(end);
+  arf_init(r);
+  for (slong k = 0; k < m.length(); ++k) {
+    arf_set_mag(r, arb_radref(m.coeff(k)));
+    if (rng() % 2) arf_neg(r, r);
+    arf_add(end, arb_midref(m.coeff(k)), r, ARF_PREC_EXACT, ARF_RND_DOWN);
+    f.c.push_back(to_mpfr(end));
+  }
+  arf_set_mag(r, m.remainder());
+  f.rem = to_mpfr(r) * (static_cast<double>(rng() % 1000) / 1000);
+  arf_clear(end);
+  arf_clear(r);
+  return f;
+}
+
+// A model of `n` coefficients decaying like rho^k with random signs, radii of `rad_bits` below
+// each coefficient, and a remainder `rem` (0 for none).
+chebyshev_model random_model(std::mt19937_64& rng, slong n, double rho, long rad_bits, double rem) {
+  chebyshev_model m(n);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (slong k = 0; k < n; ++k) {
+    arb_set_d(m.coeff(k), u(rng) * std::pow(rho, static_cast<double>(k)));
+    ball pi;
+    arb_const_pi(pi.get(), 300);
+    arb_mul(m.coeff(k), m.coeff(k), pi.get(), 300);  // 300 significant bits
+    if (rad_bits > 0) {
+      mag_value r;
+      arb_get_mag(r.m, m.coeff(k));
+      mag_mul_2exp_si(r.m, r.m, -rad_bits);
+      arb_add_error_mag(m.coeff(k), r.m);
+    }
+  }
+  mag_set_d(m.remainder(), rem);
+  return m;
+}
+
+ball point(const mpfr_real& s) {
+  ball b;
+  arb_set_interval_mpfr(b.get(), s.backend().data(), s.backend().data(), truth_bits);
+  return b;
+}
+
+// Random points in [-1, 1], the ends included.
+std::vector<mpfr_real> points(std::mt19937_64& rng) {
+  std::vector<mpfr_real> s = {mpfr_real(-1), mpfr_real(1), mpfr_real(0)};
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int i = 0; i < 9; ++i) s.push_back(mpfr_real(u(rng)));
+  return s;
+}
+
+TEST(ChebyshevModel, ProductsHoldEveryProductOfTheFunctionsTheyStandFor) {
+  const eulervop::mpfr_precision_scope scope(truth_bits);
+  std::mt19937_64 rng(20261127);
+  for (int trial = 0; trial < 60; ++trial) {
+    const slong la = 1 + static_cast<slong>(rng() % 45), lb = 1 + static_cast<slong>(rng() % 45);
+    const double rho = trial % 3 == 0 ? 1.0 : 0.2 + 0.6 * static_cast<double>(rng() % 100) / 100;
+    const chebyshev_model a = random_model(rng, la, rho, trial % 2 ? 100 : 0, trial % 4 == 0 ? 1e-20 : 0);
+    const chebyshev_model b = random_model(rng, lb, rho, trial % 3 ? 60 : 0, trial % 5 == 0 ? 1e-10 : 0);
+    for (const slong bits : {56L, 177L}) {
+      chebyshev_model c;
+      eulervop::detail::multiply(c, a, b, bits);
+      for (int pick_round = 0; pick_round < 3; ++pick_round) {
+        const represented fa = pick(a, rng), fb = pick(b, rng);
+        for (const mpfr_real& s : points(rng)) {
+          ball v;
+          eulervop::detail::evaluate(v, c, point(s), truth_bits);
+          ASSERT_TRUE(holds(v, fa(s) * fb(s))) << "trial " << trial << " bits " << bits << " lengths " << la << ", "
+                                               << lb << " at s = " << s;
+        }
+      }
+    }
+  }
+}
+
+// The product is as tight as its grid: a product of exact polynomials on 177 bits is within
+// 2^-170 of the exact one, relative to the factors' sizes (sum of magnitudes).
+TEST(ChebyshevModel, ProductsOfExactPolynomialsAreTight) {
+  std::mt19937_64 rng(7);
+  const chebyshev_model a = random_model(rng, 42, 0.15, 0, 0), b = random_model(rng, 42, 0.15, 0, 0);
+  chebyshev_model c;
+  eulervop::detail::multiply(c, a, b, 177);
+  mag_value sup, A, B;
+  eulervop::detail::sup_bound(sup.m, c);
+  eulervop::detail::coefficient_magnitude(A.m, a);
+  eulervop::detail::coefficient_magnitude(B.m, b);
+  mag_mul(A.m, A.m, B.m);
+  mag_mul_2exp_si(A.m, A.m, -170);
+  EXPECT_LE(mag_cmp(c.remainder(), A.m), 0) << "remainder " << mag_get_d(c.remainder());
+}
+
+TEST(ChebyshevModel, IntegralsHoldTheIntegralOfEveryFunction) {
+  const eulervop::mpfr_precision_scope scope(truth_bits);
+  std::mt19937_64 rng(11);
+  for (int trial = 0; trial < 40; ++trial) {
+    const slong n = 1 + static_cast<slong>(rng() % 60);
+    const chebyshev_model a = random_model(rng, n, 0.7, trial % 2 ? 80 : 0, trial % 3 == 0 ? 1e-15 : 0);
+    ball hl;
+    arb_set_d(hl.get(), 0.375 + static_cast<double>(rng() % 1000) / 333);
+    chebyshev_model I;
+    eulervop::detail::integrate(I, a, hl, 200);
+    const represented f = pick(a, rng);
+    const mpfr_real h = to_mpfr(arb_midref(hl.get()));
+    for (const mpfr_real& s : points(rng)) {
+      // hl int_{-1}^s f, f's polynomial part term by term (int T_0 = s + 1, int T_1 = (s^2 - 1)/2,
+      // int T_k = T_{k+1}/(2(k+1)) - T_{k-1}/(2(k-1)) - the same at -1), its remainder by the
+      // quadrature of 1000-bit MPFR's own sin: integral of sin(17 x + 1) = -cos(17 x + 1)/17.
+      const auto T = [](std::size_t k, const mpfr_real& x) { return cos(mpfr_real(k) * acos(x)); };
+      mpfr_real sum = 0;
+      for (std::size_t k = 0; k < f.c.size(); ++k) {
+        mpfr_real anti;
+        if (k == 0) anti = s + 1;
+        else if (k == 1) anti = (s * s - 1) / 2;
+        else
+          anti = (T(k + 1, s) - T(k + 1, mpfr_real(-1))) / (2 * (k + 1)) -
+                 (T(k - 1, s) - T(k - 1, mpfr_real(-1))) / (2 * (k - 1));
+        sum += f.c[k] * anti;
+      }
+      sum += f.rem * (cos(mpfr_real(-16)) - cos(17 * s + 1)) / 17;
+      ball v;
+      eulervop::detail::evaluate(v, I, point(s), truth_bits);
+      ASSERT_TRUE(holds(v, h * sum)) << "trial " << trial << " at s = " << s;
+    }
+  }
+}
+
+// The coefficients of the Lobatto interpolant: c_k = (2/N) sum_j'' v_j (-1)^k cos(k j pi / N),
+// the ends halved (the transform the reference's dense output also rests on), from quad node
+// values of every size and sign.
+TEST(BallNodeTransform, HoldsTheInterpolantsCoefficients) {
+  const eulervop::mpfr_precision_scope scope(truth_bits);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (const std::size_t N : {4u, 5u, 17u, 41u, 64u}) {
+    eulervop::detail::ball_node_transform transform(177, N, 2);
+    std::vector<std::vector<mpfr_real>> v(2, std::vector<mpfr_real>(N + 1));
+    for (std::size_t j = 0; j <= N; ++j)
+      for (std::size_t i = 0; i < 2; ++i) {
+        const eulervop::quad q = eulervop::quad(u(rng)) * eulervop::quad(std::ldexp(1.0, static_cast<int>(rng() % 200) - 100)) / 3;
+        ball b;
+        eulervop::set_exact(b, q);
+        arb_set(transform.value(j, i), b.get());
+        v[i][j] = mpfr_real(q);
+      }
+    arb_mat_t c;
+    arb_mat_init(c, static_cast<slong>(N + 1), 2);
+    transform.apply(c);
+    const mpfr_real pi = boost::math::constants::pi<mpfr_real>();
+    for (std::size_t i = 0; i < 2; ++i)
+      for (std::size_t k = 0; k <= N; ++k) {
+        mpfr_real sum = 0;
+        for (std::size_t j = 0; j <= N; ++j) {
+          mpfr_real term = v[i][j] * cos(pi * mpfr_real(k * j) / N);
+          if (j == 0 || j == N) term /= 2;
+          sum += term;
+        }
+        sum *= mpfr_real(2) / N;
+        if (k % 2) sum = -sum;
+        if (k == 0 || k == N) sum /= 2;
+        ball x;
+        arb_set(x.get(), arb_mat_entry(c, static_cast<slong>(k), static_cast<slong>(i)));
+        EXPECT_TRUE(holds(x, sum)) << "N " << N << " k " << k;
+        // As tight as the working precision: within 2^-170 of the values' sum of magnitudes.
+        mpfr_real size = 0;
+        for (const mpfr_real& vj : v[i]) size += abs(vj);
+        EXPECT_LT(mpfr_real(mag_get_d(arb_radref(x.get()))), size * pow(mpfr_real(2), -170)) << "N " << N << " k " << k;
+      }
+    arb_mat_clear(c);
+  }
+}
+
+// Which formulas the general path takes: a polynomial in the time and the state, functions and
+// divisions only of constants.
+TEST(PolynomialFormula, FunctionsAndDivisionsOfVariablesAreNot) {
+  const eulervop::scene::expression_variables vars{{"t", "omega1", "omega2", "omega3", "q0", "q1", "q2", "q3"}};
+  const auto why = [&](const std::string& text) {
+    return eulervop::polynomial_formula(eulervop::scene::parse_expression(text, vars));
+  };
+  EXPECT_EQ(why("0.01 - 0.5*omega1"), "");
+  EXPECT_EQ(why("-2*q1 - 40*omega1"), "");
+  EXPECT_EQ(why("t^3*omega2/4 + sqrt(2)*cos(1.1)*omega3"), "");
+  EXPECT_EQ(why("(1 + t)^2 - 3/7"), "");
+  EXPECT_EQ(why("0.25*sin(t)^2"), "sin of a variable");
+  EXPECT_EQ(why("exp(-t)"), "exp of a variable");
+  EXPECT_EQ(why("omega1/(1 + omega2^2)"), "a division by a variable");
+  EXPECT_EQ(why("t^-2"), "a negative power of a variable");
+}
+
+// The field along a segment's polynomial and its Jacobian (certification_problem.hpp, in the
+// series algebra with forward derivatives) hold the problem's own right-hand side and Jacobian
+// (model/coupled_problem.hpp, euler_problem.hpp with expression_torque.hpp: the reference's
+// equations, written separately), evaluated at 1000 bits at points of the polynomial: for a PD law
+// on a body listed out of order (7 states, normalized with a permutation), rate damping (3), and
+// an axisymmetric body with an attitude (the direct form, 7 states as a cascade).
+struct field_case {
+  const char* label;
+  const char* scene;
+};
+
+class FieldAlongP : public ::testing::TestWithParam<field_case> {};
+
+TEST_P(FieldAlongP, ValuesAndJacobianHoldTheProblemsOwn) {
+  const eulervop::mpfr_precision_scope scope(truth_bits);
+  namespace sc = eulervop::scene;
+  const sc::scene s = sc::parse_scene(GetParam().scene, "test");
+  const eulervop::certification_problem p = sc::certification_problem_of<eulervop::quad>(s, 400);
+  const std::size_t D = p.dimension;
+  std::mt19937_64 rng(5);
+  std::vector<chebyshev_model> P;
+  for (std::size_t i = 0; i < D; ++i) P.push_back(random_model(rng, 10, 0.5, 0, 0));
+  ball a, hl;
+  arb_set_d(a.get(), 0.3);
+  arb_set_d(hl.get(), 0.7);
+  const eulervop::detail::series_algebra alg(400, D);
+  chebyshev_model t(2);
+  arb_add(t.coeff(0), a.get(), hl.get(), 400);
+  arb_set(t.coeff(1), hl.get());
+  std::vector<eulervop::detail::series_jet> x, F;
+  for (std::size_t k = 0; k < D; ++k) x.push_back(alg.variable(P[k], k));
+  eulervop::field(p, 0, alg, alg.independent(t), x, F);
+  ASSERT_EQ(F.size(), D);
+  for (const mpfr_real& sp : points(rng)) {
+    std::vector<mpfr_real> y(D);
+    ball v;
+    for (std::size_t i = 0; i < D; ++i) {
+      eulervop::detail::evaluate(v, P[i], point(sp), truth_bits);
+      y[i] = to_mpfr(arb_midref(v.get()));  // exact: P's coefficients are exact
+    }
+    const mpfr_real time = to_mpfr(arb_midref(a.get())) + to_mpfr(arb_midref(hl.get())) * (sp + 1);
+    std::vector<mpfr_real> f(D);
+    std::vector<std::vector<mpfr_real>> J(D, std::vector<mpfr_real>(D));
+    if (s.couples_attitude()) {
+      const eulervop::coupled_problem<mpfr_real> cp = sc::to_coupled_problem<mpfr_real>(s);
+      std::array<mpfr_real, 7> xs, dx;
+      std::array<std::array<mpfr_real, 7>, 7> Jc;
+      for (std::size_t i = 0; i < 7; ++i) xs[i] = y[i];
+      cp.rhs(time, xs, dx);
+      cp.jacobian(time, xs, Jc);
+      for (std::size_t i = 0; i < 7; ++i) {
+        f[i] = dx[i];
+        for (std::size_t k = 0; k < 7; ++k) J[i][k] = Jc[i][k];
+      }
+    } else {
+      sc::with_problem<mpfr_real>(s, [&](const auto& prob) {
+        const eulervop::vec3<mpfr_real> yr = {y[0], y[1], y[2]};
+        eulervop::vec3<mpfr_real> dy;
+        std::array<eulervop::vec3<mpfr_real>, 3> Jr;
+        prob.rhs(time, yr, dy);
+        prob.jacobian(time, yr, Jr);
+        for (std::size_t i = 0; i < 3; ++i) {
+          f[i] = dy[i];
+          for (std::size_t k = 0; k < 3; ++k) J[i][k] = Jr[i][k];
+        }
+      });
+      if (D == 7) {  // q' = 1/2 q (x) (0, W), W the body rates of y (body_rates.hpp)
+        const eulervop::vec3<mpfr_real> W = sc::body_rates_of<mpfr_real>(s)({y[0], y[1], y[2]});
+        const mpfr_real q0 = y[3], q1 = y[4], q2 = y[5], q3 = y[6];
+        f[3] = (-q1 * W[0] - q2 * W[1] - q3 * W[2]) / 2;
+        f[4] = (q0 * W[0] + q2 * W[2] - q3 * W[1]) / 2;
+        f[5] = (q0 * W[1] - q1 * W[2] + q3 * W[0]) / 2;
+        f[6] = (q0 * W[2] + q1 * W[1] - q2 * W[0]) / 2;
+      }
+    }
+    for (std::size_t i = 0; i < D; ++i) {
+      eulervop::detail::evaluate(v, F[i].f, point(sp), truth_bits);
+      EXPECT_TRUE(holds(v, f[i])) << GetParam().label << ": F" << i << " at s = " << sp;
+      if (D == 7 && i >= 3 && !s.couples_attitude()) continue;  // q's Jacobian: below, by the rates'
+      for (std::size_t k = 0; k < D; ++k) {
+        eulervop::detail::evaluate(v, F[i].d[k], point(sp), truth_bits);
+        EXPECT_TRUE(holds(v, J[i][k])) << GetParam().label << ": J" << i << k << " at s = " << sp;
+      }
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, FieldAlongP,
+    ::testing::Values(field_case{"pd_law", R"(name = "pd"
+[body]
+inertia = [100.0, 150.0, 120.0]
+[torque]
+M = ["-2*q1 - 40*omega1", "-2*q2 - 40*omega2*t", "-2*q3 - 40*omega3"]
+[initial]
+omega = [0.01, -0.02, 0.005]
+q = [0.5, 0.5, -0.5, 0.5]
+[span]
+t_end = 10.0
+samples = 3
+)"},
+                      field_case{"damped", R"(name = "damped"
+[body]
+inertia = [150.0, 200.0, 100.0]
+[torque]
+M = ["0.01 - 0.5*omega1*t^2", "-0.02 - 0.3*omega2", "0.005 - 0.2*omega3^3"]
+[initial]
+omega = [0.1, 0.05, 0.02]
+[span]
+t_end = 10.0
+samples = 3
+)"},
+                      field_case{"axisymmetric", R"(name = "axisymmetric"
+[body]
+inertia = [1000.0, 1000.0, 2000.0]
+[torque]
+M = [0.002, -0.001, 0.0015]
+[initial]
+omega = [0.02, 0.01, 0.05]
+q = [0.5, 0.5, 0.5, 0.5]
+[span]
+t_end = 10.0
+samples = 3
+)"}),
+    [](const auto& info) { return std::string(info.param.label); });
+
+// Over a box, c bounds Taylor's remainder: |W (F(x + e) - F(x) - J e)| <= c |W e|^2 for every e
+// with x + e in the box, for a cubic torque (omega3^3) and for Eq. 5 (where c = sqrt(3)/2 from
+// Hessians of row sums 1).
+TEST(BoxBounds, TheQuadraticConstantBoundsTaylorsRemainder) {
+  const eulervop::mpfr_precision_scope scope(truth_bits);
+  namespace sc = eulervop::scene;
+  const sc::scene s = sc::parse_scene(R"(name = "damped"
+[body]
+inertia = [150.0, 200.0, 100.0]
+[torque]
+M = ["0.01 - 0.5*omega1", "-0.02 - 0.3*omega2", "0.005 - 0.2*omega3^3"]
+[initial]
+omega = [0.1, 0.05, 0.02]
+[span]
+t_end = 10.0
+samples = 3
+)", "test");
+  const eulervop::certification_problem p = sc::certification_problem_of<eulervop::quad>(s, 300);
+  std::vector<ball> box(3);
+  for (std::size_t i = 0; i < 3; ++i) {
+    arb_set_d(box[i].get(), 0.3 - 0.2 * static_cast<double>(i));
+    mag_value r;
+    mag_set_d(r.m, 0.05);
+    arb_add_error_mag(box[i].get(), r.m);
+  }
+  ball t;
+  arb_set_d(t.get(), 1.5);
+  mag_value c;
+  std::vector<mag_value> fabs;
+  eulervop::box_bounds(p, 0, t, box, {1, 1, 1}, c.m, fabs);
+  ASSERT_TRUE(mag_is_finite(c.m));
+  sc::with_problem<mpfr_real>(s, [&](const auto& prob) {
+    std::mt19937_64 rng(9);
+    std::uniform_real_distribution<double> u(-0.05, 0.05);
+    for (int trial = 0; trial < 200; ++trial) {
+      eulervop::vec3<mpfr_real> x0, x1, f0, f1;
+      std::array<eulervop::vec3<mpfr_real>, 3> J;
+      for (std::size_t i = 0; i < 3; ++i) {
+        x0[i] = mpfr_real(0.3 - 0.2 * static_cast<double>(i)) + mpfr_real(u(rng)) / 2;
+        x1[i] = x0[i] + mpfr_real(u(rng)) / 2;
+      }
+      const mpfr_real tt = 1.5;
+      prob.rhs(tt, x0, f0);
+      prob.rhs(tt, x1, f1);
+      prob.jacobian(tt, x0, J);
+      mpfr_real rem2 = 0, e2 = 0;
+      for (std::size_t i = 0; i < 3; ++i) {
+        mpfr_real r = f1[i] - f0[i];
+        for (std::size_t k = 0; k < 3; ++k) r -= J[i][k] * (x1[k] - x0[k]);
+        rem2 += r * r;
+        e2 += (x1[i] - x0[i]) * (x1[i] - x0[i]);
+        EXPECT_LE(abs(f0[i]), mpfr_real(mag_get_d(fabs[i].m))) << "|F_" << i << "| over the box";
+      }
+      EXPECT_LE(sqrt(rem2), mpfr_real(mag_get_d(c.m)) * e2) << "trial " << trial;
+    }
+  });
+}
+
+// A linear map applied to the parallelepiped: every image of a point of the set lies in the
+// stepped set, for a shear that makes the parallelepiped ill-conditioned step after step.
+TEST(BallLohnerBox, HoldsTheImageOfEveryPointUnderAShear) {
+  const std::size_t D = 4;
+  eulervop::detail::ball_lohner_box box(D, 200);
+  std::vector<ball> e0(D);
+  for (std::size_t i = 0; i < D; ++i) {
+    arb_set_d(e0[i].get(), 1e-3 * static_cast<double>(i + 1));
+    mag_value r;
+    mag_set_d(r.m, 1e-6);
+    arb_add_error_mag(e0[i].get(), r.m);
+  }
+  box.start(e0);
+  // Phi: a rotation in the first plane and a shear of the second component into the rest.
+  std::vector<ball> Phi(D * D);
+  const double c = std::cos(0.7), sn = std::sin(0.7);
+  const double M[16] = {c, -sn, 0, 0, sn, c, 0, 0, 0, 3, 1, 0, 0, 5, 0, 1};
+  for (std::size_t q = 0; q < D * D; ++q) arb_set_d(Phi[q].get(), M[q]);
+  std::vector<ball> w(D);
+  std::vector<mag_value> b(D);
+  // Corners of the initial box, followed exactly (in double-double-free rationals: the map's
+  // entries are doubles, the corners dyadic; 200 bits hold them exactly for these few steps).
+  std::vector<std::vector<ball>> corners;
+  for (int m = 0; m < 16; ++m) {
+    std::vector<ball> p(D);
+    for (std::size_t i = 0; i < D; ++i) {
+      arb_set_d(p[i].get(), 1e-3 * static_cast<double>(i + 1) + ((m >> i) & 1 ? 1e-6 : -1e-6));
+    }
+    corners.push_back(p);
+  }
+  for (int step = 0; step < 12; ++step) {
+    ASSERT_TRUE(box.step(Phi, w, b));
+    for (auto& p : corners) {
+      std::vector<ball> n(D);
+      for (std::size_t i = 0; i < D; ++i)
+        for (std::size_t k = 0; k < D; ++k) arb_addmul(n[i].get(), Phi[i * D + k].get(), p[k].get(), 400);
+      p = n;
+    }
+    std::vector<ball> e;
+    box.image_of_identity(e);
+    for (const auto& p : corners)
+      for (std::size_t i = 0; i < D; ++i) EXPECT_TRUE(arb_contains(e[i].get(), p[i].get())) << "step " << step;
+  }
+}
+
+}  // namespace
