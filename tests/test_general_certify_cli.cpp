@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -289,6 +290,67 @@ TEST(GeneralCertify, CheckReadsTheDirectFormsRadius) {
   const run_result r = run(dir.path(), {"check", "ref.csv", "traj.csv", "--tol", "1e-20", "--format", "json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("\"certified_reference\": true"), std::string::npos) << r.out;
+}
+
+// Closed forms: with a = 0 the solution is y0 + int f, a polynomial here (the coefficient form);
+// an axisymmetric body without torque keeps omega3 and turns (omega1, omega2) at the rate
+// lambda = (I3 - I1) omega3 / I1 (Eq. 1 with I1 = I2: omega1' = -lambda omega2,
+// omega2' = lambda omega1; the direct form). Each row lies within its radius of the exact value,
+// and the radii are within 1000 ulps of the printed digits (the true errors are the reference's
+// rounding).
+TEST(GeneralCertify, ClosedForms) {
+  const eulervop::mpfr_precision_scope scope(256);
+  temp_dir dir;
+  write_file(dir.path() / "poly.toml", R"(name = "poly"
+[equations]
+a = [0.0, 0.0, 0.0]
+[torque]
+f = ["1 + t", "t^2 - 0.5", "-t^3/3"]
+[initial]
+y = [0.25, -1.0, 2.0]
+[span]
+t_end = 3.0
+samples = 7
+)");
+  write_file(dir.path() / "axi.toml", R"(name = "axi"
+[body]
+inertia = [2.0, 2.0, 3.0]
+[initial]
+omega = [0.3, -0.2, 1.1]
+[span]
+t_end = 40.0
+samples = 9
+)");
+  ASSERT_EQ(run(dir.path(), {"reference", "poly.toml", "--certify", "--out", "p.csv"}).exit_code, 0);
+  ASSERT_EQ(run(dir.path(), {"reference", "axi.toml", "--certify", "--out", "a.csv"}).exit_code, 0);
+  const auto check = [&](const char* file, const char* state, const char* radius,
+                         const std::function<std::array<mpfr_real, 3>(const mpfr_real&)>& exact) {
+    const table t = read_table(dir.path() / file);
+    group_result g;
+    for (const auto& row : t.rows) {
+      const std::array<mpfr_real, 3> y = exact(number(row[0]));
+      mpfr_real e2 = 0;
+      for (int i = 0; i < 3; ++i) {
+        const mpfr_real v = number(row[*t.column(std::string(state) + std::to_string(i + 1))]);
+        e2 += (v - y[i]) * (v - y[i]);
+        g.size = std::max(g.size, mpfr_real(abs(v)));
+      }
+      const mpfr_real r = number(row[*t.column(radius)]);
+      EXPECT_LE(sqrt(e2), r) << file << " at t = " << row[0];
+      g.radius = std::max(g.radius, r);
+      g.error = std::max(g.error, mpfr_real(sqrt(e2)));
+    }
+    EXPECT_LE(g.radius, 1000 * mpfr_real(std::ldexp(1.0, -112)) * std::max(mpfr_real(1), g.size)) << file;
+  };
+  check("p.csv", "y", "radius", [](const mpfr_real& t) {
+    return std::array<mpfr_real, 3>{mpfr_real("0.25") + t + t * t / 2, -1 + t * t * t / 3 - t / 2,
+                                    2 - t * t * t * t / 12};
+  });
+  check("a.csv", "omega", "radius_omega", [](const mpfr_real& t) {
+    const mpfr_real w3("1.1"), lambda = (mpfr_real(3) - 2) * w3 / 2, A("0.3"), B("-0.2");
+    return std::array<mpfr_real, 3>{A * cos(lambda * t) - B * sin(lambda * t), A * sin(lambda * t) + B * cos(lambda * t),
+                                    w3};
+  });
 }
 
 }  // namespace
