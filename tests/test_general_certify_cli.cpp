@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <functional>
 #include <map>
@@ -108,6 +109,9 @@ group_result check_group(const table& ref, const table& oracle, const std::vecto
 
 // The tightness the general path promises (see the header).
 void expect_tight(const group_result& g, const std::string& what) {
+  std::printf("%s: largest radius %.3g, largest true error %.3g, ratio %.3g, over %zu rows\n", what.c_str(),
+              static_cast<double>(g.radius), static_cast<double>(g.error), static_cast<double>(g.radius / g.error),
+              g.rows);
   const mpfr_real one = 1;
   EXPECT_LE(g.radius, mpfr_real("1e-29") * std::max(one, g.size)) << what;
   const mpfr_real ulps = 1000 * mpfr_real(std::ldexp(1.0, -112)) * std::max(one, g.size);

@@ -11,7 +11,7 @@
 # batch, and bad inputs. What depends on measured cost (the cheapest configurations, the regime
 # map, and sweep's and map's summaries and tables) is compared by its line count; their per-run
 # rows (sweep.csv, runs.csv) are compared whole. --quick leaves
-# out the slow cases (mpfr:256 at 1e-60, --certify, sweep, map): about 1 minute instead of 5.
+# out the slow cases (mpfr:256 at 1e-60, --certify on both paths, sweep, map): about 1 minute instead of 5.
 set -uo pipefail
 bin=$(realpath "$1")
 out=$(realpath -m "$2")
@@ -122,6 +122,9 @@ if [[ "$quick" != --quick ]]; then
   run reference-mpfr256-1e-60 reference --precision mpfr:256 --tolerance 1e-60 --samples 200 --out ref.csv
   run certify-paper reference --certify --out ref.csv
   run certify-spacecraft reference "$S/spacecraft-physical.toml" --certify --out ref.csv
+  run certify-general-attitude reference "$S/spacecraft-attitude.toml" --certify --out ref.csv
+  run certify-general-pd-slew reference "$S/attitude/pd-slew.toml" --certify --out ref.csv
+  run certify-general-b5 reference "$S/problems/enright-pryce-b5.toml" --certify --out ref.csv
   run sweep sweep --jobs 1 --tau-end 20 --no-plot --out-dir out
   run map map --jobs 1 --tau-end 20 --torque-scales 1e-4,1 --no-plot --out-dir out
 fi

@@ -57,6 +57,11 @@ struct ball_row {
   mag_value reach;              // <= R_cap - R: how far y may move (2-norm) and stay in the tube
 };
 
+// The precision of the error's own arithmetic (the Lohner box, Phi and u at a row): e is about
+// 2^-113 of the state or less, and a bound of it needs far fewer than 128 bits (at which Arb's
+// numbers need no allocation); the state and the residual keep the problem's precision.
+inline constexpr slong error_prec = 128;
+
 // The part of one segment's check that does not depend on the segments before it (steps 1 to 4).
 // It owns all its scratch, so that checks of different segments may be prepared on different
 // threads.
@@ -118,7 +123,7 @@ class ball_segment_check {
 inline ball_segment_check::ball_segment_check(const certification_problem& p,
                                               const detail::ball_node_transform& transform)
     : problem(&p), D(p.dimension), n1(transform.nodes()), start(D), end(D), P(D), r(D), J(D * D), r1(D),
-      weight(D, 1.0), jump_a(D), omega_b(D), flow(D, p.prec), transform_(transform), X0_(D) {
+      weight(D, 1.0), jump_a(D), omega_b(D), flow(D, error_prec), transform_(transform), X0_(D) {
   arb_mat_init(coefficients_, static_cast<slong>(n1), static_cast<slong>(D));
 }
 
@@ -463,7 +468,7 @@ class ball_certifier {
   // `problem`: the exact problem (certification_problem.hpp); `degree`: the reference's N.
   ball_certifier(certification_problem problem, std::size_t degree)
       : problem_(std::make_shared<const certification_problem>(std::move(problem))),
-        transform_(problem_->prec, degree, problem_->dimension), box_(problem_->dimension, problem_->prec),
+        transform_(problem_->prec, degree, problem_->dimension), box_(problem_->dimension, error_prec),
         prev_end_(problem_->dimension) {}
 
   const certification_problem& problem() const { return *problem_; }
@@ -605,10 +610,14 @@ ball_row ball_certifier::enclose(const T& tau) const {
   arb_sub(dt.get(), dt.get(), c.a.get(), prec);
   arb_div(s.get(), dt.get(), c.hl.get(), prec);
   arb_sub_ui(s.get(), s.get(), 1, prec);
-  // e(tau) in Phi(tau, a) B x + r(tau) + u(tau) + ball(dt).
-  slong n = c.flow.max_length();
-  for (std::size_t i = 0; i < D; ++i) n = std::max({n, c.P[i].length(), c.r[i].length()});
-  const detail::chebyshev_values Ts(n, s, prec);
+  // e(tau) in Phi(tau, a) B x + r(tau) + u(tau) + ball(dt), at the error's precision; P(tau) at
+  // the problem's.
+  slong n = c.flow.max_length(), np = 1;
+  for (std::size_t i = 0; i < D; ++i) {
+    n = std::max(n, c.r[i].length());
+    np = std::max(np, c.P[i].length());
+  }
+  const detail::chebyshev_values Ts(n, s, error_prec), Tp(np, s, prec);
   std::vector<ball> Phi, u, e;
   c.flow.Phi_at(Ts, Phi);
   c.flow.u_at(Ts, u);
@@ -630,13 +639,13 @@ ball_row ball_certifier::enclose(const T& tau) const {
   ball v;
   const std::vector<mag_value> radius = detail::per_component(rowball, c.weight);
   for (std::size_t i = 0; i < D; ++i) {
-    detail::evaluate(v, c.r[i], Ts, prec);
-    arb_add(e[i].get(), e[i].get(), v.get(), prec);
-    arb_add(e[i].get(), e[i].get(), u[i].get(), prec);
+    detail::evaluate(v, c.r[i], Ts, error_prec);
+    arb_add(e[i].get(), e[i].get(), v.get(), error_prec);
+    arb_add(e[i].get(), e[i].get(), u[i].get(), error_prec);
     arb_add_error_mag(e[i].get(), radius[i].m);
     for (const ball_segment_check::touching_window& w : c.windows)
       if (arb_overlaps(w.hull.get(), tb.get())) arb_add_error_mag(e[i].get(), w.bound[i].m);
-    detail::evaluate(out.y[i], c.P[i], Ts, prec);
+    detail::evaluate(out.y[i], c.P[i], Tp, prec);
     arb_add(out.y[i].get(), out.y[i].get(), e[i].get(), prec);
   }
   out.rate = c.fabs;

@@ -206,11 +206,12 @@ void field(const certification_problem& p, std::size_t set, const Algebra& alg, 
 // Over a box: with t in `t` and the state in the balls `x`, |F_i(t, x)| <= fabs[i] and, for every e
 // with x + e in the box, |W (F(t, x + e) - F(t, x) - DF e)|_2 <= c |W e|_2^2 for the weights W =
 // diag(w): the remainder of Taylor's theorem, component i bounded by 1/2 w_i sup ||W^-1 H_i W^-1||
-// (the 2-norm bounded by its largest absolute row sum).
+// (the 2-norm bounded by its largest absolute row sum). In 64-bit balls: the box is at least the
+// tube wide (2^-20 of the state), and these are bounds.
 inline void box_bounds(const certification_problem& p, std::size_t set, const ball& t, const std::vector<ball>& x,
                        const std::vector<double>& w, mag_t c, std::vector<mag_value>& fabs) {
   const std::size_t D = p.dimension;
-  const detail::box_algebra alg(p.prec, D);
+  const detail::box_algebra alg(64, D);
   std::vector<detail::box_jet> xs;
   xs.reserve(D);
   for (std::size_t k = 0; k < D; ++k) xs.push_back(alg.variable(x[k], k));

@@ -19,6 +19,7 @@
 
 #include <eulervop/certify/ball.hpp>
 #include <eulervop/certify/detail/chebyshev_model.hpp>
+#include <eulervop/certify/detail/short_integer_series.hpp>
 #include <eulervop/reference/detail/chebyshev_basis.hpp>
 
 #include <arb.h>
@@ -51,19 +52,42 @@ class grid_models {
       mag_add(rem_[q].m, rem_[q].m, m[q].remainder());
       grid_magnitude(mag_[q].m, n_[q].p, e_);
     }
+    short_.resize(m.size());
+    short_ok_ = true;
+    short_bits_ = 0;
+    short_len_ = 0;
+    for (std::size_t q = 0; q < m.size() && short_ok_; ++q) {
+      short_ok_ = short_[q].load(n_[q].p);
+      short_bits_ = std::max(short_bits_, short_[q].bits);
+      short_len_ = std::max(short_len_, short_[q].c.size());
+    }
   }
 
   slong exponent() const { return e_; }
+  // The models as short_integer_series (short_integer_series.hpp), where all fit 62 bits.
+  bool short_form() const { return short_ok_; }
+  const short_integer_series& short_series(std::size_t q) const { return short_[q]; }
+  unsigned short_bits() const { return short_bits_; }
+  std::size_t short_length() const { return short_len_; }
   const fmpz_poly_struct* poly(std::size_t q) const { return n_[q].p; }
   fmpz_poly_struct* poly(std::size_t q) { return n_[q].p; }
   const mag_value& remainder(std::size_t q) const { return rem_[q]; }
   const mag_value& magnitude(std::size_t q) const { return mag_[q]; }
+  std::size_t length() const {  // the longest polynomial's
+    std::size_t n = 0;
+    for (const integer_poly& x : n_) n = std::max(n, static_cast<std::size_t>(x.p->length));
+    return n;
+  }
   bool zero(std::size_t q) const { return n_[q].p->length == 0 && mag_is_zero(rem_[q].m); }
 
  private:
   std::vector<integer_poly> n_;
   std::vector<mag_value> rem_, mag_;
   slong e_ = 0;
+  std::vector<short_integer_series> short_;
+  bool short_ok_ = false;
+  unsigned short_bits_ = 0;
+  std::size_t short_len_ = 0;
 };
 
 class ball_linear_flow {
@@ -122,14 +146,18 @@ class ball_linear_flow {
     if (!b) b = std::make_unique<const chebyshev_basis<double>>(nodes - 1);
     return *b;
   }
-  void jacobian_at_nodes(const chebyshev_basis<double>& b, std::vector<double>& Jn) const;
+  void chebyshev_at_nodes(const chebyshev_basis<double>& b, std::size_t n);
+  void series_at_nodes(const std::vector<double>& c, std::size_t m, double* out, std::size_t stride) const;
+  void jacobian_at_nodes(const chebyshev_basis<double>& b, std::vector<double>& Jn);
   // The coefficients of the values at the nodes (stride apart), on the grid 2^e with `bits` bits
   // below their largest (e returned): the polynomial they define, exactly.
   slong grid_coefficients(const chebyshev_basis<double>& b, const double* values, std::size_t stride,
                           std::size_t count, std::vector<integer_poly>& out, slong bits, long scale_exp);
-  // sup |2^e hl int P - Q + delta| bounds, for the residuals.
-  static void residual_sup(mag_t out, const fmpz_poly_t sum, slong e, const mag_t rem, const ball& hl,
-                           const chebyshev_model& subtract, int identity, slong prec);
+  // sup |2^e hl int S - Q + delta| bounds, for the residuals (S = sum n_k T_k on the grid 2^e
+  // with the remainder `rem`; Q exact or with its own remainder; delta the identity or 0).
+  template <class Sums>
+  static void residual_sup(mag_t out, const Sums& sum, const std::vector<ball>& factors, const mag_t rem,
+                           const ball& hl, const chebyshev_model& subtract, int identity, slong prec);
 
   std::size_t D_;
   slong prec_;
@@ -141,7 +169,7 @@ class ball_linear_flow {
   long u_exp_ = 0;  // u and r scaled by 2^u_exp_ in the iteration
   std::vector<ball> Phi1_, u1_;
   mag_value phi_res_, u_res_;
-  std::vector<double> Jn_, Y_, F_;
+  std::vector<double> Jn_, Y_, F_, Tn_;
 };
 
 inline void ball_linear_flow::load_jacobian(std::vector<chebyshev_model> Jc) {
@@ -164,13 +192,40 @@ inline void ball_linear_flow::load_jacobian(std::vector<chebyshev_model> Jc) {
 }
 
 // Jn[l * D^2 + q] = J_q at node l.
-inline void ball_linear_flow::jacobian_at_nodes(const chebyshev_basis<double>& b, std::vector<double>& Jn) const {
-  const std::size_t m = b.nodes.size(), DD = D_ * D_;
-  Jn.assign(m * DD, 0.0);
-  for (std::size_t q = 0; q < DD; ++q) {
-    if (Jd_[q].empty()) continue;
-    for (std::size_t l = 0; l < m; ++l) Jn[l * DD + q] = clenshaw(Jd_[q].data(), Jd_[q].size(), 1, b.nodes[l]);
+// T_k at the nodes for k < n, by the recurrence run across all nodes at once (Tn_[k m + l]).
+inline void ball_linear_flow::chebyshev_at_nodes(const chebyshev_basis<double>& b, std::size_t n) {
+  const std::size_t m = b.nodes.size();
+  Tn_.resize(std::max<std::size_t>(n, 2) * m);
+  for (std::size_t l = 0; l < m; ++l) {
+    Tn_[l] = 1;
+    Tn_[m + l] = b.nodes[l];
   }
+  for (std::size_t k = 2; k < n; ++k)
+    for (std::size_t l = 0; l < m; ++l) Tn_[k * m + l] = 2 * b.nodes[l] * Tn_[(k - 1) * m + l] - Tn_[(k - 2) * m + l];
+}
+
+// sum_k c_k T_k at the nodes, into out[l * stride] (Tn_ holds at least c's length).
+inline void ball_linear_flow::series_at_nodes(const std::vector<double>& c, std::size_t m, double* out,
+                                              std::size_t stride) const {
+  thread_local std::vector<double> v;
+  v.assign(m, 0.0);
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    const double ck = c[k];
+    const double* T = Tn_.data() + k * m;
+    for (std::size_t l = 0; l < m; ++l) v[l] += ck * T[l];
+  }
+  for (std::size_t l = 0; l < m; ++l) out[l * stride] = v[l];
+}
+
+// Jn[l * D^2 + q] = J_q at node l.
+inline void ball_linear_flow::jacobian_at_nodes(const chebyshev_basis<double>& b, std::vector<double>& Jn) {
+  const std::size_t m = b.nodes.size(), DD = D_ * D_;
+  std::size_t n = 0;
+  for (const std::vector<double>& c : Jd_) n = std::max(n, c.size());
+  chebyshev_at_nodes(b, n);
+  Jn.assign(m * DD, 0.0);
+  for (std::size_t q = 0; q < DD; ++q)
+    if (!Jd_[q].empty()) series_at_nodes(Jd_[q], m, Jn.data() + q, DD);
 }
 
 inline slong ball_linear_flow::grid_coefficients(const chebyshev_basis<double>& b, const double* values, std::size_t stride,
@@ -202,14 +257,89 @@ inline slong ball_linear_flow::grid_coefficients(const chebyshev_basis<double>& 
   return e - scale_exp;
 }
 
-inline void ball_linear_flow::residual_sup(mag_t out, const fmpz_poly_t sum, slong e, const mag_t rem, const ball& hl,
-                                           const chebyshev_model& subtract, int identity, slong prec) {
-  thread_local chebyshev_model product, integral;
-  from_grid(product, sum, e, rem);
-  integrate(integral, product, hl, prec);
-  if (identity) arb_add_ui(integral.coeff(0), integral.coeff(0), 1, prec);
-  subtract_from(integral, subtract, prec);
-  sup_bound(out, integral);
+// The sums of products behind a residual, as the integral needs them: their length and the
+// differences S_{k-1} - S_{k+1} (2 S_0 - S_2 for k = 1), exactly. Either FLINT's integers or the
+// 128-bit sums of short_integer_series.hpp.
+struct flint_sums {
+  const fmpz_poly_struct* p;
+  slong length() const { return p->length; }
+  void difference(arf_t out, slong k) const {
+    fmpz_t d;
+    fmpz_init(d);
+    const auto S = [&](slong i) -> const fmpz* { return i < p->length ? p->coeffs + i : nullptr; };
+    if (k == 1) {
+      fmpz_mul_2exp(d, S(0), 1);
+      if (S(2)) fmpz_sub(d, d, S(2));
+    } else {
+      fmpz_set(d, S(k - 1));
+      if (S(k + 1)) fmpz_sub(d, d, S(k + 1));
+    }
+    arf_set_fmpz(out, d);
+    fmpz_clear(d);
+  }
+};
+struct wide_sums {
+  const std::vector<wide_int>* s;
+  slong length() const {
+    slong n = static_cast<slong>(s->size());
+    while (n > 0 && (*s)[static_cast<std::size_t>(n - 1)] == 0) --n;
+    return n;
+  }
+  void difference(arf_t out, slong k) const {
+    const auto S = [&](slong i) -> wide_int { return i < static_cast<slong>(s->size()) ? (*s)[static_cast<std::size_t>(i)] : 0; };
+    set_wide(out, k == 1 ? 2 * S(0) - S(2) : S(k - 1) - S(k + 1));
+  }
+};
+
+// hl 2^e / (2k) for k = 1 .. n, the integral's factors (in balls at `prec`).
+inline void integral_factors(std::vector<ball>& out, slong n, const ball& hl, slong e, slong prec) {
+  out.resize(static_cast<std::size_t>(std::max<slong>(n, 0)) + 1);
+  for (slong k = 1; k <= n; ++k) {
+    arb_mul_2exp_si(out[static_cast<std::size_t>(k)].get(), hl.get(), e - 1);
+    arb_div_ui(out[static_cast<std::size_t>(k)].get(), out[static_cast<std::size_t>(k)].get(), static_cast<ulong>(k), prec);
+  }
+}
+
+// The integral and the difference in one pass over the sums' integer coefficients S_k (in units
+// of 2^e): int_{-1}^s sum S_k T_k has the coefficients b_1 = S_0 - S_2 / 2, b_k = (S_{k-1} -
+// S_{k+1}) / (2k) for k >= 2, and b_0 = sum_{k>=1} (-1)^(k+1) b_k, so that it vanishes at -1
+// (integrate() in chebyshev_model.hpp); each difference is exact in integers, then multiplied by
+// its factor hl 2^e / (2k) (`factors`, integral_factors(), at least the sums' length of them).
+template <class Sums>
+void ball_linear_flow::residual_sup(mag_t out, const Sums& sum, const std::vector<ball>& factors, const mag_t rem,
+                                    const ball& hl, const chebyshev_model& subtract, int identity, slong prec) {
+  const slong n = sum.length();
+  ball b, c0;
+  mag_t m;
+  mag_init(m);
+  mag_zero(out);
+  for (slong k = 1; k <= n; ++k) {
+    sum.difference(arb_midref(b.get()), k);
+    mag_zero(arb_radref(b.get()));
+    arb_mul(b.get(), b.get(), factors[static_cast<std::size_t>(k)].get(), prec);
+    if (k % 2)
+      arb_add(c0.get(), c0.get(), b.get(), prec);
+    else
+      arb_sub(c0.get(), c0.get(), b.get(), prec);
+    if (k < subtract.length()) arb_sub(b.get(), b.get(), subtract.coeff(k), prec);
+    arb_get_mag(m, b.get());
+    mag_add(out, out, m);
+  }
+  if (identity) arb_add_ui(c0.get(), c0.get(), 1, prec);
+  if (subtract.length() > 0) arb_sub(c0.get(), c0.get(), subtract.coeff(0), prec);
+  arb_get_mag(m, c0.get());
+  mag_add(out, out, m);
+  for (slong k = n + 1; k < subtract.length(); ++k) {
+    arb_get_mag(m, subtract.coeff(k));
+    mag_add(out, out, m);
+  }
+  // The product's remainder integrates to at most 2 |hl| rem.
+  arb_get_mag(m, hl.get());
+  mag_mul(m, m, rem);
+  mag_mul_2exp_si(m, m, 1);
+  mag_add(out, out, m);
+  mag_add(out, out, subtract.remainder());
+  mag_clear(m);
 }
 
 // Sweeps over the nodes in order, each node's J Y updated as soon as its Y is (Gauss-Seidel): the
@@ -217,23 +347,46 @@ inline void ball_linear_flow::residual_sup(mag_t out, const fmpz_poly_t sum, slo
 // e |J| h of them.
 inline bool ball_linear_flow::variational(const ball& hl, double jh, const std::vector<double>& weight) {
   // Nodes for about twelve digits of Phi: a degree well above e |J| h / 2 (the Taylor bound of
-  // the solution's coefficients).
-  const std::size_t m = jh <= 6 ? 17 : jh <= 10 ? 25 : jh <= 16 ? 33 : jh <= 24 ? 49 : 65;
+  // the solution's coefficients; jh bounds |J| h by the Frobenius norm, which overestimates).
+  const std::size_t m = jh <= 4.5 ? 15 : jh <= 6 ? 17 : jh <= 10 ? 25 : jh <= 16 ? 33 : jh <= 24 ? 49 : 65;
   const chebyshev_basis<double>& b = basis(m);
   const std::size_t DD = D_ * D_;
   const double hld = arf_get_d(arb_midref(hl.get()), ARF_RND_NEAR);
   jacobian_at_nodes(b, Jn_);
+  // The entries of Phi that can be nonzero: the closure of the identity's under J's pattern
+  // (Phi_ij = 0 throughout where no chain of nonzero J_ik leads from j to i); the iteration and
+  // the products skip the rest, which stay exactly zero.
+  std::vector<char> live(DD, 0);
+  for (std::size_t i = 0; i < D_; ++i) live[i * D_ + i] = 1;
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (std::size_t i = 0; i < D_; ++i)
+      for (std::size_t j = 0; j < D_; ++j)
+        for (std::size_t k = 0; k < D_ && !live[i * D_ + j]; ++k)
+          if (!Jd_[i * D_ + k].empty() && live[k * D_ + j]) live[i * D_ + j] = grew = true;
+  }
+  std::vector<std::size_t> entries;  // the live (i, j) as i * D + j
+  std::vector<std::vector<std::size_t>> through(DD);  // for a live (i, j): the k with J_ik != 0, Phi_kj live
+  for (std::size_t q = 0; q < DD; ++q) {
+    if (!live[q]) continue;
+    entries.push_back(q);
+    const std::size_t i = q / D_, j = q % D_;
+    for (std::size_t k = 0; k < D_; ++k)
+      if (!Jd_[i * D_ + k].empty() && live[k * D_ + j]) through[q].push_back(k);
+  }
   Y_.assign(m * DD, 0.0);
   F_.assign(m * DD, 0.0);
   for (std::size_t l = 0; l < m; ++l)
     for (std::size_t i = 0; i < D_; ++i) Y_[l * DD + i * D_ + i] = 1;
   const auto product_at = [&](std::size_t l) {
-    for (std::size_t i = 0; i < D_; ++i)
-      for (std::size_t j = 0; j < D_; ++j) {
-        double acc = 0;
-        for (std::size_t k = 0; k < D_; ++k) acc += Jn_[l * DD + i * D_ + k] * Y_[l * DD + k * D_ + j];
-        F_[l * DD + i * D_ + j] = acc;
-      }
+    const double* Jl = Jn_.data() + l * DD;
+    const double* Yl = Y_.data() + l * DD;
+    for (const std::size_t q : entries) {
+      const std::size_t i = q / D_, j = q % D_;
+      double acc = 0;
+      for (const std::size_t k : through[q]) acc += Jl[i * D_ + k] * Yl[k * D_ + j];
+      F_[l * DD + q] = acc;
+    }
   };
   for (std::size_t l = 0; l < m; ++l) product_at(l);
   std::vector<double> acc(DD);
@@ -243,9 +396,10 @@ inline bool ball_linear_flow::variational(const ball& hl, double jh, const std::
       std::fill(acc.begin(), acc.end(), 0.0);
       for (std::size_t k = 0; k < m; ++k) {
         const double sk = b.integral[l * m + k];
-        for (std::size_t q = 0; q < DD; ++q) acc[q] += sk * F_[k * DD + q];
+        const double* Fk = F_.data() + k * DD;
+        for (std::size_t q = 0; q < DD; ++q) acc[q] += sk * Fk[q];
       }
-      for (std::size_t q = 0; q < DD; ++q) {
+      for (const std::size_t q : entries) {
         const double next = (q % (D_ + 1) == 0 ? 1.0 : 0.0) + hld * acc[q];
         change = std::max(change, std::abs(next - Y_[l * DD + q]));
         size = std::max(size, std::abs(next));
@@ -270,20 +424,45 @@ inline bool ball_linear_flow::variational(const ball& hl, double jh, const std::
   // Its residual R_ij = delta_ij + hl int sum_k J_ik phi_kj - phi_ij, the sums exact on the grid
   // 2^(eJ + ePhi - 1).
   integer_poly sum, term;
-  mag_value rem, t, s, sum2;
+  mag_value rem, s, sum2;
+  std::vector<mag_value> phi_mag(DD);  // sup |phi_kj|
+  for (std::size_t q = 0; q < DD; ++q) grid_magnitude(phi_mag[q].m, phi_grid_[q].p, phi_e_);
+  // The short path where every sum fits 128 bits (always, at these grids' sizes).
+  std::vector<short_integer_series> phi_short(DD);
+  bool short_path = J_.short_form();
+  std::size_t phi_len = 0;
+  unsigned phi_bits = 0;
+  for (std::size_t q = 0; q < DD; ++q) {
+    phi_len = std::max(phi_len, static_cast<std::size_t>(phi_grid_[q].p->length));
+    if (!short_path) continue;
+    short_path = phi_short[q].load(phi_grid_[q].p);
+    phi_bits = std::max(phi_bits, phi_short[q].bits);
+  }
+  short_path = short_path && fits(J_.short_bits(), phi_bits, phi_len, D_);
+  std::vector<wide_int> sums;
+  std::vector<ball> factors;
+  integral_factors(factors, static_cast<slong>(J_.length() + phi_len) + 1, hl, J_.exponent() + phi_e_ - 1,
+                   residual_prec);
   for (std::size_t i = 0; i < D_; ++i)
     for (std::size_t j = 0; j < D_; ++j) {
       fmpz_poly_zero(sum.p);
+      if (short_path) sums.assign(J_.short_length() + phi_len, 0);
       mag_zero(rem.m);
       for (std::size_t k = 0; k < D_; ++k) {
         const std::size_t ik = i * D_ + k, kj = k * D_ + j;
         if (J_.zero(ik) || phi_grid_[kj].p->length == 0) continue;
-        grid_product(term.p, J_.poly(ik), phi_grid_[kj].p);
-        fmpz_poly_add(sum.p, sum.p, term.p);
-        grid_magnitude(t.m, phi_grid_[kj].p, phi_e_);
-        mag_addmul(rem.m, J_.remainder(ik).m, t.m);  // |J - J_grid| sup|phi|
+        if (short_path) {
+          add_chebyshev_product(sums, J_.short_series(ik), phi_short[kj]);
+        } else {
+          grid_product(term.p, J_.poly(ik), phi_grid_[kj].p);
+          fmpz_poly_add(sum.p, sum.p, term.p);
+        }
+        mag_addmul(rem.m, J_.remainder(ik).m, phi_mag[kj].m);  // |J - J_grid| sup|phi|
       }
-      residual_sup(s.m, sum.p, J_.exponent() + phi_e_ - 1, rem.m, hl, phi_[i * D_ + j], i == j, residual_prec);
+      if (short_path)
+        residual_sup(s.m, wide_sums{&sums}, factors, rem.m, hl, phi_[i * D_ + j], i == j, residual_prec);
+      else
+        residual_sup(s.m, flint_sums{sum.p}, factors, rem.m, hl, phi_[i * D_ + j], i == j, residual_prec);
       mag_mul_2exp_si(s.m, s.m, std::ilogb(weight[i]) - std::ilogb(weight[j]));
       mag_addmul(sum2.m, s.m, s.m);
     }
@@ -329,13 +508,13 @@ inline bool ball_linear_flow::integral_term(const std::vector<chebyshev_model>& 
   grid_models rg(D_);
   rg.load(rs, grid_bits);
   std::vector<double> rn(m * D_, 0.0), rc;
-  chebyshev_model rm;
   const mag_value none;
+  chebyshev_at_nodes(b, static_cast<std::size_t>(len));
   for (std::size_t i = 0; i < D_; ++i) {
-    from_grid(rm, rg.poly(i), rg.exponent(), none.m);
-    rc.resize(static_cast<std::size_t>(rm.length()));
-    for (slong k = 0; k < rm.length(); ++k) rc[k] = arf_get_d(arb_midref(rm.coeff(k)), ARF_RND_NEAR);
-    for (std::size_t l = 0; l < m; ++l) rn[l * D_ + i] = rc.empty() ? 0.0 : clenshaw(rc.data(), rc.size(), 1, b.nodes[l]);
+    const fmpz_poly_struct* ri = rg.poly(i);
+    rc.resize(static_cast<std::size_t>(ri->length));
+    for (slong k = 0; k < ri->length; ++k) rc[k] = std::ldexp(fmpz_get_d(ri->coeffs + k), static_cast<int>(rg.exponent()));
+    series_at_nodes(rc, m, rn.data() + i, D_);
   }
   Y_.assign(m * D_, 0.0);
   F_.assign(m * D_, 0.0);
@@ -384,24 +563,49 @@ inline bool ball_linear_flow::integral_term(const std::vector<chebyshev_model>& 
   }
   // rho_i = hl int sum_k J_ik (u_k + r_k) - u_i, scaled by 2^u_exp.
   integer_poly sum, term;
-  mag_value rem, t, sum2, wm;
+  mag_value rem, t, sum2;
+  std::vector<mag_value> wm(D_);  // sup |w_k| plus r's move to its grid
+  for (std::size_t k = 0; k < D_; ++k) {
+    grid_magnitude(wm[k].m, w[k].p, e);
+    mag_add(wm[k].m, wm[k].m, rg.remainder(k).m);
+  }
+  std::vector<short_integer_series> w_short(D_);
+  bool short_path = Ju_.short_form();
+  std::size_t w_len = 0;
+  unsigned w_bits = 0;
+  for (std::size_t k = 0; k < D_; ++k) {
+    w_len = std::max(w_len, static_cast<std::size_t>(w[k].p->length));
+    if (!short_path) continue;
+    short_path = w_short[k].load(w[k].p);
+    w_bits = std::max(w_bits, w_short[k].bits);
+  }
+  short_path = short_path && fits(Ju_.short_bits(), w_bits, std::min(w_len, Ju_.short_length()), D_);
+  std::vector<wide_int> sums;
+  std::vector<ball> factors;
+  integral_factors(factors, static_cast<slong>(Ju_.length() + w_len) + 1, hl, Ju_.exponent() + e - 1, residual_prec);
   chebyshev_model ui;
   for (std::size_t i = 0; i < D_; ++i) {
     fmpz_poly_zero(sum.p);
+    if (short_path) sums.assign(Ju_.short_length() + w_len, 0);
     mag_zero(rem.m);
     for (std::size_t k = 0; k < D_; ++k) {
       const std::size_t ik = i * D_ + k;
       if (Ju_.zero(ik)) continue;
-      grid_product(term.p, Ju_.poly(ik), w[k].p);
-      fmpz_poly_add(sum.p, sum.p, term.p);
+      if (short_path) {
+        add_chebyshev_product(sums, Ju_.short_series(ik), w_short[k]);
+      } else {
+        grid_product(term.p, Ju_.poly(ik), w[k].p);
+        fmpz_poly_add(sum.p, sum.p, term.p);
+      }
       // |J - J_grid| sup|w|, and |J_grid| times r's move to its grid.
-      grid_magnitude(wm.m, w[k].p, e);
-      mag_add(wm.m, wm.m, rg.remainder(k).m);
-      mag_addmul(rem.m, Ju_.remainder(ik).m, wm.m);
+      mag_addmul(rem.m, Ju_.remainder(ik).m, wm[k].m);
       mag_addmul(rem.m, Ju_.magnitude(ik).m, rg.remainder(k).m);
     }
     from_grid(ui, u_grid_[i].p, e, none.m);
-    residual_sup(t.m, sum.p, Ju_.exponent() + e - 1, rem.m, hl, ui, 0, residual_prec);
+    if (short_path)
+      residual_sup(t.m, wide_sums{&sums}, factors, rem.m, hl, ui, 0, residual_prec);
+    else
+      residual_sup(t.m, flint_sums{sum.p}, factors, rem.m, hl, ui, 0, residual_prec);
     mag_mul_2exp_si(t.m, t.m, std::ilogb(weight[i]));
     mag_addmul(sum2.m, t.m, t.m);
   }

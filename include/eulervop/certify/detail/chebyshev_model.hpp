@@ -147,8 +147,18 @@ inline void negate(chebyshev_model& a) {
   for (slong k = 0; k < a.length(); ++k) arb_neg(a.coeff(k), a.coeff(k));
 }
 
-// a *= x (a number).
+// a *= x (a number); exactly where x is a signed power of two (the fields' 1/2, -1 and units).
 inline void scale(chebyshev_model& a, const ball& x, slong prec) {
+  const arf_struct* mid = arb_midref(x.get());
+  if (arb_is_exact(x.get()) && !arf_is_zero(mid) && arf_is_finite(mid) && arf_bits(mid) == 1) {
+    const slong e = arf_abs_bound_lt_2exp_si(mid) - 1;  // |x| = 2^e
+    for (slong k = 0; k < a.length(); ++k) {
+      arb_mul_2exp_si(a.coeff(k), a.coeff(k), e);
+      if (arf_sgn(mid) < 0) arb_neg(a.coeff(k), a.coeff(k));
+    }
+    mag_mul_2exp_si(a.remainder(), a.remainder(), e);
+    return;
+  }
   for (slong k = 0; k < a.length(); ++k) arb_mul(a.coeff(k), a.coeff(k), x.get(), prec);
   mag_t m;
   mag_init(m);
@@ -181,31 +191,26 @@ struct integer_poly {
 };
 
 // A model's coefficients on the binary grid 2^e: the integers n_k = trunc(mid(c_k) 2^-e), and in
-// `moved` the sum of the distances to the grid plus the radii, sum_k (rad c_k + |c_k - n_k 2^e|),
-// which bounds |f - 2^e sum n_k T_k| beyond the model's own remainder (|T_k| <= 1).
+// `moved` a bound of the distances to the grid plus the radii, sum_k rad c_k + (the number of
+// inexact n_k) 2^e (truncation moves each by less than 2^e), which bounds |f - 2^e sum n_k T_k|
+// beyond the model's own remainder (|T_k| <= 1).
 inline void to_grid(fmpz_poly_t n, mag_t moved, const chebyshev_model& a, slong e) {
   fmpz_poly_fit_length(n, a.length());
-  arf_t step, d;
-  arf_init(step);
-  arf_init(d);
-  mag_t m;
-  mag_init(m);
   mag_zero(moved);
+  ulong inexact = 0;
   for (slong k = 0; k < a.length(); ++k) {
-    fmpz* nk = n->coeffs + k;
-    if (arf_get_fmpz_fixed_si(nk, arb_midref(a.coeff(k)), e)) {
-      set_fmpz_2exp(step, nk, e);
-      arf_sub(d, arb_midref(a.coeff(k)), step, ARF_PREC_EXACT, ARF_RND_DOWN);
-      arf_get_mag(m, d);
-      mag_add(moved, moved, m);
-    }
+    if (arf_get_fmpz_fixed_si(n->coeffs + k, arb_midref(a.coeff(k)), e)) ++inexact;
     mag_add(moved, moved, arb_radref(a.coeff(k)));
+  }
+  if (inexact > 0) {
+    mag_t step;
+    mag_init(step);
+    mag_set_ui_2exp_si(step, inexact, e);
+    mag_add(moved, moved, step);
+    mag_clear(step);
   }
   _fmpz_poly_set_length(n, a.length());
   _fmpz_poly_normalise(n);
-  mag_clear(m);
-  arf_clear(step);
-  arf_clear(d);
 }
 
 // The exponent of the grid with `bits` bits below the largest midpoint of a (0 for zero).
@@ -275,10 +280,13 @@ inline void multiply(chebyshev_model& out, const chebyshev_model& a, const cheby
   }
   // A constant factor (one coefficient, no remainder): a scaling, in balls at bits + 64.
   if (b.length() == 1 && mag_is_zero(b.remainder())) {
-    out = a;
-    ball x;
-    arb_set(x.get(), b.coeff(0));
-    scale(out, x, bits + 64);
+    out.resize(a.length());
+    for (slong k = 0; k < a.length(); ++k) arb_mul(out.coeff(k), a.coeff(k), b.coeff(0), bits + 64);
+    mag_t m;
+    mag_init(m);
+    arb_get_mag(m, b.coeff(0));
+    mag_mul(out.remainder(), a.remainder(), m);
+    mag_clear(m);
     return;
   }
   if (a.length() == 1 && mag_is_zero(a.remainder())) {
