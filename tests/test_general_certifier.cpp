@@ -201,18 +201,21 @@ TEST(GeneralCertifier, B5IsCoveredAndTight) {
   EXPECT_LT(o.worst_radius, 30 * o.worst_error);
 }
 
-// A node value moved by 2^-90 (about 2^22 ulps of quad): the reference's rows visibly move, and the
-// radii move with them (the certificate sees the values as they are), or the certificate refuses.
+// A node value moved by a few ulps (2^-110, four ulps of quad at 1) and by 2^-90 (about 2^22
+// ulps): the radii move with the rows (the certificate sees the values as they are), or the
+// certificate refuses; the larger move visibly moves the rows.
 TEST(GeneralCertifier, APlantedNodeValueIsCovered) {
   const b5_outcome clean = against_b5(general_rows(b5(), equally_spaced(quad(20), 41), 0));
-  for (const std::size_t segment : {1u, 3u, 9u}) {  // segments with rows inside (not only on nodes)
-    const b5_outcome o = against_b5(general_rows(b5(), equally_spaced(quad(20), 41), 0,
-                                                 [segment](eulervop::chebyshev_segment<quad>& c, std::size_t index) {
-                                                   if (index == segment) c.values[5][1] += ldexp(quad(1), -90);
-                                                 }));
-    EXPECT_TRUE(o.covered) << "segment " << segment;
-    EXPECT_GT(o.worst_error, 100 * clean.worst_error) << "the planted error is visible";
-  }
+  for (const int shift : {-110, -90})
+    for (const std::size_t segment : {1u, 3u, 9u}) {  // segments with rows inside (not only on nodes)
+      const b5_outcome o =
+          against_b5(general_rows(b5(), equally_spaced(quad(20), 41), 0,
+                                  [segment, shift](eulervop::chebyshev_segment<quad>& c, std::size_t index) {
+                                    if (index == segment) c.values[5][1] += ldexp(quad(1), shift);
+                                  }));
+      EXPECT_TRUE(o.covered) << "segment " << segment << ", 2^" << shift;
+      if (shift == -90) EXPECT_GT(o.worst_error, 100 * clean.worst_error) << "the planted error is visible";
+    }
 }
 
 // The integration's coefficient a3 = -0.51 off by one ulp (quad), and by 2^20 of them, the
