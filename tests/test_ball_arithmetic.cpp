@@ -16,6 +16,7 @@
 #include <eulervop/certify/detail/ball_linear_flow.hpp>
 #include <eulervop/certify/detail/ball_lohner_box.hpp>
 #include <eulervop/certify/detail/ball_node_transform.hpp>
+#include <eulervop/certify/detail/chebyshev_composition.hpp>
 #include <eulervop/certify/detail/chebyshev_model.hpp>
 #include <eulervop/certify/detail/field_algebra.hpp>
 #include <eulervop/certify/detail/short_integer_series.hpp>
@@ -281,29 +282,82 @@ TEST(BallNodeTransform, HoldsTheInterpolantsCoefficients) {
   }
 }
 
-// Which formulas the general path takes: a polynomial in the time and the state, functions and
-// divisions only of constants.
-TEST(PolynomialFormula, FunctionsAndDivisionsOfVariablesAreNot) {
-  const eulervop::scene::expression_variables vars{{"t", "omega1", "omega2", "omega3", "q0", "q1", "q2", "q3"}};
-  const auto why = [&](const std::string& text) {
-    return eulervop::polynomial_formula(eulervop::scene::parse_expression(text, vars));
+// An elementary function of a model (chebyshev_composition.hpp): the model of f(u) holds f of every
+// function u stands for (its coefficients at the ends of their balls, plus a remainder), and where
+// u has no remainder its own remainder reaches the target asked for (for an entire f); a range that
+// leaves f's domain is refused.
+TEST(ChebyshevComposition, HoldsEveryFunctionOfEveryModel) {
+  using eulervop::detail::elementary;
+  const eulervop::mpfr_precision_scope scope(truth_bits);
+  std::mt19937_64 rng(17);
+  const auto exact_f = [](elementary f, const mpfr_real& x) -> mpfr_real {
+    switch (f) {
+      case elementary::sin: return sin(x);
+      case elementary::cos: return cos(x);
+      case elementary::exp: return exp(x);
+      case elementary::log: return log(x);
+      case elementary::sqrt: return sqrt(x);
+      default: return 1 / x;
+    }
   };
-  EXPECT_EQ(why("0.01 - 0.5*omega1"), "");
-  EXPECT_EQ(why("-2*q1 - 40*omega1"), "");
-  EXPECT_EQ(why("t^3*omega2/4 + sqrt(2)*cos(1.1)*omega3"), "");
-  EXPECT_EQ(why("(1 + t)^2 - 3/7"), "");
-  EXPECT_EQ(why("0.25*sin(t)^2"), "sin of a variable");
-  EXPECT_EQ(why("exp(-t)"), "exp of a variable");
-  EXPECT_EQ(why("omega1/(1 + omega2^2)"), "a division by a variable");
-  EXPECT_EQ(why("t^-2"), "a negative power of a variable");
+  for (const elementary f : {elementary::sin, elementary::cos, elementary::exp, elementary::log, elementary::sqrt,
+                             elementary::inverse})
+    for (int trial = 0; trial < 6; ++trial) {
+      const bool exact = trial < 3;
+      chebyshev_model u = random_model(rng, 2 + static_cast<slong>(rng() % 30), 0.35, exact ? 0 : 90, exact ? 0 : 1e-20);
+      if (f == elementary::log || f == elementary::sqrt || f == elementary::inverse) {
+        // Shift u to [1/2, ...) or, for 1/x, alternately below -1/2.
+        mag_value m;
+        eulervop::detail::coefficient_magnitude(m.m, u, 1);
+        mag_add(m.m, m.m, u.remainder());
+        ball shift;
+        arf_set_mag(arb_midref(shift.get()), m.m);
+        arb_add_ui(shift.get(), shift.get(), 1, 300);
+        arb_set_round(shift.get(), shift.get(), 60);
+        mag_zero(arb_radref(shift.get()));
+        if (f == elementary::inverse && trial % 2) arb_neg(shift.get(), shift.get());
+        arb_set(u.coeff(0), shift.get());
+      }
+      chebyshev_model out;
+      eulervop::detail::compose(out, f, u, 300, 240);
+      if (exact) {
+        ball range, fr;
+        eulervop::detail::range_of(range, u);
+        ASSERT_TRUE(eulervop::detail::elementary_on_ball(f, range, &fr, nullptr, nullptr, 300));
+        // The target for the entire functions; near a singularity (log, sqrt, 1/x of a u whose
+        // variation is comparable to its distance from 0) the ellipse is small and 256 points give
+        // less, still 2^-100.
+        const bool entire = f == elementary::sin || f == elementary::cos || f == elementary::exp;
+        mag_value target;
+        arb_get_mag(target.m, fr.get());
+        mag_mul_2exp_si(target.m, target.m, entire ? -230 : -100);
+        EXPECT_LE(mag_cmp(out.remainder(), target.m), 0) << "f " << static_cast<int>(f) << " trial " << trial;
+      }
+      for (int pick_round = 0; pick_round < 3; ++pick_round) {
+        const represented fu = pick(u, rng);
+        for (const mpfr_real& sp : points(rng)) {
+          ball v;
+          eulervop::detail::evaluate(v, out, point(sp), truth_bits);
+          ASSERT_TRUE(holds(v, exact_f(f, fu(sp)))) << "f " << static_cast<int>(f) << " trial " << trial << " s " << sp;
+        }
+      }
+    }
+  // Ranges that leave the domain.
+  chebyshev_model u = random_model(rng, 8, 0.5, 0, 0);
+  arb_zero(u.coeff(0));  // a range around 0
+  chebyshev_model out;
+  EXPECT_THROW(eulervop::detail::compose(out, elementary::log, u, 300, 240), std::domain_error);
+  EXPECT_THROW(eulervop::detail::compose(out, elementary::sqrt, u, 300, 240), std::domain_error);
+  EXPECT_THROW(eulervop::detail::compose(out, elementary::inverse, u, 300, 240), std::domain_error);
 }
 
 // The field along a segment's polynomial and its Jacobian (certification_problem.hpp, in the
 // series algebra with forward derivatives) hold the problem's own right-hand side and Jacobian
 // (model/coupled_problem.hpp, euler_problem.hpp with expression_torque.hpp: the reference's
 // equations, written separately), evaluated at 1000 bits at points of the polynomial: for a PD law
-// on a body listed out of order (7 states, normalized with a permutation), rate damping (3), and
-// an axisymmetric body with an attitude (the direct form, 7 states as a cascade).
+// on a body listed out of order (7 states, normalized with a permutation), rate damping (3), an
+// axisymmetric body with an attitude (the direct form, 7 states as a cascade), functions of the
+// time and the rates (3), and the gravity gradient with a formula of q (7).
 struct field_case {
   const char* label;
   const char* scene;
@@ -421,7 +475,32 @@ q = [0.5, 0.5, 0.5, 0.5]
 [span]
 t_end = 10.0
 samples = 3
-)"}),
+)"},
+                      field_case{"functions", R"toml(name = "functions"
+[body]
+inertia = [150.0, 200.0, 100.0]
+[torque]
+M = ["0.01*sin(t)^2 - 0.5*exp(-omega1^2)", "0.02*cos(2*t)*omega2/(2 + omega3^2)", "sqrt(1 + omega1^2) + log(2 + omega2^2)"]
+[initial]
+omega = [0.1, 0.05, 0.02]
+[span]
+t_end = 10.0
+samples = 3
+)toml"},
+                      field_case{"gravity", R"toml(name = "gravity"
+[body]
+inertia = [100.0, 150.0, 220.0]
+[torque]
+M = ["0.1*omega1/(40 + q1^2)", "0.0", "-0.01*omega3*exp(-t/5)"]
+[torque.gravity_gradient]
+mean_motion = 0.3
+[initial]
+omega = [0.01, -0.02, 0.005]
+q = [0.5, 0.5, -0.5, 0.5]
+[span]
+t_end = 10.0
+samples = 3
+)toml"}),
     [](const auto& info) { return std::string(info.param.label); });
 
 // Over a box, c bounds Taylor's remainder: |W (F(x + e) - F(x) - J e)| <= c |W e|^2 for every e
@@ -644,13 +723,13 @@ TEST(BallLinearFlow, PhiAndUHoldTheExactSolutions) {
     mag_sqrt(jm.m, jm.m);
     const double j = mag_get_d(jm.m);
     eulervop::detail::ball_linear_flow flow(D, 400);
-    flow.load_jacobian(J);
-    ASSERT_TRUE(flow.variational(hl, j * 2 * fc.hl, weight));
-    ASSERT_TRUE(flow.integral_term(r, hl, weight));
+    flow.load_jacobian(J, weight);
+    ASSERT_TRUE(flow.variational(hl, j * 2 * fc.hl));
+    ASSERT_TRUE(flow.integral_term(r, hl));
     const double phi_res = mag_get_d(flow.phi_residual()), u_res = mag_get_d(flow.u_residual());
     // The bounds are of use: Phi to about six digits or more, u's far below r.
     EXPECT_LT(phi_res, 1e-6) << "D " << D;
-    EXPECT_LT(u_res, 1e-5 * fc.r_size) << "D " << D;
+    EXPECT_LT(u_res, 1e-4 * fc.r_size) << "D " << D;
     std::vector<poly> Jm(DD), rm(D);
     for (std::size_t q = 0; q < DD; ++q) Jm[q] = monomial(J[q]);
     for (std::size_t i = 0; i < D; ++i) rm[i] = monomial(r[i]);

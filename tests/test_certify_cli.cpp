@@ -80,9 +80,6 @@ TEST(Certify, UnsupportedCombinationsAreOneLineErrors) {
   temp_dir dir;
   expect_one_line_error(run(dir.path(), {"reference", "--certify", "--precision", "double", "--out", "x.csv"}),
                         "precision double is not certified");
-  expect_one_line_error(
-      run(dir.path(), {"reference", source_dir + "/data/scenes/varying-torque.toml", "--certify", "--out", "x.csv"}),
-      "is not a polynomial in the time and the state (sin of a variable)");
   write_file(dir.path() / "u.toml", R"(name = "u"
 [torque]
 G = [0.0, 0.0, 0.0]

@@ -386,12 +386,12 @@ TEST(Reference, NonFiniteTorqueIsANumericalFailureNamingTheFormula) {
 
 // --certify takes a piece whose formulas are polynomials, here at the irrational breakpoint
 // pi/8, and refuses a formula that is not one (sin of the time) in one line.
-TEST(Reference, CertifyTakesPolynomialPiecesAndRefusesOtherFormulas) {
+TEST(Reference, CertifyTakesPiecesAndFormulasOfTheTime) {
   temp_dir dir;
-  write_file(dir.path() / "scene.toml", coefficient_scene);
-  expect_one_line_error(run(dir.path(), {"reference", "scene.toml", "--certify", "--out", "ref.csv"}),
-                        "f3 = `0.25*sin(t)^2` is not a polynomial in the time and the state");
-  EXPECT_EQ(leftovers(dir.path()), std::vector<std::string>{});
+  write_file(dir.path() / "scene.toml", coefficient_scene);  // f3 = 0.25 sin(t)^2
+  const run_result c = run(dir.path(), {"reference", "scene.toml", "--certify", "--out", "ref.csv"});
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  EXPECT_NE(read_file(dir.path() / "ref.csv").find("\nt,y1,y2,y3,radius\n"), std::string::npos);
   write_file(dir.path() / "scene.toml", piece_scene);
   const run_result r = run(dir.path(), {"reference", "scene.toml", "--certify", "--out", "ref.csv"});
   ASSERT_EQ(r.exit_code, 0) << r.err;

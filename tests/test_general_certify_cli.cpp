@@ -254,31 +254,37 @@ samples = 13
   expect_tight(q, "pieces: q");
 }
 
-// What the general path cannot take yet is refused before any computation, in one line naming the
-// formula (or the gravity gradient) and why.
-TEST(GeneralCertify, FormulasThatAreNotPolynomialsAreRefusedByName) {
+// A formula undefined where its argument may lie on a segment (a division by a value that may be
+// 0, the log or the square root of one that may not be positive) stops the certificate with exit
+// 3: the time, the formula, why, and its piece; no file. The plain runs of these scenes pass: their
+// values stay defined (0 log(Omega1^2) is 0 wherever Omega1 is not exactly 0).
+TEST(GeneralCertify, AnUndefinedFormulaStopsAtItsPlace) {
   temp_dir dir;
-  expect_one_line_error(run(dir.path(), {"reference", source_dir + "/data/scenes/problems/sciml-rigid-body.toml",
-                                         "--certify", "--out", "x.csv"}),
-                        "f3 = `0.25*sin(t)^2` is not a polynomial in the time and the state (sin of a variable)");
-  expect_one_line_error(run(dir.path(), {"reference",
-                                         source_dir + "/data/scenes/attitude/gravity-gradient-tumble.toml",
-                                         "--certify", "--out", "x.csv"}),
-                        "the gravity gradient");
-  write_file(dir.path() / "d.toml", R"toml(name = "d"
-[body]
-inertia = [100.0, 150.0, 200.0]
-[torque]
-M = ["-0.1*omega1/(1 + omega2^2)", 0.0, 0.0]
-[initial]
-omega = [0.02, 0.1, 0.05]
-[span]
-t_end = 10.0
-samples = 3
-)toml");
-  expect_one_line_error(run(dir.path(), {"reference", "d.toml", "--certify", "--out", "x.csv"}),
-                        "a division by a variable");
-  EXPECT_FALSE(fs::exists(dir.path() / "x.csv"));
+  const auto scene = [](const std::string& base, const std::string& piece) {
+    return "name = \"u\"\n[torque]\nG = [" + base + ", 0.0, 0.0]\n[[torque.piece]]\nfrom = 1.0\nto = 30.0\nG = [" +
+           piece + ", 0.0, 0.0]\n[initial]\nc1 = 0.5\nc2 = 1.0\nu = 0.0\n[span]\ntau_end = 20.0\nsamples = 5\n";
+  };
+  struct fault {
+    std::string base, piece, formula, why, where;
+  };
+  for (const fault& f : {fault{"\"0.001*Omega1/Omega1\"", "0.0", "G1 = `0.001*Omega1/Omega1`",
+                               "a division by a value that may be 0", "numerical failure at tau="},
+                         fault{"0.0", "\"0*log(Omega1^2)\"", "G1 = `0*log(Omega1^2)`",
+                               "the log of a value that is not certainly positive in the piece [1.0, 30.0)",
+                               "numerical failure at tau=1:"},
+                         fault{"0.0", "\"0*sqrt(Omega1^2)\"", "G1 = `0*sqrt(Omega1^2)`",
+                               "the square root of a value that is not certainly positive in the piece [1.0, 30.0)",
+                               "numerical failure at tau=1:"}}) {
+    write_file(dir.path() / "s.toml", scene(f.base, f.piece));
+    ASSERT_EQ(run(dir.path(), {"reference", "s.toml", "--out", "plain.csv"}).exit_code, 0) << f.formula;
+    const run_result r = run(dir.path(), {"reference", "s.toml", "--certify", "--out", "x.csv"});
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_EQ(lines_of(r.err).size(), 1u) << r.err;
+    EXPECT_NE(r.err.find(f.where), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(f.formula + ": " + f.why), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("higher precision"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir.path() / "x.csv"));
+  }
 }
 
 // check against a certified file of a body in the direct form reads its radius_omega.

@@ -61,7 +61,6 @@ inline void require_certifiable(const scene& s, const eulervop::precision& p) {
   if (p.type == eulervop::precision::kind::binary64)
     reasons.push_back("precision double is not certified (its reference is the double run's own rounding; use quad "
                       "or mpfr:BITS)");
-  for (std::string& why : eulervop::scene::non_polynomial_reasons(s)) reasons.push_back(std::move(why));
   if (const auto* e = std::get_if<eulervop::scene::initial_elements>(&s.initial); e && e->u.value != 0)
     reasons.push_back(fmt::format("its initial u = {} needs elliptic functions of the decimals, which are not "
                                   "enclosed (give [initial] Omega, or u = 0)",

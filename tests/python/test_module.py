@@ -51,8 +51,10 @@ def test_a_torque_of_the_attitude_is_the_cli_coupled_run(binary):
     assert ref.columns[:7] == ["omega1", "omega2", "omega3", "q0", "q1", "q2", "q3"]
     assert ref.meta["coupled"].startswith("the torque reads the attitude")
     assert float(ref.meta["q_norm_drift"]) < 1e-31
-    with pytest.raises(ValueError, match="gravity gradient"):
-        eulervop.reference(path, samples=7, certify=True)
+    cert = eulervop.reference(path, samples=7, certify=True)
+    assert cert.radius_q is not None and cert.radius_q.max() < 1e-29
+    with pytest.raises(ValueError, match="precision double"):
+        eulervop.reference(path, samples=7, precision="double", certify=True)
 
 
 def test_certify_gives_the_radius_of_q(binary):

@@ -206,11 +206,11 @@ void ball_segment_check::prepare(const chebyshev_segment<T, Dim>& seg) {
   tube_bounds();
   breakpoint_term();
   // 4. Phi and u.
-  flow.load_jacobian(std::move(J));
+  flow.load_jacobian(std::move(J), weight);
   J.assign(D * D, detail::chebyshev_model());
   const double jh = mag_get_d(jmax.m) * arf_get_d(arb_midref(h.get()), ARF_RND_UP);
-  if (!flow.variational(hl, jh, weight)) fail(outcome_kind::certify_non_finite);
-  if (!flow.integral_term(r, hl, weight)) fail(outcome_kind::certify_non_finite);
+  if (!flow.variational(hl, jh)) fail(outcome_kind::certify_non_finite);
+  if (!flow.integral_term(r, hl)) fail(outcome_kind::certify_non_finite);
 }
 
 // In the weighted norm, W J W^-1 has the entries J_ik w_i / w_k. jmax >= its 2-norm (the Frobenius

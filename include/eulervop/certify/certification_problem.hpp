@@ -2,6 +2,8 @@
 // every number exact (a ball that holds it), and the field
 //   y_i' = a_i y_j y_k + g_i(t, y[, q]),   (i, j, k) cyclic        (Eq. 5, or Eq. 1: euler_problem.hpp)
 //   q'   = 1/2 q (x) (0, W(y))                                       (dimension 7: coupled_problem.hpp)
+// g: the scene's formulas of the time, the rates and q (any formula of the grammar), plus the
+// gravity gradient 3 n^2 r_b x (I r_b) (model/gravity_gradient.hpp), both in the scene's variables
 // written once over an algebra (detail/field_algebra.hpp), so that the same statement gives the
 // field along a segment's polynomial with its Jacobian, and the field over a box with its Hessian.
 // The torque g is the scene's formulas (model/torque_law.hpp) in the scene's variables, mapped to
@@ -20,6 +22,7 @@
 #include <cmath>
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -55,6 +58,12 @@ struct breakpoint_window {
   std::size_t exact_count = 0;
 };
 
+// The gravity gradient (model/gravity_gradient.hpp), its numbers exact.
+struct gravity_term {
+  ball mean_motion;             // n, per unit of the scene's time
+  std::array<ball, 3> moments;  // I in the listed axes
+};
+
 struct certification_problem {
   std::size_t dimension = 3;  // 3, or 7 with q
   slong prec = 0;             // the working precision of every ball
@@ -68,6 +77,7 @@ struct certification_problem {
   exact_variables variables;
   exact_rates rates;  // dimension 7
   std::vector<breakpoint_window> breakpoints;
+  std::optional<gravity_term> gravity;  // dimension 7
   std::vector<ball> initial;  // y(tau0) (and q(tau0), normalized exactly)
   ball tau0;
 };
@@ -105,7 +115,65 @@ typename Algebra::value product(const Algebra& alg, const typename Algebra::valu
   return out;
 }
 
-// g(t, y, q) of formula set `set`, in the integrator's variables, added to F[0..2].
+// The gravity gradient at the scene's time ts and attitude q, added to m (the scene's torque):
+// b = R(q)^T (cos n ts, sin n ts, 0), m_i += 3 n^2 (I_l - I_j) b_j b_l, (i, j, l) cyclic.
+template <class Algebra>
+void add_gravity(const gravity_term& g, const Algebra& alg, const typename Algebra::value& ts,
+                 const std::vector<typename Algebra::value>& x, std::array<typename Algebra::value, 3>& m) {
+  using value = typename Algebra::value;
+  value c = ts;
+  alg.scale(c, g.mean_motion);
+  value sn = c;
+  alg.function(elementary::cos, c);
+  alg.function(elementary::sin, sn);
+  const auto q = [&](int r) -> const value& { return x[static_cast<std::size_t>(3 + r)]; };
+  const auto qq = [&](int r, int k) { return product(alg, q(r), q(k)); };
+  const ball two(2);
+  // 1 - 2 (q_a^2 + q_b^2), and 2 (q_a q_b +- q_c q_d).
+  const auto diagonal = [&](int a, int b) {
+    value v = qq(a, a);
+    alg.add(v, qq(b, b));
+    alg.scale(v, two);
+    alg.neg(v);
+    alg.add(v, alg.constant(ball(1)));
+    return v;
+  };
+  const auto off = [&](int a, int b, int c2, int d, bool plus) {
+    value v = qq(a, b);
+    if (plus)
+      alg.add(v, qq(c2, d));
+    else
+      alg.sub(v, qq(c2, d));
+    alg.scale(v, two);
+    return v;
+  };
+  const auto combine = [&](value along_c, value along_s) {
+    alg.mul(along_c, c);
+    alg.mul(along_s, sn);
+    alg.add(along_c, along_s);
+    return along_c;
+  };
+  std::array<value, 3> b;
+  b[0] = combine(diagonal(2, 3), off(1, 2, 0, 3, true));
+  b[1] = combine(off(1, 2, 0, 3, false), diagonal(1, 3));
+  b[2] = combine(off(1, 3, 0, 2, true), off(2, 3, 0, 1, false));
+  ball k;
+  arb_mul(k.get(), g.mean_motion.get(), g.mean_motion.get(), alg.prec());
+  arb_mul_ui(k.get(), k.get(), 3, alg.prec());
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, l = (i + 2) % 3;
+    ball coefficient;
+    arb_sub(coefficient.get(), g.moments[static_cast<std::size_t>(l)].get(), g.moments[static_cast<std::size_t>(j)].get(),
+            alg.prec());
+    arb_mul(coefficient.get(), coefficient.get(), k.get(), alg.prec());
+    value term = product(alg, b[static_cast<std::size_t>(j)], b[static_cast<std::size_t>(l)]);
+    alg.scale(term, coefficient);
+    alg.add(m[static_cast<std::size_t>(i)], term);
+  }
+}
+
+// g(t, y, q) of formula set `set` (and the gravity gradient), in the integrator's variables,
+// added to F[0..2].
 template <class Algebra>
 void add_torque(const certification_problem& p, std::size_t set, const Algebra& alg, const typename Algebra::value& t,
                 const std::vector<typename Algebra::value>& x, std::vector<typename Algebra::value>& F) {
@@ -130,7 +198,22 @@ void add_torque(const certification_problem& p, std::size_t set, const Algebra& 
   if (p.dimension == 7)
     for (int r = 0; r < 4; ++r) vars.attitude[r] = &x[3 + r];
   std::array<value, 3> m;
-  for (int u = 0; u < 3; ++u) m[u] = p.sets[set][u](alg, vars);
+  for (int u = 0; u < 3; ++u) {
+    if (p.sets.empty()) {
+      m[u] = alg.constant(ball(0));
+      continue;
+    }
+    try {
+      m[u] = p.sets[set][u](alg, vars);
+    } catch (const undefined_formula& e) {
+      // Name the torque's component and its piece.
+      std::string where = p.law->name + std::to_string(u + 1) + " = " + e.what();
+      if (set > 0)
+        where += " in the piece [" + p.law->pieces[set - 1].from.text + ", " + p.law->pieces[set - 1].to.text + ")";
+      throw undefined_formula(where);
+    }
+  }
+  if (p.gravity) add_gravity(*p.gravity, alg, ts, x, m);
   for (int i = 0; i < 3; ++i) {
     value g = std::move(m[v.identity ? i : v.axes.axis(i)]);
     if (!v.identity) {
@@ -186,7 +269,7 @@ void add_attitude(const certification_problem& p, const Algebra& alg, const std:
 }  // namespace detail
 
 // F(t, x) of formula set `set` in the algebra (x: the state, dimension p.dimension). Throws
-// not_polynomial or undefined_formula from a formula.
+// undefined_formula from a formula undefined where its arguments may be.
 template <class Algebra>
 void field(const certification_problem& p, std::size_t set, const Algebra& alg, const typename Algebra::value& t,
            const std::vector<typename Algebra::value>& x, std::vector<typename Algebra::value>& F) {
@@ -199,7 +282,7 @@ void field(const certification_problem& p, std::size_t set, const Algebra& alg, 
     else if (p.unit_a[i] != 1)
       alg.scale(F[i], p.a[i]);
   }
-  if (!p.sets.empty()) detail::add_torque(p, set, alg, t, x, F);
+  if (!p.sets.empty() || p.gravity) detail::add_torque(p, set, alg, t, x, F);
   if (p.dimension == 7) detail::add_attitude(p, alg, x, F);
 }
 

@@ -38,9 +38,10 @@ inline std::string describe_kind(outcome_kind kind, const outcome& o) {
     case outcome_kind::dense_output_non_finite: return "non-finite state in the dense output";
     case outcome_kind::error_non_finite: return "non-finite Eq. 20 error";
     case outcome_kind::certification_failed:
+      // A formula undefined where its argument may be is no matter of precision.
       return "certification does not close: " +
              (o.cause == outcome_kind::certification_failed ? std::string("?") : describe_kind(o.cause, o)) +
-             "; try a higher precision";
+             (o.cause == outcome_kind::certify_formula ? "" : "; try a higher precision");
     case outcome_kind::certify_a_priori:
       return "no a-priori error bound closes on the segment (the segment is too long for the bound)";
     case outcome_kind::certify_growth: {
@@ -50,7 +51,7 @@ inline std::string describe_kind(outcome_kind kind, const outcome& o) {
     }
     case outcome_kind::certify_segment_gap: return "a segment does not start where the previous one ends";
     case outcome_kind::certify_non_finite: return "a non-finite value in the segment or its variational matrix";
-    case outcome_kind::certify_formula: return "the torque's formulas cannot be enclosed on the segment";
+    case outcome_kind::certify_formula: return "a formula of the torque is undefined where its argument may lie on the segment";
     case outcome_kind::torque_non_finite: return "the torque is not finite";
   }
   return "?";

@@ -26,28 +26,6 @@
 
 namespace eulervop::scene {
 
-// Why the scene's equations are not polynomials in the time and the state (each reason one
-// sentence), or nothing: what the general path cannot take yet.
-inline std::vector<std::string> non_polynomial_reasons(const scene& s) {
-  std::vector<std::string> reasons;
-  if (s.gravity_gradient)
-    reasons.push_back("its torque includes the gravity gradient, whose orbit enters as cos(n t) and sin(n t): not a "
-                      "polynomial in the time and the state");
-  if (!s.torque_law) return reasons;
-  const torque_law& law = *s.torque_law;
-  const auto check = [&](const expression& e, int i, const std::string& where) {
-    const std::string why = polynomial_formula(e);
-    if (!why.empty())
-      reasons.push_back(law.name + std::to_string(i + 1) + " = `" + e.text + "`" + where +
-                        " is not a polynomial in the time and the state (" + why + ")");
-  };
-  for (int i = 0; i < 3; ++i) check(law.base[static_cast<std::size_t>(i)], i, "");
-  for (const torque_piece& p : law.pieces)
-    for (int i = 0; i < 3; ++i)
-      check(p.terms[static_cast<std::size_t>(i)], i, " in the piece [" + p.from.text + ", " + p.to.text + ")");
-  return reasons;
-}
-
 namespace detail {
 
 inline ball ball_of_decimal(const decimal& d, slong prec, const std::string& field) {
@@ -82,8 +60,8 @@ std::vector<T> reference_breakpoints(const scene& s, const std::shared_ptr<const
 
 }  // namespace detail
 
-// The scene's problem at `prec` bits, for a reference computed in T (precondition: the scene's
-// equations are polynomials, non_polynomial_reasons(s) empty, and u = 0 if it gives elements).
+// The scene's problem at `prec` bits, for a reference computed in T (precondition: u = 0 if the
+// scene gives elements).
 // A number undefined on its enclosure is bad input naming its field.
 template <scalar T>
 certification_problem certification_problem_of(const scene& s, slong prec) {
@@ -154,6 +132,12 @@ certification_problem certification_problem_of(const scene& s, slong prec) {
     }
     arb_rsqrt(norm2.get(), norm2.get(), prec);
     for (int r = 0; r < 4; ++r) arb_mul(p.initial[3 + r].get(), p.initial[3 + r].get(), norm2.get(), prec);
+  }
+  if (s.gravity_gradient) {
+    gravity_term g;
+    g.mean_motion = detail::ball_of_decimal(*s.gravity_gradient, prec, "[torque.gravity_gradient] mean_motion");
+    for (int i = 0; i < 3; ++i) g.moments[i] = detail::ball_of_decimal((*s.inertia)[i], prec, "[body] inertia");
+    p.gravity = g;
   }
   // The torque, its pieces and its breakpoints.
   p.law = detail::law_of(s);

@@ -96,15 +96,15 @@ class ball_linear_flow {
   ball_linear_flow(std::size_t dimension, slong prec)
       : D_(dimension), prec_(prec), J_(dimension * dimension), Ju_(dimension * dimension) {}
 
-  // The Jacobian's models (D x D, row-major; an empty model is 0): on the grids of the two
-  // residuals, and as doubles for the iterations.
-  void load_jacobian(std::vector<chebyshev_model> J);
+  // The Jacobian's models (D x D, row-major; an empty model is 0) and the weights of the norm
+  // (powers of two): W J W^-1 on the grids of the two residuals, and as doubles for the iterations.
+  void load_jacobian(std::vector<chebyshev_model> J, const std::vector<double>& weight);
   // Phi_num on nodes chosen for |J| h (jh), and the bound of its residual in the weighted norm
   // (|W R W^-1|, weights powers of two). false when the iteration does not converge to a finite
   // value.
-  bool variational(const ball& hl, double jh, const std::vector<double>& weight);
+  bool variational(const ball& hl, double jh);
   // u_num for the residual r (D models), and the bound of its residual (|W rho|).
-  bool integral_term(const std::vector<chebyshev_model>& r, const ball& hl, const std::vector<double>& weight);
+  bool integral_term(const std::vector<chebyshev_model>& r, const ball& hl);
 
   // Phi_num(s) (D x D) and u_num(s) (D) at s in [-1, 1], in balls, from the values T_k(s) (at
   // least max_length() of them).
@@ -166,13 +166,26 @@ class ball_linear_flow {
   std::vector<chebyshev_model> phi_, u_;  // Phi_num (D x D) and u_num (D, unscaled), exact
   std::vector<integer_poly> phi_grid_, u_grid_;
   slong phi_e_ = 0, u_e_ = 0;
+  std::vector<int> w_;  // log2 of the weights
   long u_exp_ = 0;  // u and r scaled by 2^u_exp_ in the iteration
   std::vector<ball> Phi1_, u1_;
   mag_value phi_res_, u_res_;
   std::vector<double> Jn_, Y_, F_, Tn_;
 };
 
-inline void ball_linear_flow::load_jacobian(std::vector<chebyshev_model> Jc) {
+inline void ball_linear_flow::load_jacobian(std::vector<chebyshev_model> Jc, const std::vector<double>& weight) {
+  // Everything below works on W J W^-1, W Phi W^-1 and W u (exact shifts): each entry's grid and
+  // accuracy then follow its weight in the norm the residuals are bounded in.
+  w_.resize(D_);
+  for (std::size_t i = 0; i < D_; ++i) w_[i] = std::ilogb(weight[i]);
+  for (std::size_t i = 0; i < D_; ++i)
+    for (std::size_t k = 0; k < D_; ++k) {
+      chebyshev_model& m = Jc[i * D_ + k];
+      const int shift = w_[i] - w_[k];
+      if (shift == 0) continue;
+      for (slong c = 0; c < m.length(); ++c) arb_mul_2exp_si(m.coeff(c), m.coeff(c), shift);
+      mag_mul_2exp_si(m.remainder(), m.remainder(), shift);
+    }
   mag_value scale, cut, s;
   for (const chebyshev_model& m : Jc) {
     sup_bound(s.m, m);
@@ -345,7 +358,7 @@ void ball_linear_flow::residual_sup(mag_t out, const Sums& sum, const std::vecto
 // Sweeps over the nodes in order, each node's J Y updated as soon as its Y is (Gauss-Seidel): the
 // integral is a Volterra operator, so this converges in a few sweeps where Jacobi's takes about
 // e |J| h of them.
-inline bool ball_linear_flow::variational(const ball& hl, double jh, const std::vector<double>& weight) {
+inline bool ball_linear_flow::variational(const ball& hl, double jh) {
   // Nodes for about twelve digits of Phi: a degree well above e |J| h / 2 (the Taylor bound of
   // the solution's coefficients; jh bounds |J| h by the Frobenius norm, which overestimates).
   const std::size_t m = jh <= 4.5 ? 15 : jh <= 6 ? 17 : jh <= 10 ? 25 : jh <= 16 ? 33 : jh <= 24 ? 49 : 65;
@@ -417,9 +430,10 @@ inline bool ball_linear_flow::variational(const ball& hl, double jh, const std::
   Phi1_.assign(DD, ball());
   const mag_value none;
   for (std::size_t q = 0; q < DD; ++q) {
-    from_grid(phi_[q], phi_grid_[q].p, phi_e_, none.m);
+    from_grid(phi_[q], phi_grid_[q].p, phi_e_, none.m);  // weighted
     arb_zero(Phi1_[q].get());
     for (slong k = 0; k < phi_[q].length(); ++k) arb_add(Phi1_[q].get(), Phi1_[q].get(), phi_[q].coeff(k), ARF_PREC_EXACT);
+    arb_mul_2exp_si(Phi1_[q].get(), Phi1_[q].get(), w_[q % D_] - w_[q / D_]);  // Phi_kj = w_j / w_k (W Phi W^-1)_kj
   }
   // Its residual R_ij = delta_ij + hl int sum_k J_ik phi_kj - phi_ij, the sums exact on the grid
   // 2^(eJ + ePhi - 1).
@@ -463,7 +477,6 @@ inline bool ball_linear_flow::variational(const ball& hl, double jh, const std::
         residual_sup(s.m, wide_sums{&sums}, factors, rem.m, hl, phi_[i * D_ + j], i == j, residual_prec);
       else
         residual_sup(s.m, flint_sums{sum.p}, factors, rem.m, hl, phi_[i * D_ + j], i == j, residual_prec);
-      mag_mul_2exp_si(s.m, s.m, std::ilogb(weight[i]) - std::ilogb(weight[j]));
       mag_addmul(sum2.m, s.m, s.m);
     }
   mag_sqrt(phi_res_.m, sum2.m);
@@ -472,8 +485,7 @@ inline bool ball_linear_flow::variational(const ball& hl, double jh, const std::
 
 // Sweeps Y = hl S (J (Y + r)) on nodes that resolve r, in double, with r scaled by a power of two
 // to order one (its size is the reference's rounding, which can lie below double's range).
-inline bool ball_linear_flow::integral_term(const std::vector<chebyshev_model>& r, const ball& hl,
-                                            const std::vector<double>& weight) {
+inline bool ball_linear_flow::integral_term(const std::vector<chebyshev_model>& r, const ball& hl) {
   slong len = 1;
   mag_value big, s;
   for (const chebyshev_model& ri : r) {
@@ -499,11 +511,11 @@ inline bool ball_linear_flow::integral_term(const std::vector<chebyshev_model>& 
   jacobian_at_nodes(b, Jn_);
   // r scaled, on a grid 56 bits below its largest coefficient (its moves into its remainders),
   // and at the nodes as doubles.
-  std::vector<chebyshev_model> rs(D_);
+  std::vector<chebyshev_model> rs(D_);  // W r 2^u_exp
   for (std::size_t i = 0; i < D_; ++i) {
     rs[i] = r[i];
-    for (slong k = 0; k < rs[i].length(); ++k) arb_mul_2exp_si(rs[i].coeff(k), rs[i].coeff(k), u_exp_);
-    mag_mul_2exp_si(rs[i].remainder(), rs[i].remainder(), u_exp_);
+    for (slong k = 0; k < rs[i].length(); ++k) arb_mul_2exp_si(rs[i].coeff(k), rs[i].coeff(k), u_exp_ + w_[i]);
+    mag_mul_2exp_si(rs[i].remainder(), rs[i].remainder(), u_exp_ + w_[i]);
   }
   grid_models rg(D_);
   rg.load(rs, grid_bits);
@@ -557,7 +569,7 @@ inline bool ball_linear_flow::integral_term(const std::vector<chebyshev_model>& 
     fmpz_poly_scalar_mul_2exp(u_grid_[i].p, u_grid_[i].p, static_cast<ulong>(ue - e));
     fmpz_poly_scalar_mul_2exp(w[i].p, rg.poly(i), static_cast<ulong>(rg.exponent() - e));
     fmpz_poly_add(w[i].p, w[i].p, u_grid_[i].p);
-    from_grid(u_[i], u_grid_[i].p, e - u_exp_, none.m);  // unscaled
+    from_grid(u_[i], u_grid_[i].p, e - u_exp_ - w_[i], none.m);  // unscaled
     arb_zero(u1_[i].get());
     for (slong k = 0; k < u_[i].length(); ++k) arb_add(u1_[i].get(), u1_[i].get(), u_[i].coeff(k), ARF_PREC_EXACT);
   }
@@ -606,7 +618,6 @@ inline bool ball_linear_flow::integral_term(const std::vector<chebyshev_model>& 
       residual_sup(t.m, wide_sums{&sums}, factors, rem.m, hl, ui, 0, residual_prec);
     else
       residual_sup(t.m, flint_sums{sum.p}, factors, rem.m, hl, ui, 0, residual_prec);
-    mag_mul_2exp_si(t.m, t.m, std::ilogb(weight[i]));
     mag_addmul(sum2.m, t.m, t.m);
   }
   mag_sqrt(u_res_.m, sum2.m);
@@ -616,7 +627,10 @@ inline bool ball_linear_flow::integral_term(const std::vector<chebyshev_model>& 
 
 inline void ball_linear_flow::Phi_at(const chebyshev_values& T, std::vector<ball>& out) const {
   out.resize(D_ * D_);
-  for (std::size_t q = 0; q < D_ * D_; ++q) evaluate(out[q], phi_[q], T, prec_);
+  for (std::size_t q = 0; q < D_ * D_; ++q) {
+    evaluate(out[q], phi_[q], T, prec_);
+    arb_mul_2exp_si(out[q].get(), out[q].get(), w_[q % D_] - w_[q / D_]);
+  }
 }
 
 inline void ball_linear_flow::u_at(const chebyshev_values& T, std::vector<ball>& out) const {

@@ -1,5 +1,5 @@
 // The number types a problem's field is evaluated in by the general path of --certify
-// (certification_model.hpp), each with the derivatives it needs, and the evaluation of a formula
+// (certification_problem.hpp), each with the derivatives it needs, and the evaluation of a formula
 // (model/expression.hpp) in them.
 //
 //   - series_algebra: Chebyshev models of a segment (chebyshev_model.hpp) with their first
@@ -8,14 +8,15 @@
 //     over a box of states, for the quadratic remainder c(R) and the bound of |F| over the tube.
 //
 // A formula's constant subexpressions are folded into one ball each, evaluated by Arb's
-// functions (sin, cos, exp, log, sqrt enclose the exact value); every operation on a variable is
-// a ring operation, a division by a constant, or a power with an exponent >= 0, so the formula is
-// a polynomial in the variables (polynomial_formula below says which formulas are). Anything else
-// on a variable throws not_polynomial; a function undefined on a constant's ball (the log of a
-// ball that reaches 0) throws undefined_formula: neither is ever a bound.
+// functions. On a variable, the ring operations are the algebras' own; sin, cos, exp, log, sqrt,
+// divisions and negative powers are elementary functions of it (chebyshev_composition.hpp: a
+// model of f(u) with a proven remainder; on balls, Arb's functions with their derivatives). A
+// function undefined where its argument may be (the log of a ball that reaches 0) throws
+// undefined_formula: it is never a bound.
 #pragma once
 
 #include <eulervop/certify/ball.hpp>
+#include <eulervop/certify/detail/chebyshev_composition.hpp>
 #include <eulervop/certify/detail/chebyshev_model.hpp>
 #include <eulervop/model/expression.hpp>
 
@@ -31,57 +32,11 @@
 
 namespace eulervop {
 
-// A formula that is not a polynomial in the time and the state.
-struct not_polynomial : std::domain_error {
-  using std::domain_error::domain_error;
-};
 // A function undefined on the ball of its argument (log or sqrt of a ball reaching 0 or below,
 // a division by a ball that holds 0).
 struct undefined_formula : std::domain_error {
   using std::domain_error::domain_error;
 };
-
-// Why the formula is not a polynomial in its variables ("sin of a variable"), or empty when it is:
-// its program applies a function, a division or a negative power only to constant operands.
-inline std::string polynomial_formula(const expression& e) {
-  std::vector<bool> constant;  // the stack: true where the entry depends on no variable
-  for (const expression_step& s : e.code) {
-    switch (s.op) {
-      case expression_op::constant:
-      case expression_op::pi: constant.push_back(true); break;
-      case expression_op::variable: constant.push_back(false); break;
-      case expression_op::add:
-      case expression_op::sub:
-      case expression_op::mul: {
-        const bool b = constant.back();
-        constant.pop_back();
-        constant.back() = constant.back() && b;
-        break;
-      }
-      case expression_op::div: {
-        const bool b = constant.back();
-        constant.pop_back();
-        if (!b) return "a division by a variable";
-        break;
-      }
-      case expression_op::neg: break;
-      case expression_op::pow:
-        if (s.arg < 0 && !constant.back()) return "a negative power of a variable";
-        break;
-      case expression_op::sin:
-      case expression_op::cos:
-      case expression_op::exp:
-      case expression_op::log:
-      case expression_op::sqrt:
-        if (!constant.back()) {
-          static const char* names[] = {"sin", "cos", "exp", "log", "sqrt"};
-          return std::string(names[static_cast<int>(s.op) - static_cast<int>(expression_op::sin)]) + " of a variable";
-        }
-        break;
-    }
-  }
-  return "";
-}
 
 namespace detail {
 
@@ -120,12 +75,12 @@ class series_algebra {
     return v;
   }
   void add(value& a, const value& b) const {
-      add_to(a.f, b.f, prec_);
+    add_to(a.f, b.f, prec_);
     for (std::size_t k = 0; k < n_; ++k)
       if (!b.d[k].is_zero()) add_to(a.d[k], b.d[k], jacobian_prec);
   }
   void sub(value& a, const value& b) const {
-      subtract_from(a.f, b.f, prec_);
+    subtract_from(a.f, b.f, prec_);
     for (std::size_t k = 0; k < n_; ++k)
       if (!b.d[k].is_zero()) subtract_from(a.d[k], b.d[k], jacobian_prec);
   }
@@ -134,7 +89,7 @@ class series_algebra {
     for (chebyshev_model& d : a.d) negate(d);
   }
   void scale(value& a, const ball& x) const {
-      eulervop::detail::scale(a.f, x, prec_);
+    eulervop::detail::scale(a.f, x, prec_);
     for (chebyshev_model& d : a.d) eulervop::detail::scale(d, x, jacobian_prec);
   }
   // The products' grids lie 32 bits below the working precision (which is the reference's plus
@@ -147,9 +102,56 @@ class series_algebra {
   // where Arb's numbers need no allocation, their products on grids 64 bits below their largest
   // coefficient.
   static constexpr slong jacobian_prec = 128, jacobian_grid_bits = 64;
+  // f'(u) as a model, at the Jacobian's precision.
+  static void derivative(chebyshev_model& out, elementary f, const chebyshev_model& u) {
+    constexpr slong bits = jacobian_grid_bits;
+    chebyshev_model t;
+    switch (f) {
+      case elementary::sin: compose(out, elementary::cos, u, jacobian_prec, bits); break;
+      case elementary::cos:
+        compose(out, elementary::sin, u, jacobian_prec, bits);
+        negate(out);
+        break;
+      case elementary::exp: compose(out, elementary::exp, u, jacobian_prec, bits); break;
+      case elementary::log: compose(out, elementary::inverse, u, jacobian_prec, bits); break;
+      case elementary::sqrt: {  // 1 / (2 sqrt u)
+        compose(t, elementary::sqrt, u, jacobian_prec, bits);
+        compose(out, elementary::inverse, t, jacobian_prec, bits);
+        ball half(1);
+        arb_mul_2exp_si(half.get(), half.get(), -1);
+        eulervop::detail::scale(out, half, jacobian_prec);
+        break;
+      }
+      case elementary::inverse:  // -1 / u^2
+        compose(t, elementary::inverse, u, jacobian_prec, bits);
+        multiply(out, t, t, bits);
+        negate(out);
+        break;
+    }
+  }
+  // a = f(a): f(a)' = f'(a) a', f' at the Jacobian's precision. std::domain_error where a may
+  // leave f's domain.
+  void function(elementary f, value& a) const {
+    chebyshev_model g;
+    compose(g, f, a.f, prec_, prec_ - product_guard);
+    bool partials = false;
+    for (const chebyshev_model& d : a.d) partials = partials || !d.is_zero();
+    if (partials) {
+      chebyshev_model df, t;
+      derivative(df, f, a.f);
+      for (chebyshev_model& d : a.d) {
+        if (d.is_zero()) continue;
+        multiply(t, df, d, jacobian_grid_bits);
+        d.swap(t);
+      }
+    }
+    a.f.swap(g);
+  }
+  // a = 1 / a.
+  void invert(value& a) const { function(elementary::inverse, a); }
   // a = a b: (a b)' = a' b + a b'.
   void mul(value& a, const value& b) const {
-      chebyshev_model t, u;
+    chebyshev_model t, u;
     for (std::size_t k = 0; k < n_; ++k) {
       const bool da = !a.d[k].is_zero(), db = !b.d[k].is_zero();
       if (!da && !db) continue;
@@ -214,6 +216,27 @@ class box_algebra {
     for (ball& y : a.g) arb_mul(y.get(), y.get(), x.get(), prec_);
     for (ball& y : a.H) arb_mul(y.get(), y.get(), x.get(), prec_);
   }
+  // a = f(a): grad f(a) = f'(a) grad a, H f(a) = f'(a) H a + f''(a) grad a grad a^T, with f, f'
+  // and f'' over a's ball. std::domain_error where the ball leaves f's domain.
+  void function(elementary f, value& a) const {
+    ball v, d1, d2;
+    if (!elementary_on_ball(f, a.f, &v, &d1, &d2, prec_))
+      throw std::domain_error(f == elementary::inverse ? "a division by a value that may be 0"
+                              : f == elementary::log  ? "the log of a value that is not certainly positive"
+                              : f == elementary::sqrt ? "the square root of a value that is not certainly positive"
+                                                      : "a value that is not finite");
+    ball gg;
+    for (std::size_t i = 0; i < n_; ++i)
+      for (std::size_t j = 0; j < n_; ++j) {
+        arb_ptr h = a.H[i * n_ + j].get();
+        arb_mul(h, h, d1.get(), prec_);
+        arb_mul(gg.get(), a.g[i].get(), a.g[j].get(), prec_);
+        arb_addmul(h, gg.get(), d2.get(), prec_);
+      }
+    for (ball& x : a.g) arb_mul(x.get(), x.get(), d1.get(), prec_);
+    a.f = v;
+  }
+  void invert(value& a) const { function(elementary::inverse, a); }
   // a = a b: H(ab) = a H(b) + b H(a) + grad a grad b^T + grad b grad a^T.
   void mul(value& a, const value& b) const {
     ball t;
@@ -314,6 +337,16 @@ template <class Algebra>
 typename Algebra::value ball_formula::operator()(const Algebra& alg, const formula_variables<Algebra>& vars) const {
   using value = typename Algebra::value;
   const slong prec = alg.prec();
+  // A function of a variable undefined where the variable may be: the formula and the reason.
+  const auto defined = [&](auto&& apply) {
+    try {
+      apply();
+    } catch (const undefined_formula&) {
+      throw;
+    } catch (const std::domain_error& e) {
+      throw undefined_formula("`" + source_->text + "`: " + e.what());
+    }
+  };
   std::vector<slot<value>> stack;
   stack.reserve(source_->stack_depth);
   const auto as_value = [&](slot<value>& s) -> value& {
@@ -358,8 +391,10 @@ typename Algebra::value ball_formula::operator()(const Algebra& alg, const formu
           }
           break;
         }
-        if (step.op == expression_op::div) {
-          if (!b.constant) throw not_polynomial("`" + source_->text + "`: a division by a variable");
+        if (step.op == expression_op::div && !b.constant) {
+          defined([&] { alg.invert(b.v); });
+          alg.mul(as_value(a), b.v);
+        } else if (step.op == expression_op::div) {
           if (arb_contains_zero(b.c.get()))
             throw undefined_formula("`" + source_->text + "`: a division by a number that may be 0");
           arb_inv(b.c.get(), b.c.get(), prec);
@@ -393,25 +428,28 @@ typename Algebra::value ball_formula::operator()(const Algebra& alg, const formu
           power(a.c, step.arg, prec);
           break;
         }
-        if (step.arg < 0) throw not_polynomial("`" + source_->text + "`: a negative power of a variable");
         if (step.arg == 0) {
           a.constant = true;
           a.c = ball(1);
           break;
         }
+        if (step.arg < 0) defined([&] { alg.invert(a.v); });
         const value base = a.v;
-        for (std::int32_t k = 1; k < step.arg; ++k) alg.mul(a.v, base);
+        for (std::int32_t k = 1; k < (step.arg < 0 ? -step.arg : step.arg); ++k) alg.mul(a.v, base);
         break;
       }
       default: {
         slot<value>& a = stack.back();
-        if (!a.constant) {
-          static const char* names[] = {"sin", "cos", "exp", "log", "sqrt"};
-          throw not_polynomial("`" + source_->text + "`: " +
-                               names[static_cast<int>(step.op) - static_cast<int>(expression_op::sin)] +
-                               " of a variable");
+        if (a.constant) {
+          apply_function(step.op, a.c, prec);
+          break;
         }
-        apply_function(step.op, a.c, prec);
+        const elementary f = step.op == expression_op::sin   ? elementary::sin
+                             : step.op == expression_op::cos ? elementary::cos
+                             : step.op == expression_op::exp ? elementary::exp
+                             : step.op == expression_op::log ? elementary::log
+                                                             : elementary::sqrt;
+        defined([&] { alg.function(f, a.v); });
         break;
       }
     }

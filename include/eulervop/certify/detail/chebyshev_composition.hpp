@@ -1,0 +1,275 @@
+// An elementary function of a Chebyshev model (chebyshev_model.hpp), for the general path of
+// --certify (docs/certified.md, "Functions of time and state"): the model of f(u) for
+// f in {sin, cos, exp, log, sqrt, 1/x}, with a proven remainder.
+//
+// u is a polynomial p (ball coefficients c_k) plus a remainder d. Then
+//   f(u) = f(p) + (f(p + e) - f(p)),  |e| <= d,  |f(p + e) - f(p)| <= sup |f'| d  over u's range,
+// and f(p) is analytic in s wherever f is analytic on p's values. Its degree-n interpolant at the
+// Lobatto points s_j = -cos(j pi / n), whose coefficients come from the values f(p(s_j)) in balls
+// (detail/ball_node_transform.hpp), is within
+//   4 M rho^-n / (rho - 1)
+// of f(p) on [-1, 1] when f(p) is analytic in the Bernstein ellipse E_rho (foci -1 and 1, semi-axes
+// summing to rho) and |f(p)| <= M there (L. N. Trefethen, Approximation Theory and Approximation
+// Practice, SIAM 2013, Theorem 8.2). On the closed ellipse |T_k(z)| <= (rho^k + rho^-k) / 2, so
+// p(z) lies in the disk of centre c_0 and radius B = sum_{k>=1} |c_k| (rho^k + rho^-k) / 2, and M
+// is |f| over that disk (Arb's complex balls). f is analytic on the disk when it avoids f's
+// singularities: for log and sqrt (principal branches) when the disk lies in the right half
+// plane, for 1/x when it avoids 0. Several rho are tried; the one needing the fewest points wins.
+#pragma once
+
+#include <eulervop/certify/ball.hpp>
+#include <eulervop/certify/detail/ball_node_transform.hpp>
+#include <eulervop/certify/detail/chebyshev_model.hpp>
+
+#include <acb.h>
+#include <flint/fmpq.h>
+#include <arb.h>
+#include <arb_mat.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+namespace eulervop::detail {
+
+enum class elementary { sin, cos, exp, log, sqrt, inverse };
+
+// f(x), f'(x) and f''(x) over a real ball (any may be null); false where x reaches outside f's
+// domain (log, sqrt: x must be certainly positive; 1/x: x must not hold 0).
+inline bool elementary_on_ball(elementary f, const ball& x, ball* v, ball* d1, ball* d2, slong prec) {
+  const arb_srcptr a = x.get();
+  if ((f == elementary::log || f == elementary::sqrt) && !arb_is_positive(a)) return false;
+  if (f == elementary::inverse && arb_contains_zero(a)) return false;
+  ball s, c, t;
+  switch (f) {
+    case elementary::sin:
+    case elementary::cos:
+      arb_sin_cos(s.get(), c.get(), a, prec);
+      if (f == elementary::sin) {
+        if (v) arb_set(v->get(), s.get());
+        if (d1) arb_set(d1->get(), c.get());
+        if (d2) arb_neg(d2->get(), s.get());
+      } else {
+        if (v) arb_set(v->get(), c.get());
+        if (d1) arb_neg(d1->get(), s.get());
+        if (d2) arb_neg(d2->get(), c.get());
+      }
+      break;
+    case elementary::exp:
+      arb_exp(t.get(), a, prec);
+      if (v) arb_set(v->get(), t.get());
+      if (d1) arb_set(d1->get(), t.get());
+      if (d2) arb_set(d2->get(), t.get());
+      break;
+    case elementary::log:
+      if (v) arb_log(v->get(), a, prec);
+      arb_inv(t.get(), a, prec);  // 1/x
+      if (d1) arb_set(d1->get(), t.get());
+      if (d2) {
+        arb_mul(d2->get(), t.get(), t.get(), prec);
+        arb_neg(d2->get(), d2->get());
+      }
+      break;
+    case elementary::sqrt:
+      arb_sqrt(s.get(), a, prec);
+      if (v) arb_set(v->get(), s.get());
+      arb_inv(t.get(), s.get(), prec);  // x^-1/2
+      if (d1) arb_mul_2exp_si(d1->get(), t.get(), -1);
+      if (d2) {  // -x^-3/2 / 4
+        arb_mul(c.get(), t.get(), t.get(), prec);
+        arb_mul(d2->get(), c.get(), t.get(), prec);
+        arb_mul_2exp_si(d2->get(), d2->get(), -2);
+        arb_neg(d2->get(), d2->get());
+      }
+      break;
+    case elementary::inverse:
+      arb_inv(t.get(), a, prec);
+      if (v) arb_set(v->get(), t.get());
+      arb_mul(s.get(), t.get(), t.get(), prec);  // x^-2
+      if (d1) arb_neg(d1->get(), s.get());
+      if (d2) {
+        arb_mul(d2->get(), s.get(), t.get(), prec);
+        arb_mul_2exp_si(d2->get(), d2->get(), 1);
+      }
+      break;
+  }
+  const auto finite = [](const ball* b) { return !b || arb_is_finite(b->get()); };
+  return finite(v) && finite(d1) && finite(d2);
+}
+
+// f over a complex ball; false where f may not be analytic on it (the conditions above).
+inline bool elementary_on_complex(elementary f, const acb_t z, acb_t out, slong prec) {
+  switch (f) {
+    case elementary::sin: acb_sin(out, z, prec); break;
+    case elementary::cos: acb_cos(out, z, prec); break;
+    case elementary::exp: acb_exp(out, z, prec); break;
+    case elementary::log:
+    case elementary::sqrt:
+      if (!arb_is_positive(acb_realref(z))) return false;
+      if (f == elementary::log)
+        acb_log(out, z, prec);
+      else
+        acb_sqrt(out, z, prec);
+      break;
+    case elementary::inverse:
+      if (acb_contains_zero(z)) return false;
+      acb_inv(out, z, prec);
+      break;
+  }
+  return acb_is_finite(out);
+}
+
+// The Lobatto points and the interpolation transform of degree n at a precision, built once per
+// thread (each costs O(n^2) enclosed cosines).
+class lobatto_interpolation {
+ public:
+  lobatto_interpolation(slong prec, std::size_t n) : transform_(prec, n, 1), points_(n + 1) {
+    for (std::size_t j = 0; j <= n; ++j) {  // s_j = -cos(j pi / n)
+      fmpq_t angle;
+      fmpq_init(angle);
+      fmpq_set_si(angle, static_cast<slong>(j), static_cast<ulong>(n));
+      arb_cos_pi_fmpq(points_[j].get(), angle, prec);
+      arb_neg(points_[j].get(), points_[j].get());
+      fmpq_clear(angle);
+    }
+    arb_mat_init(coefficients_, static_cast<slong>(n + 1), 1);
+  }
+  ~lobatto_interpolation() { arb_mat_clear(coefficients_); }
+  lobatto_interpolation(const lobatto_interpolation&) = delete;
+  lobatto_interpolation& operator=(const lobatto_interpolation&) = delete;
+
+  static lobatto_interpolation& of(slong prec, std::size_t n) {
+    thread_local std::map<std::pair<slong, std::size_t>, std::unique_ptr<lobatto_interpolation>> cache;
+    auto& slot = cache[{prec, n}];
+    if (!slot) slot = std::make_unique<lobatto_interpolation>(prec, n);
+    return *slot;
+  }
+
+  const ball& point(std::size_t j) const { return points_[j]; }
+  arb_ptr value(std::size_t j) { return transform_.value(j, 0); }
+  // The interpolant's coefficients from the values set, into out (length n + 1).
+  void coefficients(chebyshev_model& out) {
+    transform_.apply(coefficients_);
+    out.resize(arb_mat_nrows(coefficients_));
+    for (slong k = 0; k < arb_mat_nrows(coefficients_); ++k) arb_set(out.coeff(k), arb_mat_entry(coefficients_, k, 0));
+  }
+
+ private:
+  ball_node_transform transform_;
+  std::vector<ball> points_;
+  arb_mat_t coefficients_;
+};
+
+// out = the model of f(u) (out distinct from u), its remainder within 2^-target_bits of sup |f|
+// over u's range where at most `max_degree` points reach that; std::domain_error where u's range
+// leaves f's domain.
+inline void compose(chebyshev_model& out, elementary f, const chebyshev_model& u, slong prec, slong target_bits,
+                    std::size_t max_degree = 256) {
+  ball range, fr, d1;
+  range_of(range, u);
+  if (!elementary_on_ball(f, range, &fr, &d1, nullptr, prec))
+    throw std::domain_error(f == elementary::inverse ? "a division by a value that may be 0"
+                            : f == elementary::log  ? "the log of a value that is not certainly positive"
+                            : f == elementary::sqrt ? "the square root of a value that is not certainly positive"
+                                                    : "a value that is not finite");
+  // The target: 2^-target_bits of sup |f| over the range (of 1 where f may vanish throughout).
+  mag_value scale;
+  arb_get_mag(scale.m, fr.get());
+  if (mag_is_zero(scale.m)) mag_one(scale.m);
+  const double log2_target = mag_get_d_log2_approx(scale.m) - static_cast<double>(target_bits);
+  const slong L = u.length();
+  std::vector<mag_value> c(static_cast<std::size_t>(std::max<slong>(L, 1)));  // |c_k|, k >= 1
+  for (slong k = 1; k < L; ++k) arb_get_mag(c[static_cast<std::size_t>(k)].m, u.coeff(k));
+  acb_t disk, image;
+  acb_init(disk);
+  acb_init(image);
+  std::size_t best_n = 0;
+  mag_value best_M;
+  double best_rho = 0;
+  for (const double rho : {1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0, 64.0, 128.0, 256.0}) {
+    // B = sum_{k>=1} |c_k| (rho^k + rho^-k) / 2, upward (rho is exact in double).
+    mag_value B, power, inv_power, term, r, ri, rl;
+    mag_set_d(r.m, rho);
+    mag_set_d_lower(rl.m, rho);
+    mag_one(ri.m);
+    mag_div(ri.m, ri.m, rl.m);
+    mag_one(power.m);
+    mag_one(inv_power.m);
+    for (slong k = 1; k < L; ++k) {
+      mag_mul(power.m, power.m, r.m);
+      mag_mul(inv_power.m, inv_power.m, ri.m);
+      mag_add(term.m, power.m, inv_power.m);
+      mag_mul(term.m, term.m, c[static_cast<std::size_t>(k)].m);
+      mag_add(B.m, B.m, term.m);
+    }
+    mag_mul_2exp_si(B.m, B.m, -1);
+    if (!mag_is_finite(B.m)) break;
+    // The disk as a complex ball: centre c_0 (with its radius), radius B in both parts.
+    if (L > 0)
+      arb_set(acb_realref(disk), u.coeff(0));
+    else
+      arb_zero(acb_realref(disk));
+    arb_add_error_mag(acb_realref(disk), B.m);
+    arb_zero(acb_imagref(disk));
+    arb_add_error_mag(acb_imagref(disk), B.m);
+    if (!elementary_on_complex(f, disk, image, prec)) break;  // a larger rho only grows the disk
+    mag_value M;
+    acb_get_mag(M.m, image);
+    if (!mag_is_finite(M.m)) break;
+    // The least n with 4 M rho^-n / (rho - 1) <= target: the choice only (the bound is computed
+    // upward below for the n taken).
+    const double need = 2 + mag_get_d_log2_approx(M.m) - std::log2(rho - 1) - log2_target;
+    const double n = std::max(8.0, std::ceil(need / std::log2(rho)));
+    if (!std::isfinite(n)) continue;
+    const auto ni = static_cast<std::size_t>(std::min(n, 1e6));
+    if (best_n == 0 || ni < best_n) {
+      best_n = ni;
+      best_rho = rho;
+      mag_set(best_M.m, M.m);
+    }
+  }
+  acb_clear(disk);
+  acb_clear(image);
+  if (best_n == 0) {
+    // No ellipse avoids f's singularities (u comes close to one): f over the whole range, as a
+    // constant and a remainder.
+    out.resize(1);
+    arf_set(arb_midref(out.coeff(0)), arb_midref(fr.get()));
+    mag_zero(arb_radref(out.coeff(0)));
+    mag_set(out.remainder(), arb_radref(fr.get()));
+    return;
+  }
+  const std::size_t n = std::min(best_n, max_degree);
+  // The values f(p(s_j)) in balls (p: u's polynomial; u's remainder enters below), then the
+  // interpolant's coefficients.
+  lobatto_interpolation& li = lobatto_interpolation::of(prec, n);
+  chebyshev_model poly = u;
+  mag_zero(poly.remainder());
+  ball p, v;
+  for (std::size_t j = 0; j <= n; ++j) {
+    evaluate(p, poly, li.point(j), prec);
+    if (!elementary_on_ball(f, p, &v, nullptr, nullptr, prec))
+      throw std::domain_error("a value outside the function's domain on the segment");
+    arb_set(li.value(j), v.get());
+  }
+  li.coefficients(out);
+  // The remainder: the interpolation's bound 4 M rho^-n / (rho - 1), and u's remainder times
+  // sup |f'| over u's range.
+  mag_value rem, t, rhom, rho_minus_one;
+  mag_set_d_lower(rhom.m, best_rho);
+  mag_set_d_lower(rho_minus_one.m, best_rho - 1);
+  mag_pow_ui_lower(t.m, rhom.m, n);
+  mag_div(rem.m, best_M.m, t.m);
+  mag_div(rem.m, rem.m, rho_minus_one.m);
+  mag_mul_2exp_si(rem.m, rem.m, 2);
+  arb_get_mag(t.m, d1.get());
+  mag_addmul(rem.m, t.m, u.remainder());
+  mag_set(out.remainder(), rem.m);
+}
+
+}  // namespace eulervop::detail
