@@ -165,7 +165,19 @@ INSTANTIATE_TEST_SUITE_P(
                     "general_oracles/axisymmetric_attitude.csv", false},
         oracle_case{"unordered_attitude", "tests/scenes/general/unordered_attitude.toml", {},
                     "general_oracles/unordered_attitude.csv", false},
-        oracle_case{"pd_law", "tests/scenes/general/pd_law.toml", {}, "coupled_oracles/pd_law.csv", false}),
+        oracle_case{"pd_law", "tests/scenes/general/pd_law.toml", {}, "coupled_oracles/pd_law.csv", false},
+        // Forcings that are not polynomials (tools/oracles/forced_taylor.py) and the gravity
+        // gradient (tools/oracles/coupled_taylor.py).
+        oracle_case{"eulr", "data/scenes/problems/hnw-eulr.toml", {"--samples", "11"}, "general_oracles/eulr.csv",
+                    false},
+        oracle_case{"sciml_10", "data/scenes/problems/sciml-rigid-body.toml", {"--samples", "11"},
+                    "general_oracles/sciml_10.csv", true},
+        oracle_case{"sciml_100", "data/scenes/problems/sciml-rigid-body-100.toml", {"--samples", "11"},
+                    "general_oracles/sciml_100.csv", true},
+        oracle_case{"gg_alone", "tests/scenes/general/gg-alone.toml", {}, "coupled_oracles/gg_alone.csv", false},
+        oracle_case{"gg_unordered", "tests/scenes/general/gg-unordered.toml", {}, "coupled_oracles/gg_unordered.csv",
+                    false},
+        oracle_case{"gg_damped", "tests/scenes/general/gg-damped.toml", {}, "coupled_oracles/gg_damped.csv", false}),
     [](const auto& info) { return std::string(info.param.label); });
 
 // The rows of a certified run are those of the plain run, cell for cell: the certificate only
@@ -217,6 +229,23 @@ TEST(GeneralCertify, Mpfr256CertifiesFarBelowQuad) {
     EXPECT_LT(std::strtod(t.meta_value("certified_max_error").c_str(), nullptr), 1e-70) << scene;
     if (t.column("radius_q")) EXPECT_LT(std::strtod(t.meta_value("certified_max_error_q").c_str(), nullptr), 1e-70);
   }
+}
+
+// SciML's rigid body to t = 10 in mpfr:256: every row within its radius of the 95-digit oracle, and
+// the radius at most 1e-70.
+TEST(GeneralCertify, SciMLInMpfr256IsCertifiedBelow1e70) {
+  const eulervop::mpfr_precision_scope scope(400);
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"reference", source_dir + "/data/scenes/problems/sciml-rigid-body.toml",
+                                        "--certify", "--precision", "mpfr:256", "--samples", "11", "--out", "m.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const table ref = read_table(dir.path() / "m.csv");
+  const group_result g = check_group(ref, read_table(source_dir + "/tests/data/general_oracles/sciml_10.csv"),
+                                     {"y1", "y2", "y3"}, "radius", "sciml mpfr:256");
+  EXPECT_EQ(g.rows, 11u);
+  EXPECT_LE(g.radius, mpfr_real("1e-70"));
+  std::printf("sciml mpfr:256: largest radius %.3g, largest true error %.3g\n", static_cast<double>(g.radius),
+              static_cast<double>(g.error));
 }
 
 // A physical scene with polynomial pieces at decimal times: in tau = t dtau/dt each breakpoint is
