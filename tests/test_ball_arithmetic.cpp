@@ -10,7 +10,9 @@
 // Exact closed forms where there are some: the interpolant at the Lobatto nodes reproduces a
 // polynomial of its degree; the Hessian of Eq. 5 is constant. The linear flow's exact solutions
 // are Taylor series at 1000 bits (the Jacobian a polynomial, so the solutions are entire), and
-// the 128-bit sums are checked against FLINT's exact products.
+// the 128-bit sums are checked against FLINT's exact products. Jacobi's functions (the initial
+// state of Eq. 12) against Boost.Math's jacobi_elliptic at 1000 bits, an independent method (the
+// descending Landen transformation, not theta functions).
 #include <eulervop/certify/ball.hpp>
 #include <eulervop/certify/certification_problem.hpp>
 #include <eulervop/certify/detail/ball_linear_flow.hpp>
@@ -20,12 +22,14 @@
 #include <eulervop/certify/detail/chebyshev_model.hpp>
 #include <eulervop/certify/detail/field_algebra.hpp>
 #include <eulervop/certify/detail/short_integer_series.hpp>
+#include <eulervop/certify/jacobi_enclosure.hpp>
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/scene/expression_parser.hpp>
 #include <eulervop/scene/scene.hpp>
 #include <eulervop/scene/scene_certification_problem.hpp>
 #include <eulervop/scene/scene_problem.hpp>
 
+#include <boost/math/special_functions/jacobi_elliptic.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -793,6 +797,41 @@ TEST(BallLinearFlow, PhiAndUHoldTheExactSolutions) {
       // this test's own, from a crude j).
       if (sd > -1) EXPECT_GT(phi_err, 1e-4 * phi_res) << "D " << D << " s " << sd;
     }
+  }
+}
+
+}  // namespace
+
+namespace {
+
+// sn, cn, dn of Eq. 12's initial state (jacobi_enclosure.hpp): each ball holds Boost's value at
+// 1000 bits and is tight (its radius within 2^-230 at 256 bits), from the circle to the
+// separatrix, for large and negative u; k = 1 and beyond is refused, never enclosed.
+TEST(JacobiEnclosure, HoldsBoostsValuesAt1000Bits) {
+  const eulervop::mpfr_precision_scope scope(truth_bits);
+  const double ks[] = {0.0, 1e-9, 0.1, 0.5, 0.9, 0.999999, 1 - 0x1p-40};
+  const double us[] = {0.3, -1.7, 2.5, 40.0, -123.456, 1e-12};
+  for (double kd : ks) {
+    for (double ud : us) {
+      ball k, u;
+      arb_set_d(k.get(), kd);
+      arb_set_d(u.get(), ud);
+      const eulervop::jacobi_enclosures v = eulervop::jacobi_enclosure(k, u, 256);
+      mpfr_real cn, dn;
+      const mpfr_real sn = boost::math::jacobi_elliptic(mpfr_real(kd), mpfr_real(ud), &cn, &dn);
+      const std::string where = "k " + std::to_string(kd) + " u " + std::to_string(ud);
+      EXPECT_TRUE(holds(v.sn, sn)) << where;
+      EXPECT_TRUE(holds(v.cn, cn)) << where;
+      EXPECT_TRUE(holds(v.dn, dn)) << where;
+      for (const ball* x : {&v.sn, &v.cn, &v.dn})
+        EXPECT_LT(mag_get_d(arb_radref(x->get())), 0x1p-230) << where;
+    }
+  }
+  for (double kd : {1.0, 1.5, -0.1}) {
+    ball k, u;
+    arb_set_d(k.get(), kd);
+    arb_set_d(u.get(), 0.5);
+    EXPECT_THROW(eulervop::jacobi_enclosure(k, u, 256), std::domain_error) << kd;
   }
 }
 

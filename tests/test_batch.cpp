@@ -267,8 +267,9 @@ TEST(ReferenceDatasets, ShortDatasetRegeneratesIdentically) {
   for (std::size_t i = 0; i < rows.size(); ++i) EXPECT_EQ(again[i], rows[i]) << "data row " << i;
 }
 
-// Every shipped dataset says how it was made and how accurate it is.
-TEST(ReferenceDatasets, EveryDatasetCarriesCommandAndEstimatedError) {
+// Every shipped dataset says how it was made, how accurate it is estimated to be (--verify) and
+// proven to be (--certify).
+TEST(ReferenceDatasets, EveryDatasetCarriesCommandEstimateAndRadius) {
   const fs::path dir = fs::path(source_dir) / "data/reference";
   std::uintmax_t total = 0;
   int count = 0;
@@ -279,6 +280,7 @@ TEST(ReferenceDatasets, EveryDatasetCarriesCommandAndEstimatedError) {
     const std::string text = read_file(e.path());
     EXPECT_NE(text.find("\n# command: eulervop reference "), std::string::npos) << e.path();
     EXPECT_NE(text.find("\n# estimated_max_error: "), std::string::npos) << e.path();
+    EXPECT_NE(text.find("\n# certified_max_error: "), std::string::npos) << e.path();
   }
   EXPECT_GE(count, 4);
   EXPECT_LT(total, 8u << 20) << "keep data/reference/ to a few MB";
@@ -294,23 +296,29 @@ TEST(Batch, CertifyGivesEachReferenceItsRadiusAndRefusesWhatItCannotCertify) {
   temp_dir dir;
   auto scenes = write_scenes(dir.path(), 2);
   scenes.push_back(source_dir + "/data/scenes/varying-torque.toml");  // a torque of sin(tau): the general path
-  // Initial elements with u != 0: Omega(0) would need Jacobi's functions of the decimals.
-  write_file(dir.path() / "scenes/elements.toml",
-             "name = \"elements\"\n[initial]\nc1 = 0.5\nc2 = 1.0\nu = 0.3\n[span]\ntau_end = 1.0\nsamples = 3\n");
+  // Initial elements with u != 0 (Jacobi's functions enclosed) are certified; the same scene
+  // asking for a double reference is refused, alone.
+  const std::string elements =
+      "[initial]\nc1 = 0.5\nc2 = 1.0\nu = 0.3\n[span]\ntau_end = 1.0\nsamples = 3\n";
+  write_file(dir.path() / "scenes/elements.toml", "name = \"elements\"\n" + elements);
+  write_file(dir.path() / "scenes/double.toml", "name = \"double\"\n[reference]\nprecision = \"double\"\n" + elements);
   scenes.push_back("scenes/elements.toml");
+  scenes.push_back("scenes/double.toml");
   const run_result r = run(dir.path(), batch_args(scenes, "out", {"--certify"}));
   EXPECT_EQ(r.exit_code, 2) << r.err;
   const auto m = manifest(dir.path() / "out/manifest.json");
   std::map<std::string, nlohmann::json> by_name;
   for (const auto& e : m["scenes"]) by_name[e["name"].get<std::string>()] = e;
-  for (const char* name : {"a", "b", "varying-torque"}) {
+  for (const char* name : {"a", "b", "varying-torque", "elements"}) {
     EXPECT_EQ(by_name[name]["status"], "ok") << name;
     const std::string csv = read_file(dir.path() / "out" / name / "reference.csv");
     EXPECT_NE(csv.find("\n# certified_max_error: "), std::string::npos) << name;
     EXPECT_NE(csv.find("\ntau,Omega1,Omega2,Omega3,radius\n"), std::string::npos) << name;
   }
-  EXPECT_EQ(by_name["elements"]["status"], "failed");
-  EXPECT_NE(by_name["elements"]["message"].get<std::string>().find("--certify"), std::string::npos);
+  EXPECT_EQ(by_name["double"]["status"], "failed");
+  EXPECT_NE(by_name["double"]["message"].get<std::string>().find("precision double is not certified"),
+            std::string::npos)
+      << by_name["double"]["message"];
 }
 
 }  // namespace

@@ -3,8 +3,9 @@
 #
 #   tools/make_reference_datasets.sh [path/to/eulervop]     (default: build/eulervop)
 #
-# Every dataset is made by `eulervop reference ... --verify`, so it carries an honest
-# `# estimated_max_error` (one precision up), and its `# command:` line is the command below
+# Every dataset is made by `eulervop reference ... --verify --certify`, so it carries an honest
+# `# estimated_max_error` (one precision up) and a proven radius on every row
+# (`# certified_max_error`, docs/certified.md), and its `# command:` line is the command below
 # (run from the repository root, so the scene paths in it are relative). Sample counts are
 # modest to keep data/reference/ at about a megabyte. Only the `# wall_seconds*` lines change
 # from one regeneration to the next (same binary, same machine); tests/test_batch.cpp reruns
@@ -41,8 +42,8 @@ done
 
 for entry in "${datasets[@]}"; do
   IFS='|' read -r name scene flags <<<"$entry"
-  echo "== $name: eulervop reference $scene $flags --verify" >&2
+  echo "== $name: eulervop reference $scene $flags --verify --certify" >&2
   # shellcheck disable=SC2086  # $flags is a list of words
-  "$eulervop" reference "$scene" $flags --verify --out "$out/$name.csv"
+  "$eulervop" reference "$scene" $flags --verify --certify --out "$out/$name.csv"
 done
 du -ch "$out"/*.csv | tail -1 >&2

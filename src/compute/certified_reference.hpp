@@ -54,23 +54,14 @@ inline bool takes_fast_path(const scene& s) {
          !uses_direct_form(s);
 }
 
-// Why `--certify` cannot run on this scene at this precision (an input_error, exit 2), or nothing.
-inline void require_certifiable(const scene& s, const eulervop::precision& p) {
-  // Every reason at once, so that one try tells the user all that stands in the way.
-  std::vector<std::string> reasons;
+// --certify takes every scene in quad and MPFR; a double reference is refused (an input_error,
+// exit 2): the joins step needs each segment's end, its start plus twice its half-length, to be
+// the next segment's start exactly, which the double integrator does not guarantee
+// (docs/certified.md, "What is not covered").
+inline void require_certifiable(const eulervop::precision& p) {
   if (p.type == eulervop::precision::kind::binary64)
-    reasons.push_back("precision double is not certified (its reference is the double run's own rounding; use quad "
-                      "or mpfr:BITS)");
-  if (const auto* e = std::get_if<eulervop::scene::initial_elements>(&s.initial); e && e->u.value != 0)
-    reasons.push_back(fmt::format("its initial u = {} needs elliptic functions of the decimals, which are not "
-                                  "enclosed (give [initial] Omega, or u = 0)",
-                                  e->u.text));
-  if (reasons.empty()) return;
-  std::string text;
-  for (std::size_t i = 0; i < reasons.size(); ++i)
-    text += fmt::format("{}({}) {}", i ? "; " : "", i + 1, reasons[i]);
-  throw input_error(fmt::format("--certify: scene {} cannot be certified, for {} reason{}: {}", s.name, reasons.size(),
-                                reasons.size() == 1 ? "" : "s", text));
+    throw input_error("--certify: precision double is not certified (its segments do not join exactly in double; "
+                      "use quad or mpfr:BITS)");
 }
 
 // The threads that prepare a certificate's segments (certify_pipeline.hpp): the cores this

@@ -60,8 +60,7 @@ std::vector<T> reference_breakpoints(const scene& s, const std::shared_ptr<const
 
 }  // namespace detail
 
-// The scene's problem at `prec` bits, for a reference computed in T (precondition: u = 0 if the
-// scene gives elements).
+// The scene's problem at `prec` bits, for a reference computed in T.
 // A number undefined on its enclosure is bad input naming its field.
 template <scalar T>
 certification_problem certification_problem_of(const scene& s, slong prec) {
@@ -119,10 +118,8 @@ certification_problem certification_problem_of(const scene& s, slong prec) {
   } else if (const auto* r = std::get_if<initial_rates>(&s.initial)) {
     put3(r->rates, s.is_coefficient_form() ? "[initial] y" : s.is_physical() ? "[initial] omega" : "[initial] Omega");
   } else {
-    const auto& e = std::get<initial_elements>(s.initial);
-    p.initial[0] = detail::ball_of_decimal(e.c1, prec, "[initial] c1");
-    p.initial[1] = ball(0);
-    p.initial[2] = detail::ball_of_decimal(e.c2, prec, "[initial] c2");
+    const vec3<interval> Omega0 = exact_Omega_of_elements(std::get<initial_elements>(s.initial), bits);
+    for (int i = 0; i < 3; ++i) p.initial[i] = ball_of(Omega0[i], prec);
   }
   if (s.has_attitude()) {
     ball norm2;

@@ -1,7 +1,7 @@
 // A scene's exact problem for the certificate (certify/exact_problem.hpp): G and Omega(0) the
 // intervals of its decimals as written, and of its constant formulas ("2/3" for a moment:
-// certify/constant_enclosure.hpp). A normalized scene gives Eq. 5 directly (c1, c2 with u = 0
-// mean Omega(0) = (c1, 0, c2) exactly, Eq. 12). A physical one goes through Eqs. 2-4 in intervals:
+// certify/constant_enclosure.hpp). A normalized scene gives Eq. 5 directly (c1, c2 and u give
+// Omega(0) by Eq. 12, with Jacobi's functions enclosed). A physical one goes through Eqs. 2-4 in intervals:
 // model/physical_scaling.hpp with the interval type, for the principal axes that the plain run
 // uses (ordered on the moments' doubles, which order them exactly as their decimals do).
 #pragma once
@@ -9,6 +9,7 @@
 #include <eulervop/certify/constant_enclosure.hpp>
 #include <eulervop/certify/exact_problem.hpp>
 #include <eulervop/certify/interval.hpp>
+#include <eulervop/certify/jacobi_enclosure.hpp>
 #include <eulervop/model/physical_scaling.hpp>
 #include <eulervop/model/principal_axes.hpp>
 #include <eulervop/scene/input_error.hpp>
@@ -43,6 +44,41 @@ inline vec3<interval> decimals_of(const decimal3& d, mpfr_prec_t bits, const std
 }
 }  // namespace detail
 
+// Omega(0) of the elements c1, c2, u (Eq. 12): (c1 cn u, c1 sn u, c2 dn u) with k = c1/c2, Jacobi's
+// functions enclosed by Arb's theta functions (certify/jacobi_enclosure.hpp); (c1, 0, c2) exactly
+// at u = 0.
+inline vec3<interval> exact_Omega_of_elements(const initial_elements& e, mpfr_prec_t bits) {
+  const interval c1 = detail::enclosure_of(e.c1, bits, "[initial] c1");
+  const interval c2 = detail::enclosure_of(e.c2, bits, "[initial] c2");
+  const interval u = detail::enclosure_of(e.u, bits, "[initial] u");
+  if (mpfi_is_zero(u.get())) return {c1, interval::zero(bits), c2};  // exactly 0: the decimal was zero
+  const slong prec = static_cast<slong>(bits);
+  const ball b1 = ball_of(c1, prec), b2 = ball_of(c2, prec);
+  ball k;
+  arb_div(k.get(), b1.get(), b2.get(), prec);
+  jacobi_enclosures v;
+  try {
+    v = jacobi_enclosure(k, ball_of(u, prec), prec);
+  } catch (const std::domain_error& err) {
+    throw input_error("--certify: [initial] u = " + e.u.text + ": " + err.what());
+  }
+  arb_mul(v.cn.get(), v.cn.get(), b1.get(), prec);
+  arb_mul(v.sn.get(), v.sn.get(), b1.get(), prec);
+  arb_mul(v.dn.get(), v.dn.get(), b2.get(), prec);
+  const auto to_interval = [&](const ball& x) {
+    interval out = interval::zero(bits);
+    mpfr_t lo, hi;
+    mpfr_init2(lo, bits);
+    mpfr_init2(hi, bits);
+    arb_get_interval_mpfr(lo, hi, x.get());  // rounded outward
+    mpfi_interv_fr(out.get(), lo, hi);
+    mpfr_clear(lo);
+    mpfr_clear(hi);
+    return out;
+  };
+  return {to_interval(v.cn), to_interval(v.sn), to_interval(v.dn)};
+}
+
 // Eqs. 2-4 for a physical scene in the normalized form (the scene must not need the direct form:
 // its moments distinct, uses_direct_form false).
 inline physical_scaling<interval> exact_scaling_of(const scene& s, mpfr_prec_t bits) {
@@ -54,7 +90,7 @@ inline physical_scaling<interval> exact_scaling_of(const scene& s, mpfr_prec_t b
   return physical_scaling<interval>(axes, principal);
 }
 
-// The scene's problem (normalized form; u = 0 for [initial] c1, c2, u).
+// The scene's problem (normalized form).
 inline exact_problem exact_problem_of(const scene& s, mpfr_prec_t bits) {
   const interval_precision_scope scope(bits);
   const vec3<interval> zero = {interval::zero(bits), interval::zero(bits), interval::zero(bits)};
@@ -71,9 +107,7 @@ inline exact_problem exact_problem_of(const scene& s, mpfr_prec_t bits) {
   if (const auto* r = std::get_if<initial_rates>(&s.initial)) {
     p.Omega0 = detail::decimals_of(r->rates, bits, "[initial] Omega");
   } else {
-    const auto& e = std::get<initial_elements>(s.initial);
-    p.Omega0 = {detail::enclosure_of(e.c1, bits, "[initial] c1"), interval::zero(bits),
-                detail::enclosure_of(e.c2, bits, "[initial] c2")};
+    p.Omega0 = exact_Omega_of_elements(std::get<initial_elements>(s.initial), bits);
   }
   return p;
 }

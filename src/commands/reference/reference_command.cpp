@@ -66,7 +66,7 @@ reference_job make_job(const reference_options& o) {
   job.verify = o.verify;
   job.certify = o.certify;
   job.certify_workers = o.certify_one_thread ? 0 : certify_workers();
-  if (job.certify) require_certifiable(job.scn, job.precision);
+  if (job.certify) require_certifiable(job.precision);
   job.omit_timing = o.omit_timing;
   job.command = o.command;
   job.overrides = applied.text();
