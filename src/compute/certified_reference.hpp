@@ -4,9 +4,9 @@
 //
 // Two paths prove the same statement. The fast one (certify/certifier.hpp) takes Eq. 5 with a
 // constant torque: the paper's problem, with kernels built for its unit coefficients. The general
-// one (certify/ball_certifier.hpp) takes every scene whose field is a polynomial in the time and
-// the state: the coefficient and direct forms, torques of time and state, pieces, and the
-// attitude with the rates as one problem of 7 states.
+// one (certify/ball_certifier.hpp) takes every other scene: the coefficient and direct forms,
+// torques of any formula of time and state, pieces, the gravity gradient, and the attitude with
+// the rates as one problem of 7 states.
 #pragma once
 
 #include "compute/certify_pipeline.hpp"

@@ -1,6 +1,6 @@
 // The general path of --certify (docs/certified.md, "The general path"): a proven bound on the
-// distance between the reference and the exact solution of any problem whose field is a
-// polynomial in the time and the state (certification_problem.hpp), in 3 or 7 dimensions, with
+// distance between the reference and the exact solution of any problem the scenes can state
+// (certification_problem.hpp: formulas of time and state, the gravity gradient), in 3 or 7 dimensions, with
 // every number of the proof a ball (ball.hpp), so that rounding is bounded by the arithmetic.
 //
 // The reference is a piecewise polynomial: on each segment [a, b], the interpolant P of the stored
