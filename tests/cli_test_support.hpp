@@ -107,6 +107,24 @@ inline std::vector<std::string> cells_of(const std::string& line) {
   return cells;
 }
 
+// The data rows of a CSV text (a reference, errors.csv), as cells: `#` lines skipped, the first
+// other line the header (into `header`, if given).
+inline std::vector<std::vector<std::string>> table_rows(const std::string& csv,
+                                                        std::vector<std::string>* header = nullptr) {
+  std::vector<std::vector<std::string>> rows;
+  bool header_seen = false;
+  for (const std::string& l : lines_of(csv)) {
+    if (l.starts_with("#")) continue;
+    if (!header_seen) {
+      header_seen = true;
+      if (header) *header = cells_of(l);
+      continue;
+    }
+    rows.push_back(cells_of(l));
+  }
+  return rows;
+}
+
 inline std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;

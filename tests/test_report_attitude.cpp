@@ -169,8 +169,9 @@ TEST(ReportAttitude, TorqueFreeVopAttitudeIsQsOwnTruncation) {
 }
 
 // With an attitude: the table's attitude columns, max_attitude_error and final_attitude_error in
-// every run of summary.json, errors.csv's second block `<run>_attitude`; the rate columns are
-// those of the same scene without q, cell for cell. Without an attitude: none of them.
+// every run of summary.json, errors.csv's second block `<run>_attitude` (after the rates' errors
+// in rad/s, before the normalized `tau` and `<run>_normalized` block of a physical scene); every
+// other column is that of the same scene without q, cell for cell. Without an attitude: none.
 TEST(ReportAttitude, OutputsHaveTheAttitudeOnlyWithIt) {
   temp_dir dir;
   write_with_attitude(scenes / "spacecraft-physical.toml", dir.path() / "q.toml", "[0.5, 0.5, -0.5, 0.5]");
@@ -194,17 +195,22 @@ TEST(ReportAttitude, OutputsHaveTheAttitudeOnlyWithIt) {
   ASSERT_EQ(lines_with.size(), lines_without.size());
   const std::vector<std::string> runs = {"euler_rk4", "euler_rkf45", "vop_rk4", "vop_rkf45", "vop-theta_rk4",
                                          "vop-theta_rkf45"};
-  std::string header = "tau";
-  for (const auto& r : runs) header += "," + r;
-  EXPECT_EQ(lines_without[0], header);
-  for (const auto& r : runs) header += "," + r + "_attitude";
-  EXPECT_EQ(lines_with[0], header);
+  std::string rates = "t", normalized = ",tau", attitude;
+  for (const auto& r : runs) {
+    rates += "," + r;
+    normalized += "," + r + "_normalized";
+    attitude += "," + r + "_attitude";
+  }
+  EXPECT_EQ(lines_without[0], rates + normalized);
+  EXPECT_EQ(lines_with[0], rates + attitude + normalized);
+  const std::size_t n = runs.size();
   for (std::size_t i = 1; i < lines_with.size(); ++i) {
     const auto a = cells_of(lines_with[i]), b = cells_of(lines_without[i]);
-    ASSERT_EQ(a.size(), 1 + 2 * runs.size());
-    ASSERT_EQ(b.size(), 1 + runs.size());
-    for (std::size_t c = 0; c <= runs.size(); ++c) EXPECT_EQ(a[c], b[c]) << "line " << i << " column " << c;
-    for (std::size_t c = runs.size() + 1; c < a.size(); ++c) {
+    ASSERT_EQ(a.size(), 2 + 3 * n);
+    ASSERT_EQ(b.size(), 2 + 2 * n);
+    for (std::size_t c = 0; c <= n; ++c) EXPECT_EQ(a[c], b[c]) << "line " << i << " column " << c;
+    for (std::size_t c = n + 1; c < b.size(); ++c) EXPECT_EQ(a[c + n], b[c]) << "line " << i << " column " << c;
+    for (std::size_t c = n + 1; c <= 2 * n; ++c) {
       ASSERT_FALSE(a[c].empty()) << "line " << i;
       EXPECT_GE(std::stod(a[c]), 0);
       EXPECT_LT(std::stod(a[c]), 1e-3);
@@ -254,16 +260,22 @@ TEST(ReportAttitude, AdaptiveRunsKeepTheirStepsAndAddTheAttitudeColumn) {
                                             "--no-plot", "--out-dir", out});
       ASSERT_EQ(r.exit_code, 0) << r.err;
       const auto lines = lines_of(read_file(dir.path() / out / "errors.csv"));
-      EXPECT_EQ(lines[0], k ? "formulation,method,tol,tau,error" : "formulation,method,tol,tau,error,attitude_error");
+      const bool physical = lines[0].find(",t,") != std::string::npos;  // t (s) and rad/s, then tau (Eq. 20)
+      const std::string tail = physical ? ",tau,error_normalized" : "";
+      EXPECT_EQ(lines[0], std::string(physical ? "formulation,method,tol,t,error" : "formulation,method,tol,tau,error") +
+                              (k ? "" : ",attitude_error") + tail);
       for (std::size_t i = 1; i < lines.size(); ++i) rows[k].push_back(cells_of(lines[i]));
       summaries[k] = json::parse(read_file(dir.path() / out / "summary.json"));
     }
     ASSERT_EQ(rows[0].size(), rows[1].size()) << with_q;
     for (std::size_t i = 0; i < rows[0].size(); ++i) {
-      ASSERT_EQ(rows[0][i].size(), 6u);
-      EXPECT_EQ(std::vector<std::string>(rows[0][i].begin(), rows[0][i].begin() + 5), rows[1][i]) << with_q << " " << i;
+      // The row with q is the row without it and the attitude error as its sixth cell.
+      ASSERT_EQ(rows[0][i].size(), rows[1][i].size() + 1);
       ASSERT_FALSE(rows[0][i][5].empty());
       EXPECT_GE(std::stod(rows[0][i][5]), 0);
+      std::vector<std::string> without_attitude = rows[0][i];
+      without_attitude.erase(without_attitude.begin() + 5);
+      EXPECT_EQ(without_attitude, rows[1][i]) << with_q << " " << i;
     }
     for (std::size_t i = 0; i < summaries[0].at("runs").size(); ++i) {
       const json& a = summaries[0].at("runs")[i];

@@ -9,6 +9,9 @@ the reference's q to the run's in radians (docs/attitude-runs.md): fixed-step co
 `<run>_attitude` after the runs' columns, or an `attitude_error` column after `error` in the
 adaptive rows. It is drawn in a second panel below the first, with the same runs and colours.
 
+A physical scene's errors.csv leads with t (s) and the rates' error (rad/s); its normalized
+columns (`tau`, `<run>_normalized`, `error_normalized`) follow and are not drawn.
+
 Usage: tools/plot_fig1.py REPORT_DIR
 Needs matplotlib (Debian: apt-get install python3-matplotlib)."""
 import csv
@@ -33,6 +36,7 @@ def add_point(series, key, tau, cell):
 def read_series(header, data):
     """Returns (rates, attitude): dicts of label -> (taus, log10 errors), in the file's run order."""
     rates, attitude = {}, {}
+    skipped = {"tau", "error_normalized"}
     if header[:3] == ["formulation", "method", "tol"]:
         has_attitude = len(header) > 5 and header[5] == "attitude_error"
         for r in data:
@@ -43,6 +47,8 @@ def read_series(header, data):
     else:
         for col in range(1, len(header)):
             name = header[col]
+            if name in skipped or name.endswith("_normalized"):
+                continue
             target = attitude if name.endswith("_attitude") else rates
             label = (name[: -len("_attitude")] if target is attitude else name).replace("_", " / ")
             target.setdefault(label, ([], []))
@@ -62,6 +68,7 @@ def main() -> int:
         with open(summary) as f:
             scene = json.load(f).get("scene", "")
     rates, attitude = read_series(header, data)
+    physical = header[0] == "t" or (len(header) > 3 and header[3] == "t")
     if attitude:
         fig, (ax, ax_q) = plt.subplots(2, 1, figsize=(8, 8.5), sharex=True)
     else:
@@ -70,7 +77,8 @@ def main() -> int:
     for label, (xs, ys) in rates.items():
         (line,) = ax.plot(xs, ys, label=label, linewidth=0.8)
         colours[label] = line.get_color()
-    ax.set_ylabel(r"$\log_{10} e$,  $e = \|\Omega - \Omega^*\|_2$ (Eq. 20)")
+    ax.set_ylabel(r"$\log_{10} e$,  $e = \|\omega - \omega^*\|_2$ (rad/s)" if physical
+                  else r"$\log_{10} e$,  $e = \|\Omega - \Omega^*\|_2$ (Eq. 20)")
     ax.set_title("Two-norm errors: normalized Euler equations (non-VOP) and VOP"
                  + (f"\nscene: {scene}" if scene else ""))
     ax.grid(True, alpha=0.3)
@@ -82,9 +90,9 @@ def main() -> int:
         ax_q.set_title("Attitude errors: angle of the rotation from the reference's q to the run's",
                        fontsize=10)
         ax_q.grid(True, alpha=0.3)
-        ax_q.set_xlabel(r"$\tau$")
+        ax_q.set_xlabel("t (s)" if physical else r"$\tau$")
     else:
-        ax.set_xlabel(r"$\tau$")
+        ax.set_xlabel("t (s)" if physical else r"$\tau$")
     fig.tight_layout()
     plot_common.save(fig, out_dir, "fig1")
     return 0

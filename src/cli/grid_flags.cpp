@@ -53,11 +53,6 @@ std::string timing_text(const wp_run_options& o) {
 
 scene work_precision_scene(const std::optional<std::string>& path, const scene_override_flags& flags, wp_job& job) {
   scene s = load_scene(path);
-  if (s.couples_attitude())
-    throw input_error(fmt::format("scene `{}`: its torque reads the attitude (the gravity gradient, or a formula naming "
-                                  "q0..q3), so its rates are no problem of their own; `sweep` and `map` time the rates "
-                                  "alone (`report` runs the rates and q together)",
-                                  s.name));
   // Error samples are step points of each run, about --samples of them; the scene's own sample
   // times and count are for `reference` and do not apply.
   s.times.clear();

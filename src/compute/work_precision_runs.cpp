@@ -6,6 +6,7 @@
 #include "compute/task_pool.hpp"
 #include "compute/with_scalar.hpp"
 
+#include <eulervop/core/quaternion.hpp>
 #include <eulervop/model/error_measure.hpp>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <condition_variable>
 #include <exception>
 #include <functional>
+#include <limits>
 #include <mutex>
 
 namespace eulervop::app {
@@ -22,6 +24,8 @@ namespace {
 template <class Problem>
 wp_result run_case(const wp_grid& g, const wp_case& c, const Problem& problem, int repeat) {
   wp_result out;
+  std::optional<attitude_settings> attitude;
+  if (g.scn.has_attitude()) attitude = attitude_settings{body_rates_of<double>(g.scn), attitude_of<double>(g.scn)};
   for (int k = 0; k < repeat; ++k) {
     run_result r;
     if (c.adaptive) {
@@ -30,10 +34,13 @@ wp_result run_case(const wp_grid& g, const wp_case& c, const Problem& problem, i
       s.atol = s.rtol = g.tols[c.rung].value;
       s.h_max = g.max_step.h;
       s.samples = g.samples;
+      s.attitude = attitude;
       r = run_adaptive(c.form, c.method, problem, s);
     } else {
       const ladder_step& st = g.steps[c.rung];
-      r = run_fixed(c.form, c.method, problem, fixed_run_settings{st.choice.h, st.choice.n_steps, st.sample_every});
+      fixed_run_settings s{st.choice.h, st.choice.n_steps, st.sample_every};
+      s.attitude = attitude;
+      r = run_fixed(c.form, c.method, problem, s);
     }
     if (k == 0) {
       out.seconds = r.seconds;
@@ -46,9 +53,10 @@ wp_result run_case(const wp_grid& g, const wp_case& c, const Problem& problem, i
 }
 
 // The case's runs on the grid's problem, which each task builds for itself (a torque given by
-// formulas keeps scratch space for its evaluation: tasks run on several threads).
+// formulas keeps scratch space for its evaluation: tasks run on several threads); a torque of the
+// attitude as each stage's q shows it (with_run_problem).
 wp_result run_case(const wp_grid& g, const wp_case& c, int repeat) {
-  return with_problem<double>(g.scn, [&](const auto& problem) { return run_case(g, c, problem, repeat); });
+  return with_run_problem(g.scn, [&](const auto& problem) { return run_case(g, c, problem, repeat); });
 }
 
 // Work for the scheduler's order only (longest first keeps the workers evenly loaded).
@@ -84,6 +92,57 @@ void measure(const wp_grid& g, const wp_case& c, const dense_trajectory<T>& ref,
   out.final_error = last;
 }
 
+// The errors of every case of a grid with an attitude: its reference (the rates and q, as
+// `report` integrates them) at all the runs' samples in increasing order, each sample's Eq. 20
+// error and rotation angle recorded in its case. A run that diverged, or has a non-finite error,
+// keeps none (never a NaN as an error value).
+template <scalar T>
+void measure_with_attitude(const wp_grid& g, const picard_settings& settings, wp_outcome& out) {
+  struct sample {
+    T tau;
+    std::size_t ci, k;
+  };
+  std::vector<sample> all;
+  for (std::size_t ci = 0; ci < g.cases.size(); ++ci) {
+    const run_result& r = out.results[ci].run;
+    if (r.diverged()) continue;
+    for (std::size_t k = 0; k < r.Omega.size(); ++k) all.push_back({sample_time<T>(g, g.cases[ci], r, k), ci, k});
+  }
+  std::stable_sort(all.begin(), all.end(), [](const sample& a, const sample& b) { return a.tau < b.tau; });
+  T tau_end = tau_end_of<T>(g.scn);
+  if (!all.empty() && all.back().tau > tau_end) tau_end = all.back().tau;
+  std::vector<T> taus;
+  taus.reserve(all.size());
+  for (const sample& s : all) taus.push_back(s.tau);
+  std::vector<std::vector<double>> errors(g.cases.size()), angles(g.cases.size());
+  for (std::size_t ci = 0; ci < g.cases.size(); ++ci) {
+    errors[ci].assign(out.results[ci].run.Omega.size(), std::numeric_limits<double>::quiet_NaN());
+    angles[ci] = errors[ci];
+  }
+  const reference_run ref = integrate_scene_attitude<T>(
+      g.scn, tau_end, taus, settings, "", [&](std::size_t j, const vec3<T>& Om, const quaternion<T>& q) {
+        const auto [tau, ci, k] = all[j];
+        const run_result& r = out.results[ci].run;
+        errors[ci][k] = static_cast<double>(eq20_error(Om, r.Omega[k]));
+        const quaternion<double>& qr = r.q[k];
+        angles[ci][k] = static_cast<double>(rotation_angle(q, quaternion<T>{T(qr.w), T(qr.x), T(qr.y), T(qr.z)}));
+      });
+  out.reference_seconds = ref.wall_seconds;
+  out.reference_segments = ref.stats.segments;
+  out.reference_tau_end = static_cast<double>(tau_end);
+  for (std::size_t ci = 0; ci < g.cases.size(); ++ci) {
+    wp_result& w = out.results[ci];
+    if (w.run.diverged() || errors[ci].empty()) continue;
+    const bool finite = std::all_of(errors[ci].begin(), errors[ci].end(), [](double e) { return std::isfinite(e); }) &&
+                        std::all_of(angles[ci].begin(), angles[ci].end(), [](double a) { return std::isfinite(a); });
+    if (!finite) continue;
+    w.max_error = *std::max_element(errors[ci].begin(), errors[ci].end());
+    w.final_error = errors[ci].back();
+    w.max_attitude_error = *std::max_element(angles[ci].begin(), angles[ci].end());
+    w.final_attitude_error = angles[ci].back();
+  }
+}
+
 // The reference of one grid, to the end of its longest run.
 template <scalar T>
 dense_reference<T> grid_reference(const wp_grid& g, const picard_settings& settings, wp_outcome& out) {
@@ -116,9 +175,10 @@ std::vector<wp_outcome> run_all(const std::vector<wp_grid>& grids, const eulervo
   // The references first (they are the longest), then every case, longest first.
   std::vector<std::function<void()>> tasks;
   for (std::size_t gi = 0; gi < grids.size(); ++gi)
-    tasks.emplace_back([&, gi] {
-      mpfr_scope_on_this_thread(p, [&] { refs[gi] = grid_reference<T>(grids[gi], settings, out[gi]); });
-    });
+    if (!grids[gi].scn.has_attitude())  // with one, the reference comes after the runs
+      tasks.emplace_back([&, gi] {
+        mpfr_scope_on_this_thread(p, [&] { refs[gi] = grid_reference<T>(grids[gi], settings, out[gi]); });
+      });
   std::vector<std::pair<std::size_t, std::size_t>> order;
   for (std::size_t gi = 0; gi < grids.size(); ++gi)
     for (std::size_t ci = 0; ci < grids[gi].cases.size(); ++ci) order.emplace_back(gi, ci);
@@ -133,9 +193,14 @@ std::vector<wp_outcome> run_all(const std::vector<wp_grid>& grids, const eulervo
   run_tasks(tasks, o.jobs, o.progress_label);
 
   // Eq. 20 in the calling thread (MPFR temporaries take its default precision).
-  for (std::size_t gi = 0; gi < grids.size(); ++gi)
+  for (std::size_t gi = 0; gi < grids.size(); ++gi) {
+    if (grids[gi].scn.has_attitude()) {
+      mpfr_scope_on_this_thread(p, [&] { measure_with_attitude<T>(grids[gi], settings, out[gi]); });
+      continue;
+    }
     for (std::size_t ci = 0; ci < grids[gi].cases.size(); ++ci)
       measure<T>(grids[gi], grids[gi].cases[ci], refs[gi].trajectory, out[gi].results[ci]);
+  }
   return out;
 }
 
@@ -256,7 +321,10 @@ std::vector<wp_outcome> run_grids(const std::vector<wp_grid>& grids, const euler
                                   const picard_settings& settings, const wp_run_options& options) {
   return with_scalar(p, [&](auto zero) {
     using T = decltype(zero);
-    return options.stop_below ? run_ladders<T>(grids, p, settings, options) : run_all<T>(grids, p, settings, options);
+    const bool attitude =
+        std::any_of(grids.begin(), grids.end(), [](const wp_grid& g) { return g.scn.has_attitude(); });
+    return options.stop_below && !attitude ? run_ladders<T>(grids, p, settings, options)
+                                           : run_all<T>(grids, p, settings, options);
   });
 }
 

@@ -21,6 +21,9 @@ struct wp_result {
   run_result run;       // the first of the timed runs (they differ only in their time)
   double seconds = 0;   // the minimum time over the runs
   std::optional<double> max_error, final_error;  // Eq. 20 over the samples; none after divergence
+  // A scene with an attitude: the rotation angle from the reference's q to the run's (rad), as
+  // `report` gives it.
+  std::optional<double> max_attitude_error, final_attitude_error;
   bool skipped = false;  // not run: a looser rung of its ladder already reached every level
 };
 
@@ -44,7 +47,9 @@ struct wp_run_options {
 // Runs every grid's reference (in precision p) and cases on `jobs` threads: the references first,
 // then the cases (or, with stop_below, the ladders) longest first. Results land in their case's
 // slot, so nothing depends on the scheduling but the times. Errors (Eq. 20) are computed in p at
-// each run's samples. numerical_failure from a reference propagates.
+// each run's samples. numerical_failure from a reference propagates. A scene with an attitude
+// carries q in every run and gets its attitude error too; its reference is then integrated once
+// at every run's samples, after the runs (so stop_below does not apply: every rung runs).
 std::vector<wp_outcome> run_grids(const std::vector<wp_grid>& grids, const eulervop::precision& p,
                                   const picard_settings& settings, const wp_run_options& options);
 

@@ -3,6 +3,7 @@
 #include "compute/scene_library.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <fstream>
 #include <sstream>
@@ -114,6 +115,19 @@ reference_layout reference_layout_of(const scene& s) {
   return s.is_physical() ? reference_layout::physical : reference_layout::normalized;
 }
 
+std::string error_unit(reference_layout layout, std::string_view figure) {
+  if (figure == "estimated_max_attitude_error") return "rad (rotation angle)";
+  if (figure.ends_with("_q")) return "|q - q*|_2 of the printed quaternion (no unit)";
+  if (figure.ends_with("_omega")) return "rad/s";
+  switch (layout) {
+    case reference_layout::direct: return "rad/s";  // the state is omega itself
+    case reference_layout::physical: return "normalized Omega (Eq. 20, no unit)";
+    case reference_layout::coefficient: return "|y - y*|_2";
+    case reference_layout::normalized: break;
+  }
+  return "Eq. 20 (no unit)";
+}
+
 std::string reference_csv_header(const reference_metadata& m, reference_layout layout) {
   fmt::memory_buffer out;
   auto line = [&]<class... Args>(fmt::format_string<Args...> format, Args&&... args) {
@@ -141,6 +155,20 @@ std::string reference_csv_header(const reference_metadata& m, reference_layout l
     if (m.certified_max_error_omega) line("# certified_max_error_omega: {}", m.certified_max_error_omega->text);
     if (m.certified_max_error_q) line("# certified_max_error_q: {}", m.certified_max_error_q->text);
     line("# certify_method: {}", m.certify_method);
+  }
+  // A body's figures are in different units (the normalized state, rad/s, rad): each is named.
+  if ((m.estimated_max_error || m.certified_max_error) &&
+      (layout == reference_layout::physical || layout == reference_layout::direct)) {
+    std::vector<std::string> figures;
+    const auto add = [&](bool present, std::string_view name) {
+      if (present) figures.push_back(fmt::format("{} = {}", name, error_unit(layout, name)));
+    };
+    add(m.estimated_max_error.has_value(), "estimated_max_error");
+    add(m.estimated_max_attitude_error.has_value(), "estimated_max_attitude_error");
+    add(m.certified_max_error.has_value() && layout == reference_layout::physical, "certified_max_error");
+    add(m.certified_max_error_omega.has_value(), "certified_max_error_omega");
+    add(m.certified_max_error_q.has_value(), "certified_max_error_q");
+    line("# error_units: {}; each row's radius columns likewise", fmt::join(figures, "; "));
   }
   for (const std::string& note : m.notes) line("# note: {}", note);
   if (!m.attitude.empty()) line("# attitude: {}", m.attitude);

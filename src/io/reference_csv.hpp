@@ -75,6 +75,10 @@ reference_layout reference_layout_of(const scene& s);
 // The metadata block and the column header of a reference file, each line ending in '\n'.
 std::string reference_csv_header(const reference_metadata& m, reference_layout layout);
 
+// The unit of each error figure a reference of this layout carries (its estimates, radii and
+// their header lines), by name: "rad/s", "rad", or what the normalized figure measures.
+std::string error_unit(reference_layout layout, std::string_view figure);
+
 // Formats the rows of a reference file and hands them to `sink` in chunks of about 64 KiB, so a
 // run streams its rows however many there are.
 class reference_csv_row_writer {

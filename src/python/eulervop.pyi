@@ -29,7 +29,11 @@ class Reference:
     """A reference solution, as `eulervop reference` writes it."""
     t: npt.NDArray[np.float64]
     y: npt.NDArray[np.float64]
+    """The columns `check` reads by default: check(scene, ref.t, ref.y) judges the reference itself."""
     columns: list[str]
+    normalized: Optional[npt.NDArray[np.float64]]
+    """(n, 4): tau, Omega1..3, when the file has them; else None."""
+    normalized_columns: list[str]
     all_columns: list[str]
     decimal: list[list[str]]
     meta: dict[str, Any]
@@ -53,7 +57,7 @@ class CheckResult:
 
 def reference(
     scene: Union[Scene, str, PathLike[str]],
-    times: Optional[Sequence[float]] = None,
+    times: Optional[npt.ArrayLike] = None,
     precision: Optional[str] = None,
     verify: bool = False,
     certify: bool = False,
@@ -64,7 +68,7 @@ def reference(
 
 def check(
     against: Union[Scene, Reference, str, PathLike[str]],
-    t: Union[npt.ArrayLike, str],
+    t: Union[npt.ArrayLike, str, PathLike[str]],
     y: Optional[npt.ArrayLike] = None,
     columns: Optional[Sequence[str]] = None,
     tol: Optional[float] = None,

@@ -102,11 +102,13 @@ class scene_reader {
     return text_.substr(i, j - i);
   }
 
-  // A finite number (TOML float or integer) as exact decimal text.
+  // A finite number: a TOML float or integer as exact decimal text, or a constant formula written
+  // as a string ("6*pi/0.00113"), evaluated in the run's precision (formula_constant).
   decimal number(const toml::node& node, std::string_view field) const {
     if (auto i = node.as_integer()) return decimal_from_integer(i->get());
+    if (node.is_string()) return formula_constant(node, field);
     auto f = node.as_floating_point();
-    if (!f) fail_value(node, field, "must be a number");
+    if (!f) fail_value(node, field, "must be a number or a constant formula (a string)");
     const double v = f->get();
     if (!std::isfinite(v)) fail_value(node, field, "must be finite");
     // Prefer the source token; if it cannot be found or does not denote this double (which
@@ -201,6 +203,8 @@ class scene_reader {
     return out;
   }
   void constants_into(const toml::node& node, std::string_view field, decimal* out, std::size_t n) const;
+  // A constant formula (a TOML string: numbers, pi, + - * / ^ and functions), finite.
+  decimal formula_constant(const toml::node& node, std::string_view field) const;
   // [torque]'s parts (scene_torque.cpp).
   expression torque_term(const toml::node& node, const std::string& field, const scene& s,
                          std::optional<decimal>& numeric) const;

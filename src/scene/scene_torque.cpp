@@ -67,23 +67,22 @@ void scene_reader::constants_into(const toml::node& node, std::string_view field
   if (!a || a->size() != n) fail_value(node, field, fmt::format("must be an array of {} numbers", n));
   for (std::size_t i = 0; i < n; ++i) {
     const toml::node& item = (*a)[i];
-    const auto* text = item.as_string();
-    if (!text) {
-      out[i] = number(item, field);
-      continue;
-    }
-    const std::string name = fmt::format("{}{}", field, i + (n == 4 ? 0 : 1));
-    std::shared_ptr<const expression> e;
-    try {
-      e = std::make_shared<const expression>(parse_expression(text->get(), expression_variables{}));
-    } catch (const expression_error& x) {
-      fail_value(item, name, fmt::format("{} (a constant formula here: numbers, pi, + - * / ^ and sin cos exp log sqrt)",
-                                         x.what()));
-    }
-    const double v = compiled_expression<double>(*e)(0.0, {0.0, 0.0, 0.0});
-    if (!std::isfinite(v)) fail_value(item, name, "must be finite");
-    out[i] = decimal{e->text, v, e};
+    out[i] = item.is_string() ? formula_constant(item, fmt::format("{}{}", field, i + (n == 4 ? 0 : 1)))
+                              : number(item, field);
   }
+}
+
+decimal scene_reader::formula_constant(const toml::node& node, std::string_view field) const {
+  std::shared_ptr<const expression> e;
+  try {
+    e = std::make_shared<const expression>(parse_expression(node.as_string()->get(), expression_variables{}));
+  } catch (const expression_error& x) {
+    fail_value(node, field,
+               fmt::format("{} (a constant formula here: numbers, pi, + - * / ^ and sin cos exp log sqrt)", x.what()));
+  }
+  const double v = compiled_expression<double>(*e)(0.0, {0.0, 0.0, 0.0});
+  if (!std::isfinite(v)) fail_value(node, field, "must be finite");
+  return decimal{e->text, v, e};
 }
 
 // [equations] a = [a1, a2, a3]: the coefficient form y_i' = a_i y_j y_k + f_i, any finite a.

@@ -1,6 +1,8 @@
 #include "commands/batch/batch_manifest.hpp"
 
+#include "compute/scene_library.hpp"
 #include "io/output_dir.hpp"
+#include "io/reference_csv.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -8,6 +10,36 @@
 #include <filesystem>
 
 namespace eulervop::app {
+
+namespace {
+
+// The error figures of a physical scene's reference.csv (its --verify estimates and --certify
+// radii), each with its unit, since they come in several: {"estimated_max_error": {"value":
+// 1.43e-32, "unit": "normalized Omega (Eq. 20, no unit)"}, ...}. Empty for the other scenes, whose
+// figures are all in the integrator's own variables, or when the file has none or cannot be read
+// (the manifest never fails for it).
+nlohmann::ordered_json figures_of(const batch_settings& s, const scene_task& t) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  try {
+    const reference_metadata m =
+        read_reference_metadata("reference", (s.out_dir / t.name / "reference.csv").string());
+    const reference_layout layout = reference_layout_of(load_scene_file(t.path));
+    if (layout != reference_layout::physical && layout != reference_layout::direct) return out;
+    const auto add = [&](const char* name, const std::optional<decimal>& x) {
+      if (x) out[name] = {{"value", x->value}, {"unit", error_unit(layout, name)}};
+    };
+    add("estimated_max_error", m.estimated_max_error);
+    add("estimated_max_attitude_error", m.estimated_max_attitude_error);
+    add("certified_max_error", m.certified_max_error);
+    add("certified_max_error_omega", m.certified_max_error_omega);
+    add("certified_max_error_q", m.certified_max_error_q);
+  } catch (const std::exception&) {
+    return nlohmann::ordered_json::object();
+  }
+  return out;
+}
+
+}  // namespace
 
 int write_manifest(const batch_settings& s, const std::optional<shard_spec>& shard,
                    const std::vector<scene_task>& tasks, const std::vector<scene_outcome>& results,
@@ -30,6 +62,10 @@ int write_manifest(const batch_settings& s, const std::optional<shard_spec>& sha
                                   {"message", r.message},
                                   {"outputs", r.outputs},
                                   {"hash", r.hash}});
+    if (r.status != "failed") {
+      nlohmann::ordered_json figures = figures_of(s, tasks[i]);
+      if (!figures.empty()) manifest["scenes"].back()["figures"] = std::move(figures);
+    }
     if (r.status == "ok") ++n_ok;
     else if (r.status == "skipped-up-to-date") ++n_skipped;
     else ++n_failed;

@@ -1,5 +1,6 @@
 #include "commands/check/against_file.hpp"
 
+#include "commands/check/scene_terms.hpp"
 #include "commands/check/trajectory_columns.hpp"
 #include "compute/with_scalar.hpp"
 #include "io/csv_rows.hpp"
@@ -89,17 +90,37 @@ physical_scaling<T> scaling_of_reference(const reference_csv_reader& ref) {
   return scaling_of<T>(s);
 }
 
+// The estimated error of `# estimated_max_error` (--verify) is of the integrator's variables, the
+// normalized ones of Eq. 4 for a physical scene, not the compared ones: it carries its unit.
 void describe_reference_file(const check_job& job, const reference_metadata& meta, check_result& r) {
   const auto& error = meta.estimated_max_error;
-  r.reference_text = fmt::format("file {} (scene {}, {}, estimated max error {})", job.reference_path,
+  const std::string& unit = r.scene.estimated_error_unit;
+  r.reference_text = fmt::format("file {} (scene {}, {}, {})", job.reference_path,
                                  meta.scene_name.empty() ? "?" : meta.scene_name, meta.precision.name(),
-                                 error ? error->text : "-");
+                                 error ? fmt::format("estimated max error {:.3e} {}", error->value,
+                                                     r.scene.estimated_error_label)
+                                       : std::string("no estimated max error: made without --verify"));
   r.reference_json = {
       {"source", "file"},
       {"path", job.reference_path},
       {"scene", meta.scene_name.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(meta.scene_name)},
       {"precision", meta.precision.name()},
-      {"estimated_max_error", number_or_null(error ? std::optional<double>(error->value) : std::nullopt)}};
+      {"estimated_max_error", number_or_null(error ? std::optional<double>(error->value) : std::nullopt)},
+      {"estimated_max_error_unit", error ? nlohmann::ordered_json(unit) : nlohmann::ordered_json(nullptr)}};
+}
+
+// The reference's form, from its columns, for a file that does not give its scene.
+integrated_form form_of_columns(const csv_rows& ref) {
+  if (ref.column("y1")) return integrated_form::coefficient;
+  if (!ref.column("tau")) return integrated_form::direct;
+  return integrated_form::normalized;
+}
+
+// The names a trajectory is compared by against this file: its own time and state.
+expected_names expected_of(const csv_rows& ref) {
+  if (ref.column("omega1")) return {"t", "omega"};
+  if (ref.column("y1")) return {"t", "y"};
+  return {};
 }
 
 // The reference file's columns that a trajectory with columns `cols` is compared with, and the
@@ -147,12 +168,15 @@ reference_columns<T> reference_columns_of(const check_job& job, reference_csv_re
 // The rows of the trajectory against the reference file's, with the equations `problem` (a
 // pointer to the scene text's problem, or to nothing) for the direction of motion.
 template <scalar T, class P>
-check_result check_rows(const check_job& job, reference_csv_reader& ref, const P* problem) {
+check_result check_rows(const check_job& job, reference_csv_reader& ref, const scene* scn, const P* problem) {
   std::ifstream in = open_input_file("trajectory", job.trajectory_path);
   csv_rows rows(in, "trajectory " + job.trajectory_path);
-  const trajectory_columns cols = find_columns(job, rows);
+  const trajectory_columns cols = find_columns(job, rows, expected_of(ref.rows()));
   check_result r;
   const reference_columns<T> c = reference_columns_of<T>(job, ref, rows, cols, r);
+  r.scene = scn ? scene_terms_of(*scn, cols) : unknown_scene_terms(form_of_columns(ref.rows()));
+  if (cols.q)
+    for (int k = 0; k < 4; ++k) r.q_columns[k] = rows.header()[(*cols.q)[k]];
   const compared_variables<T>& vars = c.vars;
   errors_writer out(job.errors_out);
   out.header(cols.time_name, r.t.certified, r.t.attitude);
@@ -190,10 +214,10 @@ check_result check_rows(const check_job& job, reference_csv_reader& ref, const P
 template <scalar T>
 check_result check_in(const check_job& job, reference_csv_reader& ref) {
   const auto* none = static_cast<const euler_problem<T>*>(nullptr);
-  if (ref.metadata().scene_text.empty()) return check_rows<T>(job, ref, none);
+  if (ref.metadata().scene_text.empty()) return check_rows<T>(job, ref, nullptr, none);
   const scene s = parse_scene(ref.metadata().scene_text, ref.rows().where() + " (scene_text)");
-  if (s.couples_attitude()) return check_rows<T>(job, ref, none);
-  return with_problem<T>(s, [&](const auto& problem) { return check_rows<T>(job, ref, &problem); });
+  if (s.couples_attitude()) return check_rows<T>(job, ref, &s, none);
+  return with_problem<T>(s, [&](const auto& problem) { return check_rows<T>(job, ref, &s, &problem); });
 }
 
 }  // namespace

@@ -29,7 +29,8 @@ compared_variables<T> variables_of(const scene& s, const trajectory_columns& col
 // physical scene, and a body in the direct form has no tau or Omega.
 trajectory_columns scene_columns(const check_job& job, const csv_rows& rows) {
   const scene& s = job.scn;
-  const trajectory_columns cols = find_columns(job, rows);
+  const trajectory_columns cols =
+      find_columns(job, rows, {std::string(s.time_name()), s.is_physical() ? "omega" : std::string(s.state_name())});
   if (cols.physical && s.units == eulervop::scene::scene_units::normalized)
     throw input_error(fmt::format("{}: line {}: column `{}` is a physical time, but scene {} is normalized (give "
                                   "tau,Omega1,Omega2,Omega3)",
@@ -76,8 +77,11 @@ trajectory_times<T> read_times(const check_job& job) {
 void describe_scene_reference(const check_job& job, const std::string& time_name, const std::string& end,
                               double tau_end, const reference_run& ref, check_result& r) {
   const scene& s = job.scn;
-  r.reference_text = fmt::format("scene {} ({}, computed to {} = {} in {:.2f} s, {} segments)", s.name,
-                                 job.precision.name(), time_name, end, ref.wall_seconds, ref.stats.segments);
+  // The time as the table prints every time: six significant digits, in the scene's units.
+  r.reference_text = fmt::format("scene {} ({}, computed to {} = {:.6g}{} in {:.2f} s, {} segments)", s.name,
+                                 job.precision.name(), time_name, std::strtod(end.c_str(), nullptr),
+                                 r.terms.time_unit.empty() ? "" : " " + r.terms.time_unit, ref.wall_seconds,
+                                 ref.stats.segments);
   r.reference_json = {{"source", "scene"},
                       {"path", job.reference_path},
                       {"scene", s.name},
@@ -109,9 +113,12 @@ check_result check_in(const check_job& job) {
   r.terms = terms_of(cols, job.scn.is_physical(), vars.physical());
   r.t.reference_attitude = job.scn.has_attitude();
   r.t.attitude = cols.q.has_value();
+  r.scene = scene_terms_of(job.scn, cols);
   out.header(cols.time_name, false, r.t.attitude);
   std::ifstream in = open_input_file("trajectory", job.trajectory_path);
   csv_rows rows(in, "trajectory " + job.trajectory_path);
+  if (cols.q)
+    for (int k = 0; k < 4; ++k) r.q_columns[k] = rows.header()[(*cols.q)[k]];
   row_reader reader{rows, cols};
   const auto changed = [&] { return input_error(fmt::format("{}: the file changed while it was read", rows.where())); };
   // Row i of the trajectory against the reference there (q_ref: its attitude, if checked), with

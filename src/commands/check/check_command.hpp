@@ -10,7 +10,11 @@
 // IVP Test Set (scd, mescd), the largest error per component, the drift of c1^2 and c2^2 (Eq. 7)
 // against the reference's, and the error along and across the reference's direction of motion
 // (check_tally.hpp). A trajectory with columns q0..q3 (an attitude) gets each row's rotation
-// angle to the reference's attitude too; the reference must then have one.
+// angle to the reference's attitude too; the reference must then have one. A first row at time 0
+// that is not the scene's initial state is named, with the quaternion convention it looks written
+// in (scalar last, the inverse) when a reordering of its q matches; figures that mean nothing for
+// the scene (Eq. 7 under a torque) are left out, and every figure carries its unit
+// (scene_terms.hpp, check_output.hpp).
 //
 // The errors are in the trajectory's own variables (compared_variables.hpp): for t,omega1..3 of a
 // physical scene, in rad/s on the body's axes as the scene lists them, --tol included; the Eq. 20

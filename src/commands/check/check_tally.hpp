@@ -7,6 +7,7 @@
 #include "commands/check/check_job.hpp"
 #include "commands/check/compared_variables.hpp"
 #include "commands/check/errors_writer.hpp"
+#include "commands/check/scene_terms.hpp"
 #include "compute/scene_library.hpp"
 
 #include <eulervop/core/numerical_failure.hpp>
@@ -23,9 +24,35 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace eulervop::app {
+
+// The trajectory's first row at time 0 against the reference there, which is the scene's initial
+// state: a trajectory started from another state (or with its q in another convention) is named
+// as such, not only as a large error at t = 0. The limit is the bar when one is given, else
+// `initial_state_rel` (relative for the rates, radians for the attitude).
+inline constexpr double initial_state_rel = 1e-6;
+
+struct first_row_check {
+  bool done = false;  // the first row is at time 0
+  std::size_t line = 0;
+  std::string time;
+  double rate_difference = 0, rate_limit = 0;  // in the compared variables
+  bool rate_limit_is_bar = false;
+  bool rates_match = true;
+  bool attitude = false;  // the row has q0..q3
+  double attitude_difference = 0, attitude_limit = 0;  // radians
+  bool attitude_limit_is_bar = false;
+  bool attitude_match = true;
+  // When the row's q does not match: the order of its columns that does (order[k]: the column,
+  // 0..3 of q0..q3 as found, that holds the reference's q_k), and whether the vector part is
+  // negated as well (the inverse rotation).
+  std::optional<std::array<int, 4>> q_order;
+  bool q_inverse = false;
+  bool matches() const { return rates_match && attitude_match; }
+};
 
 struct tally {
   std::size_t rows = 0;
@@ -46,11 +73,15 @@ struct tally {
   double max_relative = 0;  // max |dy_i| / |y_ref_i| over the components with y_ref_i != 0 (scd)
   double max_mixed = 0;     // max |dy_i| / (atol/rtol + |y_ref_i|) (mescd)
   std::array<double, 3> max_component{};  // max |dy_i| per component
+  // Where the largest relative error (scd) is: the component, the reference's value there, the
+  // row. A small reference value (rates that decay) explains a low scd on a good trajectory.
+  int scd_component = -1;
+  double scd_reference = 0;
+  std::string scd_time;
+  std::size_t scd_line = 0;
   // c1^2 and c2^2 (Eq. 7, of the normalized variables) of the trajectory minus the reference's:
-  // largest magnitude, and at the last row.
-  // Absent (has_invariants false) for a body integrated in the direct form, where Eq. 7 has no
-  // meaning.
-  bool has_invariants = true;
+  // largest magnitude, and at the last row. They are constant only for the torque-free normalized
+  // problem of Eq. 5: whether they are reported is the scene's to say (scene_terms.hpp).
   double c1_drift_max = 0, c2_drift_max = 0, c1_drift_last = 0, c2_drift_last = 0;
   // The error along the reference's direction of motion (Eq. 5's right-hand side there: a phase
   // error) and across it, largest over the rows; absent without the torque.
@@ -76,6 +107,7 @@ struct tally {
   std::size_t attitude_exceeding = 0;  // rows above --attitude-tol
   std::optional<std::string> first_attitude_exceeding_time;
   std::size_t first_attitude_exceeding_line = 0;
+  first_row_check first;
 };
 
 // A row's attitude beside its rates: the reference's q and the trajectory's (any norm but 0).
@@ -91,14 +123,16 @@ struct check_result {
   compared_terms terms;
   std::string reference_text;  // for the table
   nlohmann::ordered_json reference_json;
+  scene_terms scene;                    // what the reference's scene says about the metrics
+  std::array<std::string, 4> q_columns;  // the trajectory's names of q0..q3 (for a hint on their order)
 };
 
 // The oracle metrics of one row (tally's second half), in the compared variables but for Eq. 7,
 // which is stated in the normalized ones. `problem`: the equations, for the reference's direction
 // of motion at `tau` (its time in the integrator's variables), when known.
 template <scalar T, class P>
-void record_metrics(const check_job& job, tally& t, const row_states<T>& s, const compared_variables<T>& vars,
-                    const P* problem, const T& tau) {
+void record_metrics(const check_job& job, tally& t, std::size_t line, const decimal& time, const row_states<T>& s,
+                    const compared_variables<T>& vars, const P* problem, const T& tau) {
   using std::abs;
   using std::sqrt;
   const vec3<T>& ref = s.reference;
@@ -108,7 +142,13 @@ void record_metrics(const check_job& job, tally& t, const row_states<T>& s, cons
     const double err = static_cast<double>(abs(d[i]));
     t.max_component[i] = std::max(t.max_component[i], err);
     const double y = static_cast<double>(abs(ref[i]));
-    if (y > 0) t.max_relative = std::max(t.max_relative, err / y);
+    if (y > 0 && err / y > t.max_relative) {
+      t.max_relative = err / y;
+      t.scd_component = i;
+      t.scd_reference = y;
+      t.scd_time = time.text;
+      t.scd_line = line;
+    }
     t.max_mixed = std::max(t.max_mixed, err / (job.scd_atol / job.scd_rtol + y));
   }
   const vec3<T>& Om = s.trajectory_Omega;
@@ -120,7 +160,6 @@ void record_metrics(const check_job& job, tally& t, const row_states<T>& s, cons
   t.c1_drift_max = std::max(t.c1_drift_max, std::abs(t.c1_drift_last));
   t.c2_drift_max = std::max(t.c2_drift_max, std::abs(t.c2_drift_last));
   if (!problem) return;
-  t.has_invariants = problem->normalized();
   vec3<T> v_Omega;
   problem->rhs(tau, Ref, v_Omega);
   const vec3<T> v = vars.direction(v_Omega);
@@ -158,6 +197,64 @@ void record_attitude(const check_job& job, tally& t, std::size_t line, const dec
   if (text) *text = to_text(angle);
 }
 
+// The norm of a state, in double (for the limits, which need no more).
+template <scalar T>
+double norm_of(const vec3<T>& v) {
+  using std::sqrt;
+  return static_cast<double>(sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
+}
+
+// The first row, at time 0, against the reference's initial state (first_row_check). `e`: the
+// row's Eq. 20 error; `bar`: its bar on the rates, if given.
+template <scalar T>
+void record_first_row(const check_job& job, tally& t, std::size_t line, const decimal& time, double e,
+                      const row_states<T>& s, std::optional<double> bar, const attitude_pair<T>* q) {
+  first_row_check& f = t.first;
+  f.done = true;
+  f.line = line;
+  f.time = time.text;
+  f.rate_difference = e;
+  f.rate_limit_is_bar = bar.has_value();
+  f.rate_limit = bar ? *bar : initial_state_rel * std::max(norm_of(s.reference), norm_of(s.trajectory));
+  f.rates_match = !(e > f.rate_limit);
+  if (!q) return;
+  f.attitude = true;
+  const double angle = static_cast<double>(rotation_angle(q->reference, q->trajectory));
+  f.attitude_difference = angle;
+  f.attitude_limit_is_bar = job.attitude_tol.has_value();
+  f.attitude_limit = job.attitude_tol.value_or(initial_state_rel);
+  f.attitude_match = !(angle > f.attitude_limit);
+  if (f.attitude_match) return;
+  // A reordering of the row's q0..q3, or its inverse, that gives the reference's q: the likely
+  // mix-up of conventions. It must match to the limit (at least initial_state_rel, so that a q
+  // written in fewer digits is still recognized) and be ten times closer than the row as written,
+  // so that equal components swapped are no hint. Scalar last, and the inverse, are tried first.
+  const double limit = std::max(f.attitude_limit, initial_state_rel);
+  const auto matches = [&](const std::array<int, 4>& order, bool inverse) {
+    const std::array<T, 4> c = {q->trajectory.w, q->trajectory.x, q->trajectory.y, q->trajectory.z};
+    const T sign = inverse ? T(-1) : T(1);
+    const quaternion<T> candidate{c[order[0]], sign * c[order[1]], sign * c[order[2]], sign * c[order[3]]};
+    const double a = static_cast<double>(rotation_angle(q->reference, candidate));
+    return a <= limit && 10 * a <= angle;
+  };
+  const std::array<int, 4> identity = {0, 1, 2, 3}, scalar_last = {3, 0, 1, 2};
+  std::vector<std::pair<std::array<int, 4>, bool>> tries = {
+      {scalar_last, false}, {identity, true}, {scalar_last, true}};
+  for (std::array<int, 4> order = identity;;) {
+    if (order != identity && order != scalar_last) {
+      tries.push_back({order, false});
+      tries.push_back({order, true});
+    }
+    if (!std::next_permutation(order.begin(), order.end())) break;
+  }
+  for (const auto& [order, inverse] : tries)
+    if (matches(order, inverse)) {
+      f.q_order = order;
+      f.q_inverse = inverse;
+      return;
+    }
+}
+
 // The two-norm error of Eq. 20 in the normalized variables, when the compared ones differ.
 template <scalar T>
 void record_normalized(tally& t, const decimal& time, const row_states<T>& s) {
@@ -182,15 +279,13 @@ void record(const check_job& job, tally& t, errors_writer& out, std::size_t line
   if (!std::isfinite(e)) throw numerical_failure({outcome_kind::error_non_finite, time.value});
   std::string attitude_text;
   if (attitude) record_attitude(job, t, line, time, *attitude, out.writing() ? &attitude_text : nullptr);
-  record_metrics(job, t, s, vars, problem, tau);
+  record_metrics(job, t, line, time, s, vars, problem, tau);
   if (vars.physical()) record_normalized(t, time, s);
   const double r = radius ? radius->value : 0.0;
   if (radius) t.max_radius = std::max(t.max_radius, r);
   std::optional<double> bar;
   if (job.tol || job.rel_tol) {
-    using std::sqrt;
-    const double norm = static_cast<double>(sqrt(ref[0] * ref[0] + ref[1] * ref[1] + ref[2] * ref[2]));
-    bar = job.tol.value_or(0.0) + job.rel_tol.value_or(0.0) * norm;
+    bar = job.tol.value_or(0.0) + job.rel_tol.value_or(0.0) * norm_of(ref);
     // The true error lies in [e - r, e + r]: failing only if certainly above the bar.
     if (radius && e - r <= *bar && e + r > *bar) {
       ++t.uncertain;
@@ -204,6 +299,7 @@ void record(const check_job& job, tally& t, errors_writer& out, std::size_t line
       ++t.exceeding;
     }
   }
+  if (!t.rows && time.value == 0) record_first_row(job, t, line, time, e, s, bar, attitude);
   if (!t.rows) t.first_time = time.text;
   t.last_time = time.text;
   ++t.rows;

@@ -1,6 +1,9 @@
 #include "commands/check/trajectory_columns.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <vector>
 
 namespace eulervop::app {
 
@@ -49,19 +52,55 @@ std::optional<std::array<std::size_t, 4>> find_attitude(const check_job& job, co
   return q;
 }
 
+// A header without the names it needs: what it has, and the --columns that maps its first
+// columns (the time, if `time` is not given, then the state) to the names of `expected` (the
+// state `state`, whose time is then `time`). A user's file with its own names ("time,w1,w2,w3")
+// is told the flag, not only the name that is missing.
+std::string columns_hint(const csv_rows& rows, const expected_names& expected, std::optional<std::size_t> time,
+                         const std::string& state) {
+  const std::vector<std::string>& header = rows.header();
+  constexpr std::size_t shown = 8;
+  std::string names;
+  for (std::size_t k = 0; k < header.size() && k < shown; ++k) names += (k ? ", " : "") + header[k];
+  if (header.size() > shown) names += ", ...";
+  std::vector<std::string> wanted;  // the names missing, in order: the time (if missing), then the state
+  if (!time) wanted.push_back(expected.time);
+  for (int k = 1; k <= 3; ++k) wanted.push_back(fmt::format("{}{}", state, k));
+  std::vector<std::size_t> free;  // the columns other than the time
+  for (std::size_t k = 0; k < header.size(); ++k)
+    if (!time || k != *time) free.push_back(k);
+  std::vector<std::string> mapping;
+  for (std::size_t k = 0; k < wanted.size(); ++k)
+    if (free.size() < wanted.size())
+      mapping.push_back(wanted[k] + "=NAME");
+    else if (header[free[k]] != wanted[k])
+      mapping.push_back(fmt::format("{}={}", wanted[k], header[free[k]]));
+  return fmt::format("; the header has {}: map them with --columns {}{}", names, fmt::join(mapping, ","),
+                     free.size() < wanted.size() ? "" : " (for example)");
+}
+
+bool any_renamed(const check_job& job) {
+  for (const auto& [canonical, renamed] : job.columns.renamed)
+    if (renamed) return true;
+  return false;
+}
+
 }  // namespace
 
-trajectory_columns find_columns(const check_job& job, const csv_rows& rows) {
+trajectory_columns find_columns(const check_job& job, const csv_rows& rows, const expected_names& expected) {
   trajectory_columns c;
   const std::string where = fmt::format("{}: line {}", rows.where(), rows.line());
+  // With --columns given, the message names what it mapped; without, it names the flag.
+  const bool hint = !any_renamed(job);
   if (auto tau = rows.column(job.columns.file.at("tau"))) {
     c.time = *tau;
   } else if (auto t = rows.column(job.columns.file.at("t"))) {
     c.physical = true;
     c.time = *t;
   } else {
-    throw input_error(fmt::format("{}: the header has no column {} (nor {} for a physical or coefficient-form scene)", where,
-                                  column_label(job, "tau"), column_label(job, "t")));
+    throw input_error(fmt::format("{}: the header has no column {} (nor {} for a physical or coefficient-form scene){}",
+                                  where, column_label(job, "tau"), column_label(job, "t"),
+                                  hint ? columns_hint(rows, expected, std::nullopt, expected.state) : ""));
   }
   c.time_name = rows.header()[c.time];
   if (c.physical)
@@ -69,7 +108,12 @@ trajectory_columns find_columns(const check_job& job, const csv_rows& rows) {
   for (int k = 0; k < 3; ++k) {
     const std::string canonical = fmt::format("{}{}", c.state, k + 1);
     const auto col = rows.column(job.columns.file.at(canonical));
-    if (!col) throw input_error(fmt::format("{}: the header has no column {}", where, column_label(job, canonical)));
+    if (!col) {
+      // The state the reference expects, unless the time says otherwise (tau has Omega only).
+      const std::string state = c.physical == (expected.time == "t") ? expected.state : c.state;
+      throw input_error(fmt::format("{}: the header has no column {}{}", where, column_label(job, canonical),
+                                    hint ? columns_hint(rows, expected, c.time, state) : ""));
+    }
     c.value[k] = *col;
   }
   c.q = find_attitude(job, rows, where);

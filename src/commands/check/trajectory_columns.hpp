@@ -29,8 +29,15 @@ struct trajectory_columns {
   std::optional<std::array<std::size_t, 4>> q;
 };
 
-// The columns of the header of `rows`; input_error naming the missing one otherwise.
-trajectory_columns find_columns(const check_job& job, const csv_rows& rows);
+// The canonical names the reference is compared by (for a header that has neither): tau and
+// Omega, t and omega, or t and y.
+struct expected_names {
+  std::string time = "tau", state = "Omega";
+};
+
+// The columns of the header of `rows`; input_error naming the missing one otherwise, with the
+// header's own names and the --columns that maps them to `expected`.
+trajectory_columns find_columns(const check_job& job, const csv_rows& rows, const expected_names& expected);
 
 // The trajectory has q0..q3 but the reference no attitude: input_error "<where>: line <header>:
 // columns q0..q3: <reference> has no attitude (<why>)". Without q0..q3, --attitude-tol is bad

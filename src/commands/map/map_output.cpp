@@ -48,6 +48,7 @@ json cell_json(const wp_grid& g, const wp_outcome& outcome, const map_cell& c) {
                 {"seconds", r.seconds},
                 {"max_error", *r.max_error},
                 {"rhs_evals", r.run.rhs_evals}};
+    if (g.scn.has_attitude()) by[name]["max_attitude_error"] = number_or_null(r.max_attitude_error);
   }
   return {{"level", c.choice.level},
           {"by_formulation", by},
@@ -142,9 +143,11 @@ std::string map_csv(const map_job& job, const std::vector<wp_outcome>& outcomes,
 }
 
 std::string map_runs_csv(const map_job& job, const std::vector<wp_outcome>& outcomes) {
+  const bool attitude = job.grids.front().scn.has_attitude();
   text_buffer out;
-  out.put(
-      "scale,formulation,method,step,h,tol,steps,rejected,rhs_evals,seconds,max_error,final_error,diverged,skipped\n");
+  out.put("scale,formulation,method,step,h,tol,steps,rejected,rhs_evals,seconds,max_error,final_error,{}diverged,"
+          "skipped\n",
+          attitude ? "max_attitude_error,final_attitude_error," : "");
   for (std::size_t s = 0; s < job.grids.size(); ++s) {
     const wp_grid& g = job.grids[s];
     for (std::size_t i = 0; i < g.cases.size(); ++i) {
@@ -156,12 +159,13 @@ std::string map_runs_csv(const map_job& job, const std::vector<wp_outcome>& outc
       else
         out.put("{},{},,", g.steps[c.rung].text, g.steps[c.rung].choice.h);
       if (r.skipped) {
-        out.put(",,,,,,,true\n");
+        out.put(",,,,,,,{}true\n", attitude ? ",," : "");
         continue;
       }
-      out.put("{},{},{},{:.6g},{},{},{},false\n", r.run.steps, c.adaptive ? fmt::format("{}", r.run.rejected) : "",
-              r.run.rhs_evals, r.seconds, csv_number(r.max_error), csv_number(r.final_error),
-              r.run.diverged() ? "true" : "false");
+      out.put("{},{},{},{:.6g},{},{},", r.run.steps, c.adaptive ? fmt::format("{}", r.run.rejected) : "",
+              r.run.rhs_evals, r.seconds, csv_number(r.max_error), csv_number(r.final_error));
+      if (attitude) out.put("{},{},", csv_number(r.max_attitude_error), csv_number(r.final_attitude_error));
+      out.put("{},false\n", r.run.diverged() ? "true" : "false");
     }
   }
   return out.text();

@@ -54,7 +54,11 @@ merged_sample_times<T> merge_sample_times(const std::vector<run_errors>& runs) {
 // as the reference's segments are accepted, so no segment is kept.
 template <scalar T>
 computed_reference_info measure_adaptive(const report_job& job, const T& tau_end, std::vector<run_errors>& runs) {
-  for (run_errors& a : runs) a.error.resize(a.run.Omega.size());
+  const report_units units = report_units::of(job.scn);
+  for (run_errors& a : runs) {
+    a.error.resize(a.run.Omega.size());
+    if (units.physical) a.rate_error.resize(a.run.Omega.size());
+  }
   const merged_sample_times<T> times = merge_sample_times<T>(runs);
   // The runs end at tau_end rounded to double, which may lie above it in T (a physical scene's
   // tau_end = t_end dtau/dt): the reference then goes on to that last step point.
@@ -64,6 +68,9 @@ computed_reference_info measure_adaptive(const report_job& job, const T& tau_end
     const auto [i, k] = times.owner[j];
     const double e = static_cast<double>(eq20_error(Om, runs[i].run.Omega[k]));
     if (std::isfinite(e)) runs[i].error[k] = e;  // never a NaN as an error value
+    if (!units.physical) return;
+    const double rate = units.rate_error(Om, runs[i].run.Omega[k]);
+    if (std::isfinite(rate)) runs[i].rate_error[k] = rate;
   };
   if (job.attitude)  // the rates and the attitude together, at the merged times
     for (run_errors& a : runs) a.attitude_error.resize(a.run.Omega.size());
@@ -87,6 +94,12 @@ computed_reference_info measure_adaptive(const report_job& job, const T& tau_end
       a.max_error = std::max(a.max_error.value_or(0.0), *a.error[k]);
       a.final_tau = a.run.sample_tau[k];
       a.final_error = a.error[k];
+    }
+    for (std::size_t k = 0; k < a.rate_error.size(); ++k) {
+      if (!a.rate_error[k]) continue;
+      a.max_rate_error = std::max(a.max_rate_error.value_or(0.0), *a.rate_error[k]);
+      a.final_t = units.t_of(a.run.sample_tau[k]);
+      a.final_rate_error = a.rate_error[k];
     }
     for (std::size_t k = 0; k < a.attitude_error.size(); ++k) {
       if (!a.attitude_error[k]) continue;

@@ -161,7 +161,9 @@ run_errors measure(const report_job& job, const run_spec& spec, const Problem& p
   }
   out.run = run_fixed(spec.form, spec.method, problem, settings);
   const run_result& r = out.run;
+  const report_units units = report_units::of(job.scn);
   out.error.resize(ref.steps.size());
+  if (units.physical) out.rate_error.resize(ref.steps.size());
   std::size_t pos = 0;
   for (std::size_t i = 0; i < ref.steps.size(); ++i) {
     const std::size_t n = ref.steps[i];
@@ -170,15 +172,11 @@ run_errors measure(const report_job& job, const run_spec& spec, const Problem& p
     const double tau = static_cast<double>(n) * h;
     if (r.diverged() && r.diverged_at() && tau >= *r.diverged_at()) continue;
     const double e = static_cast<double>(eq20_error(ref.Omega[i], r.Omega[pos]));
-    if (job.attitude) {
-      record_errors(out, i, static_cast<double>(ref.tau[i]), e, attitude_error(ref.q[i], r.q[pos]));
-      continue;
-    }
-    if (!std::isfinite(e)) continue;  // never a NaN as an error value
-    out.error[i] = e;
-    out.max_error = std::max(out.max_error.value_or(0.0), e);
-    out.final_tau = static_cast<double>(ref.tau[i]);
-    out.final_error = e;
+    const std::optional<double> rate =
+        units.physical ? std::optional<double>(units.rate_error(ref.Omega[i], r.Omega[pos])) : std::nullopt;
+    const std::optional<double> attitude =
+        job.attitude ? std::optional<double>(attitude_error(ref.q[i], r.q[pos])) : std::nullopt;
+    record_errors(out, i, static_cast<double>(ref.tau[i]), e, attitude, units, rate);  // never a NaN
   }
   return out;
 }

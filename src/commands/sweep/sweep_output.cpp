@@ -70,6 +70,17 @@ json runs_json(const wp_grid& g, const wp_outcome& o) {
                     {"diverged", r.run.diverged()},
                     {"diverged_at", r.run.diverged() ? number_or_null(r.run.diverged_at()) : null},
                     {"why", r.run.diverged() ? json(describe(r.run.status)) : null}});
+    if (g.scn.has_attitude()) {  // after final_error, as report has it (radians)
+      json entry;
+      for (auto& [key, value] : runs.back().items()) {
+        entry[key] = value;
+        if (key == "final_error") {
+          entry["max_attitude_error"] = number_or_null(r.max_attitude_error);
+          entry["final_attitude_error"] = number_or_null(r.final_attitude_error);
+        }
+      }
+      runs.back() = std::move(entry);
+    }
   }
   return runs;
 }
@@ -106,6 +117,8 @@ json cheapest_json(const wp_grid& g, const wp_outcome& o, const std::vector<leve
 std::string runs_table(const wp_grid& g, const wp_outcome& o) {
   std::vector<std::vector<std::string>> rows = {{"formulation", "method", "step", "h", "steps", "rejected", "rhs evals",
                                                  "seconds", "max error", "final error", ""}};
+  const bool attitude = g.scn.has_attitude();
+  if (attitude) rows[0].insert(rows[0].end() - 1, {"max att err", "final att err"});
   auto sci = [](const std::optional<double>& x) { return x ? fmt::format("{:.3e}", *x) : std::string("-"); };
   for (std::size_t i = 0; i < g.cases.size(); ++i) {
     const wp_case& c = g.cases[i];
@@ -119,6 +132,7 @@ std::string runs_table(const wp_grid& g, const wp_outcome& o) {
                                         r.run.diverged_at() ? fmt::format("{:.6g}", *r.run.diverged_at()) : "?",
                                         describe(r.run.status))
                           : ""});
+    if (attitude) rows.back().insert(rows.back().end() - 1, {sci(r.max_attitude_error), sci(r.final_attitude_error)});
   }
   return aligned_table(rows, 3);
 }
@@ -149,9 +163,11 @@ std::string cheapest_table(const wp_grid& g, const wp_outcome& o, const std::vec
 }  // namespace
 
 std::string sweep_csv(const wp_grid& g, const wp_outcome& o) {
+  const bool attitude = g.scn.has_attitude();
   text_buffer out;
-  out.put("formulation,method,step,h,tol,steps,accepted,rejected,rhs_evals,seconds,max_error,final_error,diverged,"
-          "diverged_at\n");
+  out.put("formulation,method,step,h,tol,steps,accepted,rejected,rhs_evals,seconds,max_error,final_error,{}diverged,"
+          "diverged_at\n",
+          attitude ? "max_attitude_error,final_attitude_error," : "");
   for (std::size_t i = 0; i < g.cases.size(); ++i) {
     const wp_case& c = g.cases[i];
     const wp_result& r = o.results[i];
@@ -160,8 +176,10 @@ std::string sweep_csv(const wp_grid& g, const wp_outcome& o) {
       out.put(",,{},{},{},{},", g.tols[c.rung].value, r.run.steps, r.run.steps, r.run.rejected);
     else
       out.put("{},{},,{},,,", g.steps[c.rung].text, g.steps[c.rung].choice.h, r.run.steps);
-    out.put("{},{:.6g},{},{},{},{}\n", r.run.rhs_evals, r.seconds, csv_number(r.max_error), csv_number(r.final_error),
-            r.run.diverged() ? "true" : "false", r.run.diverged() ? csv_number(r.run.diverged_at()) : std::string());
+    out.put("{},{:.6g},{},{},", r.run.rhs_evals, r.seconds, csv_number(r.max_error), csv_number(r.final_error));
+    if (attitude) out.put("{},{},", csv_number(r.max_attitude_error), csv_number(r.final_attitude_error));
+    out.put("{},{}\n", r.run.diverged() ? "true" : "false",
+            r.run.diverged() ? csv_number(r.run.diverged_at()) : std::string());
   }
   return out.text();
 }
