@@ -179,6 +179,12 @@ TEST(PhysicalTerms, ANumberIsANumberEverywhere) {
     for (std::size_t c = 0; c < 4; ++c)  // t, omega1..3
       EXPECT_NEAR(std::stod(rf[i][c]), std::stod(rd[i][c]), 1e-14 * std::max(1.0, std::abs(std::stod(rd[i][c]))))
           << "row " << i << " column " << c;
+  // The elements, the span and [run] step too; "K/N" keeps its meaning.
+  write_file(dir.path() / "n.toml", "name = \"n\"\n[initial]\nc1 = \"1/2\"\nc2 = 1.0\nu = \"0.3\"\n[span]\n"
+                                    "tau_end = \"pi\"\nsamples = 3\n[run]\nstep = \"pi/400\"\n");
+  const run_result n = run(dir.path(), {"report", "n.toml", "--out-dir", "rn", "--no-plot"});
+  ASSERT_EQ(n.exit_code, 0) << n.err;
+  EXPECT_NE(n.out.find("400 steps to tau = 3.14159"), std::string::npos) << n.out;
   // A formula that is no number names the key.
   write_file(dir.path() / "bad.toml",
              gravity_damped("\"fast\"", "[1.0, 0.0, 0.0, 0.0]", "t_end = 60.0\nsamples = 3\n"));

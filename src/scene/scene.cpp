@@ -201,8 +201,9 @@ void scene_reader::read_run(const toml::table& root, scene& s) const {
   only_keys(*run, "[run]", {"step", "methods", "formulations"});
   if (const toml::node* step = run->get("step")) {
     step_spec spec;
-    if (auto text = step->as_string()) {
-      // "K/N": a whole number N >= 1 of steps per quarter period K.
+    if (auto text = step->as_string(); text && text->get().starts_with("K")) {
+      // "K/N": a whole number N >= 1 of steps per quarter period K. Any other string is a
+      // constant formula of the step itself ("0.01*pi").
       const std::string& t = text->get();
       std::int64_t n = 0;
       const char* digits = t.data() + 2;
