@@ -6,7 +6,7 @@
 // data/scenes/spacecraft-physical.toml and data/scenes/attitude/*.toml (found from the working directory or from this source
 // file's location), or the scene files named on the command line.
 //
-// Both sides integrate the problem the scene compiles in quad (scene::with_problem): its
+// Three sides integrate the problem the scene compiles in quad (scene::with_problem): its
 // equations (Eq. 5, Eq. 1 in the direct form, or the coefficient form), its torque (constant, of
 // time, of time and state, piecewise) and its variables (tau and Omega for a physical scene,
 // Eqs. 2-4). A scene's attitude q is ignored where the torque does not read it: only the rates
@@ -21,6 +21,10 @@
 //     piecewise torque and restarts there with a fresh stepper and the next interval's formulas
 //     pinned, as our integrator ends a segment there (reference/chebyshev_picard.hpp,
 //     set_breakpoints): neither side steps across a change of formula.
+//   - Taylor peer (taylor_peer.hpp): the method of heyoka's taylor_adaptive and TIDES, at
+//     tol = epsilon of quad, for the problems whose torque reads no state and has no pieces in the
+//     normalized or coefficient form (the paper scene, the SciML rigid body, B5): "-" elsewhere.
+//     Before timing, its first Taylor coefficient is checked against the compiled problem's rhs.
 // Samples: the scene's own (scene::sample_times_of), in quad.
 // Truth: ours in mpfr:320 at its default settings (tolerance = epsilon at 320 bits, about 1e-96)
 // on the scene compiled at 320 bits, evaluated at the quad sample times converted exactly;
@@ -35,6 +39,7 @@
 // row says so.
 // Progress goes to standard error; the table to standard output.
 #include "reference_bench_support.hpp"
+#include "taylor_peer.hpp"
 
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/model/torque.hpp>
@@ -298,6 +303,45 @@ double run_peer(const Problem& problem, const Q& tau_end, const std::vector<Q>& 
   return seconds_since(t0);
 }
 
+// The Taylor peer's problem, where it applies: Eq. 1's coefficients, the initial state and the
+// forcing as the scene writes it (its variables are the integrator's in these forms).
+template <class Problem>
+std::optional<eulervop::bench::taylor_problem<Q>> taylor_problem_of(const scene::scene& scn, const Problem& problem) {
+  if constexpr (eulervop::is_coupled_problem_v<Problem>) {
+    return std::nullopt;
+  } else {
+    if (scn.is_physical()) return std::nullopt;
+    if (scn.has_torque_law() && (scn.torque_law->uses_state() || !scn.torque_law->pieces.empty())) return std::nullopt;
+    eulervop::bench::taylor_problem<Q> tp;
+    tp.a = problem.a;
+    tp.t0 = problem.initial_time();
+    tp.y0 = problem.initial_state();
+    if (scn.has_torque_law())
+      for (std::size_t i = 0; i < 3; ++i) tp.forcing[i] = scn.torque_law->base[i];
+    else if (scn.torque)
+      for (std::size_t i = 0; i < 3; ++i) tp.constant[i] = (*scn.torque)[i].template to_scalar<Q>();
+    // The same equations: the first coefficient is the right-hand side at t0.
+    eulervop::vec3<Q> dy;
+    problem.rhs(tp.t0, tp.y0, dy);
+    for (int i = 0; i < 3; ++i) {
+      const auto [j, k] = Problem::quadratic_pair[static_cast<std::size_t>(i)];
+      Q f = tp.forcing[i] ? eulervop::bench::time_jet(*tp.forcing[i], tp.t0, 1)[0] : tp.constant[i];
+      const Q d = tp.a[i] * tp.y0[j] * tp.y0[k] + f - dy[i];
+      if (abs(d) > 1e-30 * (1 + abs(dy[i]))) throw std::runtime_error("taylor peer: its equations differ from the scene's");
+    }
+    return tp;
+  }
+}
+
+// One run of the Taylor peer: returns its wall time and its step count.
+double run_taylor(const eulervop::bench::taylor_problem<Q>& tp, const std::vector<Q>& taus,
+                  std::vector<eulervop::vec3<Q>>& values, eulervop::bench::taylor_stats& st) {
+  const auto t0 = clock_type::now();
+  st = eulervop::bench::taylor_integrate<Q>(tp, std::numeric_limits<Q>::epsilon(), taus,
+                                            [&](std::size_t i, const eulervop::vec3<Q>& y) { values[i] = y; });
+  return seconds_since(t0);
+}
+
 // ---- rows ----------------------------------------------------------------------------------
 struct side {
   bool done = false;
@@ -310,7 +354,7 @@ struct side {
 struct row {
   std::string problem, torque, span;
   std::size_t samples = 0;
-  side ours, peer;
+  side ours, peer, taylor;
 };
 
 double median(std::vector<double> v) {
@@ -325,11 +369,16 @@ void time_both(const Problem& problem, const scene::scene& scn, const std::vecto
                const std::vector<text_row>& truth, const options& opt, row& r) {
   const Q tau_end = scene::tau_end_of<Q>(scn);
   std::vector<typename Problem::state_type> ours_values(taus.size()), peer_values(taus.size());
-  std::vector<double> ours_times, peer_times;
+  std::vector<double> ours_times, peer_times, taylor_times;
   eulervop::picard_stats st;
   std::size_t steps = 0;
+  const auto tp = taylor_problem_of(scn, problem);
+  std::vector<eulervop::vec3<Q>> taylor_values(taus.size());
+  eulervop::bench::taylor_stats taylor_st;
+  if (!tp) r.taylor.status = "-";
   for (int rep = 0; rep < opt.repeat; ++rep) {
     ours_times.push_back(run_ours(problem, tau_end, taus, settings_of(scn), ours_values, st));
+    if (tp) taylor_times.push_back(run_taylor(*tp, taus, taylor_values, taylor_st));
     if (!r.peer.status.empty()) continue;
     try {
       steps = 0;
@@ -347,6 +396,9 @@ void time_both(const Problem& problem, const scene::scene& scn, const std::vecto
   if (r.peer.status.empty())
     r.peer = {true, "", median(peer_times), errors(peer_values, truth),
               "steps=" + std::to_string(steps) + " intervals=" + std::to_string(interval_bounds(problem, tau_end).size() - 1)};
+  if (tp)
+    r.taylor = {true, "", median(taylor_times), errors(taylor_values, truth),
+                "order=" + std::to_string(taylor_st.order) + " steps=" + std::to_string(taylor_st.steps)};
 }
 
 row run_scene(const fs::path& file, const options& opt) {
@@ -376,6 +428,7 @@ row run_scene(const fs::path& file, const options& opt) {
   };
   show("ours", r.ours);
   show("peer", r.peer);
+  show("taylor", r.taylor);
   return r;
 }
 
@@ -401,17 +454,22 @@ void print_table(const std::vector<row>& rows, const options& opt) {
   std::printf("Time: median of %d in-process runs of the integration and its samples, ours and the peer "
               "alternating; ratio = ours / peer.\n",
               opt.repeat);
-  std::printf("\n| problem | torque | span | samples | ours s | peer s | ours / peer | ours max err | peer max err |"
-              " ours final err | peer final err | notes |\n");
-  std::printf("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
+  std::printf("Taylor: the Taylor-series peer (taylor_peer.hpp) at tol = epsilon of quad, where it applies.\n");
+  std::printf("\n| problem | torque | span | samples | ours s | peer s | ours / peer | taylor s | ours / taylor |"
+              " ours max err | peer max err | taylor max err | ours final err | peer final err | notes |\n");
+  std::printf("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
   for (const row& r : rows) {
-    char ratio[32] = "-";
+    char ratio[32] = "-", taylor_ratio[32] = "-";
     if (r.ours.done && r.peer.done) std::snprintf(ratio, sizeof ratio, "%.3f", r.ours.seconds / r.peer.seconds);
-    std::printf("| %s | %s | %s | %zu | %s | %s | %s | %s | %s | %s | %s | %s; %s |\n", r.problem.c_str(),
-                r.torque.c_str(), r.span.c_str(), r.samples, cell_seconds(r.ours).c_str(), cell_seconds(r.peer).c_str(),
-                ratio, cell_error(r.ours, r.ours.err.max_error).c_str(), cell_error(r.peer, r.peer.err.max_error).c_str(),
-                cell_error(r.ours, r.ours.err.final_error).c_str(), cell_error(r.peer, r.peer.err.final_error).c_str(),
-                r.ours.notes.c_str(), r.peer.notes.c_str());
+    if (r.ours.done && r.taylor.done)
+      std::snprintf(taylor_ratio, sizeof taylor_ratio, "%.3f", r.ours.seconds / r.taylor.seconds);
+    std::printf("| %s | %s | %s | %zu | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s; %s; %s |\n",
+                r.problem.c_str(), r.torque.c_str(), r.span.c_str(), r.samples, cell_seconds(r.ours).c_str(),
+                cell_seconds(r.peer).c_str(), ratio, cell_seconds(r.taylor).c_str(), taylor_ratio,
+                cell_error(r.ours, r.ours.err.max_error).c_str(), cell_error(r.peer, r.peer.err.max_error).c_str(),
+                cell_error(r.taylor, r.taylor.err.max_error).c_str(), cell_error(r.ours, r.ours.err.final_error).c_str(),
+                cell_error(r.peer, r.peer.err.final_error).c_str(), r.ours.notes.c_str(), r.peer.notes.c_str(),
+                r.taylor.notes.c_str());
   }
   std::fflush(stdout);
 }
