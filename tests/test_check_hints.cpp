@@ -213,7 +213,7 @@ TEST(CheckHints, FiguresThatMeanNothingUnderATorqueAreLeftOut) {
     EXPECT_TRUE(j.at("c2_squared_drift").is_null());
     EXPECT_NE(j.at("invariant_drift_note").get<std::string>().find("torque"), std::string::npos);
     EXPECT_GT(j.at("normalized_max_error").get<double>(), 0);
-    EXPECT_EQ(j.at("normalized_error_unit"), "normalized (Eq. 20)");
+    EXPECT_EQ(j.at("normalized_error_unit"), "normalized Omega (Eq. 20, no unit)");
   }
   // The same body without a torque: the drift and the normalized figure are there.
   std::string free = damped_scene;
@@ -316,7 +316,10 @@ TEST(CheckHints, TheReferencesEstimatedErrorCarriesItsUnit) {
   const json j = json::parse(run(dir.path(), {"check", "ref.csv", "rates.csv", "--format", "json"}).out);
   EXPECT_EQ(j.at("error_unit"), "rad/s");
   EXPECT_GT(j.at("reference").at("estimated_max_error").get<double>(), 0);
-  EXPECT_EQ(j.at("reference").at("estimated_max_error_unit"), "normalized (Eq. 20)");
+  // The words of the reference's own `# error_units:` line.
+  EXPECT_EQ(j.at("reference").at("estimated_max_error_unit"), "normalized Omega (Eq. 20, no unit)");
+  EXPECT_NE(read_file(dir.path() / "ref.csv").find("estimated_max_error = normalized Omega (Eq. 20, no unit)"),
+            std::string::npos);
   // Without --verify: no figure, and no unit.
   ASSERT_EQ(run(dir.path(), {"reference", "gg.toml", "--out", "plain.csv"}).exit_code, 0);
   const json p = json::parse(run(dir.path(), {"check", "plain.csv", "rates.csv", "--format", "json"}).out);

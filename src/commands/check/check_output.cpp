@@ -2,6 +2,7 @@
 
 #include "cli/exit_codes.hpp"
 #include "io/output_cells.hpp"
+#include "io/reference_csv.hpp"
 #include "io/text_buffer.hpp"
 
 #include <fmt/format.h>
@@ -141,7 +142,8 @@ void add_terms_json(const check_result& r, json& j) {
   j["normalized_rms_error"] =
       apart ? json(static_cast<double>(std::sqrt(t.normalized_sum_squares / static_cast<long double>(t.rows))))
             : json(nullptr);
-  j["normalized_error_unit"] = apart ? json("normalized (Eq. 20)") : json(nullptr);
+  j["normalized_error_unit"] =
+      apart ? json(error_unit(reference_layout::physical, "estimated_max_error")) : json(nullptr);
 }
 
 // The hint of a first row whose q matches the reference's once reordered or inverted: the

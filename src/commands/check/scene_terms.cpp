@@ -1,5 +1,7 @@
 #include "commands/check/scene_terms.hpp"
 
+#include "io/reference_csv.hpp"
+
 #include <fmt/format.h>
 
 #include <variant>
@@ -27,18 +29,21 @@ void set_invariants_of_form(integrated_form form, scene_terms& terms) {
 }
 
 // The unit of an estimated error of a reference integrated in `form` (the variables --verify
-// compares).
-void set_estimated_error_unit(integrated_form form, scene_terms& terms) {
+// compares), in the words of the reference's own `# error_units:` line (error_unit); `physical`:
+// a body integrated in the normalized variables.
+void set_estimated_error_unit(integrated_form form, bool physical, scene_terms& terms) {
   switch (form) {
     case integrated_form::direct:
-      terms.estimated_error_unit = terms.estimated_error_label = "rad/s";
+      terms.estimated_error_unit = error_unit(reference_layout::direct, "estimated_max_error");
+      terms.estimated_error_label = "rad/s";
       return;
     case integrated_form::coefficient:
-      terms.estimated_error_unit = "y (coefficient form)";
+      terms.estimated_error_unit = error_unit(reference_layout::coefficient, "estimated_max_error");
       terms.estimated_error_label = "(in y, coefficient form)";
       return;
     case integrated_form::normalized:
-      terms.estimated_error_unit = "normalized (Eq. 20)";
+      terms.estimated_error_unit =
+          error_unit(physical ? reference_layout::physical : reference_layout::normalized, "estimated_max_error");
       terms.estimated_error_label = "(normalized, Eq. 20)";
       return;
   }
@@ -68,7 +73,7 @@ scene_terms scene_terms_of(const scene& s, const trajectory_columns& cols) {
   if (cols.state != s.state_name()) key += fmt::format(", as {} of Eq. 4", cols.state);
   terms.initial_rates = fmt::format("the initial state of scene {} ([initial] {})", s.name, key);
   terms.initial_q = fmt::format("the initial state of scene {} ([initial] q)", s.name);
-  set_estimated_error_unit(form, terms);
+  set_estimated_error_unit(form, s.is_physical(), terms);
   return terms;
 }
 
@@ -79,7 +84,7 @@ scene_terms unknown_scene_terms(integrated_form form) {
     terms.invariants_note =
         "the reference file has no `# scene_text:`, so whether its body is torque-free is not known; c1^2 and c2^2 "
         "are constant only if it is";
-  set_estimated_error_unit(form, terms);
+  set_estimated_error_unit(form, false, terms);
   return terms;
 }
 
