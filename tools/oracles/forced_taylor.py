@@ -6,7 +6,8 @@ Writes the values of
 at the output times, for the test problems whose forcing is not a polynomial: SciML's rigid body
 (a = (-2, 1.25, -0.5), A = 0.25 at every time, y(0) = (1, 0, 0.9)) and Hairer, Norsett and Wanner's
 EULR (the same equations, for omega of I = (0.5, 2, 3), with the forcing only for 3 pi <= t < 4 pi).
-It shares no code with the C++ library: the equations are written here from the problems' texts.
+It shares no code with the C++ library: the equations are written here from the problems' texts
+(the Taylor step's sum and step rule come from coupled_taylor.py beside it, the same method).
 
 Method: Taylor series in t of order N about each step's start, the coefficients by the jet
 recurrences of the products (Cauchy products, mpmath.fdot: exact accumulation, one rounding) and
@@ -31,6 +32,10 @@ import shlex
 import sys
 
 from mpmath import mp, mpf
+
+# The series' sum and the step rule are those of the coupled oracle beside this file (the same
+# Taylor method); the equations and their jets below are this problem's own.
+from coupled_taylor import horner, step_size
 
 SCIML = dict(a=('-2', '1.25', '-0.5'), A='0.25', y0=('1', '0', '0.9'))
 CASES = {
@@ -69,31 +74,11 @@ def rhs(a, A, forced, t, y):
     return f
 
 
-def horner(x, h):
-    acc = x[-1]
-    for v in reversed(x[:-1]):
-        acc = acc * h + v
-    return acc
-
-
 def derivative(x, h):
     acc = mpf(0)
     for k in range(len(x) - 1, 0, -1):
         acc = acc * h + k * x[k]
     return acc
-
-
-def step_size(series, N, log_tol):
-    h = mp.inf
-    for x in series:
-        logs = [mp.log(abs(v)) if v else None for v in x]
-        for k in (N - 1, N):
-            if logs[k] is None:
-                continue
-            cands = [(log_tol + logs[j] - logs[k]) / (k - j) for j in range(4) if logs[j] is not None]
-            if cands:
-                h = min(h, mp.exp(max(cands)))
-    return h
 
 
 def run(spec, dps):

@@ -31,6 +31,7 @@ class ball_node_transform {
   void apply(arb_mat_t out);
 
  private:
+  void allocate();  // the matrices, of the sizes above
   void fold();
 
   slong prec_;
@@ -41,9 +42,7 @@ class ball_node_transform {
   arb_mat_t c_even_, c_odd_;
 };
 
-inline ball_node_transform::ball_node_transform(slong prec, std::size_t degree, std::size_t components)
-    : prec_(prec), N_(degree), n1_(degree + 1), D_(components), half_((degree + 2) / 2), even_((degree + 2) / 2),
-      odd_((degree + 1) / 2) {
+inline void ball_node_transform::allocate() {
   const auto rows = [](std::size_t n) { return static_cast<slong>(n); };
   arb_mat_init(values_, rows(n1_), rows(D_));
   arb_mat_init(M_even_, rows(even_), rows(half_));
@@ -52,6 +51,12 @@ inline ball_node_transform::ball_node_transform(slong prec, std::size_t degree, 
   arb_mat_init(minus_, rows(half_), rows(D_));
   arb_mat_init(c_even_, rows(even_), rows(D_));
   arb_mat_init(c_odd_, rows(odd_), rows(D_));
+}
+
+inline ball_node_transform::ball_node_transform(slong prec, std::size_t degree, std::size_t components)
+    : prec_(prec), N_(degree), n1_(degree + 1), D_(components), half_((degree + 2) / 2), even_((degree + 2) / 2),
+      odd_((degree + 1) / 2) {
+  allocate();
   // cos(pi m / N) for m = 0 .. 2N - 1, enclosed once (m = k j reduced modulo 2N below).
   arb_ptr cosines = _arb_vec_init(static_cast<slong>(2 * N_));
   fmpq_t angle;
@@ -91,14 +96,7 @@ inline ball_node_transform::~ball_node_transform() {
 
 inline ball_node_transform::ball_node_transform(const ball_node_transform& o)
     : prec_(o.prec_), N_(o.N_), n1_(o.n1_), D_(o.D_), half_(o.half_), even_(o.even_), odd_(o.odd_) {
-  const auto rows = [](std::size_t n) { return static_cast<slong>(n); };
-  arb_mat_init(values_, rows(n1_), rows(D_));
-  arb_mat_init(M_even_, rows(even_), rows(half_));
-  arb_mat_init(M_odd_, rows(odd_), rows(half_));
-  arb_mat_init(plus_, rows(half_), rows(D_));
-  arb_mat_init(minus_, rows(half_), rows(D_));
-  arb_mat_init(c_even_, rows(even_), rows(D_));
-  arb_mat_init(c_odd_, rows(odd_), rows(D_));
+  allocate();
   arb_mat_set(M_even_, o.M_even_);
   arb_mat_set(M_odd_, o.M_odd_);
 }
