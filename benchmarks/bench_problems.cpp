@@ -78,6 +78,7 @@ struct options {
   int repeat = 3;
   double cap = 60;  // seconds for one peer run
   bool recompute_truth = false;
+  std::string only;  // ours, odeint or taylor: that side alone, once (run_side)
   std::vector<fs::path> scenes;
 };
 
@@ -401,6 +402,30 @@ void time_both(const Problem& problem, const scene::scene& scn, const std::vecto
                 "order=" + std::to_string(taylor_st.order) + " steps=" + std::to_string(taylor_st.steps)};
 }
 
+// --only SIDE: that side alone, once, without the truth or the table, so that a whole process
+// can be timed (tools/time_vs_taylor.sh): one line "SIDE SCENE SECONDS".
+template <class Problem>
+void run_side(const Problem& problem, const scene::scene& scn, const std::vector<Q>& taus, const options& opt) {
+  const Q tau_end = scene::tau_end_of<Q>(scn);
+  double seconds = 0;
+  if (opt.only == "ours") {
+    std::vector<typename Problem::state_type> values(taus.size());
+    eulervop::picard_stats st;
+    seconds = run_ours(problem, tau_end, taus, settings_of(scn), values, st);
+  } else if (opt.only == "odeint") {
+    std::vector<typename Problem::state_type> values(taus.size());
+    std::size_t steps = 0;
+    seconds = run_peer(problem, tau_end, taus, opt.cap, values, steps);
+  } else {
+    const auto tp = taylor_problem_of(scn, problem);
+    if (!tp) throw std::runtime_error("the Taylor peer does not take scene " + scn.name);
+    std::vector<eulervop::vec3<Q>> values(taus.size());
+    eulervop::bench::taylor_stats st;
+    seconds = run_taylor(*tp, taus, values, st);
+  }
+  std::printf("%s %s %.6f\n", opt.only.c_str(), scn.name.c_str(), seconds);
+}
+
 row run_scene(const fs::path& file, const options& opt) {
   const scene::scene scn = scene::load_scene_file(file);
   row r;
@@ -475,7 +500,8 @@ void print_table(const std::vector<row>& rows, const options& opt) {
 }
 
 int usage(const char* argv0) {
-  std::fprintf(stderr, "usage: %s [--repeat N] [--cap SECONDS] [--recompute-truth] [SCENE.toml ...]\n", argv0);
+  std::fprintf(stderr, "usage: %s [--repeat N] [--cap SECONDS] [--recompute-truth] [--only ours|odeint|taylor] [SCENE.toml ...]\n",
+               argv0);
   return 2;
 }
 
@@ -493,6 +519,9 @@ int main(int argc, char** argv) {
       if (!(opt.cap > 0)) return usage(argv[0]);
     } else if (arg == "--recompute-truth") {
       opt.recompute_truth = true;
+    } else if (arg == "--only" && a + 1 < argc) {
+      opt.only = argv[++a];
+      if (opt.only != "ours" && opt.only != "odeint" && opt.only != "taylor") return usage(argv[0]);
     } else if (!arg.starts_with("--")) {
       opt.scenes.emplace_back(arg);
     } else {
@@ -501,6 +530,17 @@ int main(int argc, char** argv) {
   }
   try {
     if (opt.scenes.empty()) opt.scenes = shipped_scenes();
+    if (!opt.only.empty()) {
+      for (const fs::path& file : opt.scenes) {
+        const scene::scene scn = scene::load_scene_file(file);
+        const std::vector<Q> taus = scene::sample_times_of<Q>(scn).tau;
+        if (scn.couples_attitude())
+          run_side(scene::to_coupled_problem<Q>(scn), scn, taus, opt);
+        else
+          scene::with_problem<Q>(scn, [&](const auto& problem) { run_side(problem, scn, taus, opt); });
+      }
+      return 0;
+    }
     std::vector<row> rows;
     for (const fs::path& file : opt.scenes) rows.push_back(run_scene(file, opt));
     print_table(rows, opt);

@@ -108,6 +108,51 @@ TEST(FixedPointMatvec, MpfrWithFewerMatrixBitsWithinDerivedBound) {
 }
 
 // A zero vector gives exact zeros (no scaling of an all-zero vector).
+// Where A and x enter exactly (A: multiples of 2^-20 below 1; x: 113-bit numbers within 3
+// binades of the largest, down to the last bit the images keep), the only rounding left is that
+// of the exact integer sum: every row must be that sum rounded once to 113 bits, to nearest with
+// ties to even. Reference: the same sum exact in MPFR (1330 bits) and rounded to 113 bits by
+// mpfr_set. Sums of both signs, ties (x made of halves of an ulp), and rows whose sum fits in 64
+// bits.
+TEST(FixedPointMatvec, ExactImagesAreRoundedOnceToNearestEven) {
+  constexpr std::size_t rows = 64, cols = 9;
+  std::mt19937_64 rng(11);
+  std::uniform_int_distribution<int> entry(-(1 << 20) + 1, (1 << 20) - 1);
+  std::vector<quad> a(rows * cols);
+  for (auto& v : a) v = ldexp(quad(entry(rng)), -20);
+  a[0] = 1;  // row 0 sums x alone where the other entries vanish
+  for (std::size_t k = 1; k < cols; ++k) a[k] = k == 1 ? 1 : 0;
+  eulervop::detail::fixed_point_matrix<quad> fx(a, rows, cols);
+  std::uniform_int_distribution<std::uint64_t> bits64;
+  std::uniform_int_distribution<int> binade(-3, 0);
+  mpfr_t rounded;
+  mpfr_init2(rounded, 113);
+  int ties = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<quad> x(cols);
+    for (std::size_t k = 0; k < cols; ++k) {
+      // A 113-bit significand 2^112 + m, m < 2^112 from two 64-bit draws.
+      const quad m = ldexp(quad(bits64(rng) >> 16), 64) + quad(bits64(rng));
+      x[k] = ldexp(ldexp(quad(1), 112) + m, binade(rng) - 112);
+      if (bits64(rng) & 1) x[k] = -x[k];
+    }
+    x[0] = 1;  // the largest: the images keep bits down to 2^-115
+    if (trial % 4 == 0) x[1] = ldexp(quad(trial % 8 == 0 ? 1 : 3), -113);  // row 0: 1 + 2^-113 (a tie) or 1 + 3 2^-113
+    if (trial % 5 == 0) for (std::size_t k = 1; k < cols; ++k) x[k] = ldexp(quad(static_cast<int>(k)), -100);
+    std::vector<quad> y(rows);
+    fx.multiply(x.data(), y.data(), 0);
+    for (std::size_t r = 0; r < rows; ++r) {
+      exact sum = 0;
+      for (std::size_t k = 0; k < cols; ++k) sum += to_exact(a[r * cols + k]) * to_exact(x[k]);
+      mpfr_set(rounded, sum.backend().data(), MPFR_RNDN);
+      ties += mpfr_cmp(rounded, sum.backend().data()) != 0 && r == 0 && trial % 8 == 0;
+      ASSERT_EQ(to_exact(y[r]), exact(rounded)) << "trial " << trial << " row " << r;
+    }
+  }
+  mpfr_clear(rounded);
+  EXPECT_GT(ties, 0);  // the tie case was met
+}
+
 TEST(FixedPointMatvec, ZeroVectorGivesZeros) {
   const eulervop::detail::chebyshev_basis<quad> basis(8);
   eulervop::detail::fixed_point_matrix<quad> fx(basis.integral, 9, 9);

@@ -141,10 +141,13 @@ TEST(RigidBodies, QuadReferenceMatchesAnMpfrTaylorIntegrationOfEq1) {
   }
 }
 
-// Why the near-symmetric body takes the direct form: the same body forced through the
-// normalized form (its moments are distinct, so Eqs. 2-4 apply) is measured against the same
-// oracle, and the direct form must be the more accurate.
-TEST(RigidBodies, DirectFormIsTheBetterConditionedNearSymmetry) {
+// The near-symmetric body forced through the normalized form (its moments are distinct, so Eqs.
+// 2-4 apply) meets the same oracle as its direct form, to the same 1e-28: its small normalized
+// components are resolved although the tolerance is relative to the largest, because each
+// segment's last residual is corrected rather than only measured (docs/design.md, section 3.2;
+// it ended 2.0e-31 from the oracle before that, 4.2e-34 now). The direct form stays the choice
+// near symmetry for what the normalization needs there, constants built from the gap.
+TEST(RigidBodies, NearSymmetryBothFormsMeetTheOracle) {
   const body_case& b = bodies[2];
   const scene s = parse_scene(scene_text(b.inertia, torque, rates, "3600.0"), b.name);
   const auto exact = taylor_rates(b.inertia, check_times);
@@ -159,7 +162,8 @@ TEST(RigidBodies, DirectFormIsTheBetterConditionedNearSymmetry) {
   for (double t : check_times) normalized.push_back(scale.omega_of_Omega(traj(scale.tau_of_t(quad(t)))));
   const double normalized_error = max_relative_error(normalized, exact);
   std::printf("near-symmetric: direct form %.3e, normalized form %.3e\n", direct, normalized_error);
-  EXPECT_LT(direct, normalized_error);
+  EXPECT_LE(direct, 1e-28);
+  EXPECT_LE(normalized_error, 1e-28);
 }
 
 // Every right-handed relabelling of a body's axes (a permutation, with one axis reversed when

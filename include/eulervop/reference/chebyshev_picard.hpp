@@ -9,13 +9,19 @@
 //      (detail/picard_residuals.hpp);
 //   2. the correction delta solves delta = r + (L/2) S [f(X + delta) - f(X)] in double. Eqs. 1
 //      and 5 are quadratic, so f(X + delta) - f(X) = J(X) delta + f_2(delta) exactly for a torque
-//      that does not depend on the state, and the double solve is a plain Picard sweep on that
-//      small correction (detail/picard_correction.hpp);
+//      that does not depend on the state, and the double solve is a Gauss-Seidel sweep over the
+//      nodes on that small correction (detail/picard_correction.hpp), to no more accuracy than
+//      the residual it corrects needs;
 //   3. X += delta in T.
 // Step 2 is accurate to double precision relative to delta, so each pass through step 1 gains
-// about 15 digits: from a warm start (detail/warm_start.hpp), quad needs three residuals in T per
-// segment and MPFR at B bits about B/50 + 2, instead of the ~30 Picard sweeps in T of the
-// cold-start loop.
+// about 15 digits: from a warm start (detail/warm_start.hpp), a residual in double, one in
+// double-double and one in T per segment for quad (MPFR at B bits: about B/50 more), instead of
+// the ~30 Picard sweeps in T of the cold-start loop. Where the increment is exact, the
+// correction of a residual far below 1e-16 leaves one at its own rounding, and the segment ends
+// without a residual to confirm it (settled_by_correction). No operation in T per node happens
+// before the residual in T when Euler's equations have a double-double form (euler_field.hpp):
+// the narrow passes then keep the iterate in double-double, and a torque of time is evaluated at
+// the nodes once per segment.
 //
 // Segment length: from the geometric decay of the Chebyshev coefficients of the solution (the
 // Bernstein-ellipse rate scales with L), fitted above the rounding floor, so the predicted
@@ -30,6 +36,7 @@
 // solved the same way, with the whole Jacobian in the correction (detail/coupled_field.hpp).
 #pragma once
 
+#include <eulervop/core/error_free.hpp>
 #include <eulervop/core/numerical_failure.hpp>
 #include <eulervop/core/outcome.hpp>
 #include <eulervop/core/scalar.hpp>
@@ -150,6 +157,7 @@ class chebyshev_picard {
   struct solve_result {
     outcome failure;       // success when the iteration converged
     double scale_log = 0;  // log of the state scale max |y| on the segment
+    bool settled = false;  // ended by a correction: f at the nodes is F + g (settled_by_correction)
   };
 
   static double to_d(const T& x) { return static_cast<double>(x); }
@@ -233,7 +241,9 @@ class chebyshev_picard {
       return {.kind = outcome_kind::no_convergence, .cause = res.failure.kind, .value = res.failure.value,
               .count = res.failure.count};
     }
-    if (length.converged(length_used, tail_.excess_log(matrices_, work_.F, hl, res.scale_log))) return {};
+    if (length.converged(length_used,
+                         tail_.excess_log(matrices_, work_.F, hl, res.scale_log, res.settled ? &work_.g : nullptr)))
+      return {};
     return {outcome_kind::segment_collapse};
   }
 
@@ -244,6 +254,7 @@ class chebyshev_picard {
         work_.t[j] = tau + hl * (matrices_.basis.nodes[j] + 1);
         work_.t_d[j] = to_d(work_.t[j]);
       }
+    if constexpr (torque_traits<typename P::torque_type>::depends_on_time) work_.field.set_node_times(work_.t);
   }
 
   // The solved segment [at.tau, tau_b] (increments in work_.Yn), stored in segment_ (already
@@ -281,11 +292,12 @@ class chebyshev_picard {
   // the increments at the nodes and work_.F the derivative there.
   solve_result solve_segment(const state& x0, const state& c0, const T& hl, picard_stats& st) {
     const double hl_d = to_d(hl);
-    for (std::size_t i = 0; i < D; ++i)
-      for (std::size_t j = 0; j < n1_; ++j) work_.Yc[i][j] = T(work_.warm[i][j]);
     double r_prev_log = std::numeric_limits<double>::infinity();
     if constexpr (!std::is_same_v<T, double>) {
       if (const outcome o = narrow_passes(x0, c0, hl, st, r_prev_log); !o.ok()) return {o};
+    } else {
+      for (std::size_t i = 0; i < D; ++i)
+        for (std::size_t j = 0; j < n1_; ++j) work_.Yc[i][j] = work_.warm[i][j];
     }
     const std::size_t max_passes = 4 + significand_bits<T>() / 40;
     for (std::size_t pass = 1;; ++pass) {
@@ -297,12 +309,23 @@ class chebyshev_picard {
       const double r_max = detail::wide_residual(matrices_, work_, hl);
       if (!std::isfinite(r_max)) return {{outcome_kind::residual_non_finite}};
       const double r_log = log_of(r_max);
-      if (converged(r_log, r_prev_log, out.scale_log)) return out;
-      if (pass >= max_passes || (r_prev_log < std::numeric_limits<double>::infinity() &&
-                                 r_log > r_prev_log - std::log(2.0)))
+      // A converged residual is corrected too where that settles the segment (and it is not
+      // already below the correction's floor): the corrected iterate is within about 1e-16 |r|
+      // of the collocation solution, the Picard image Yn only within about |r|, up to the
+      // rounding floor of `converged`, and that adds up over thousands of segments.
+      const bool done = converged(r_log, r_prev_log, out.scale_log);
+      if (done && !(settles(r_max, out.scale_log) && r_max > wide_floor(out.scale_log))) return out;
+      if (!done && (pass >= max_passes || (r_prev_log < std::numeric_limits<double>::infinity() &&
+                                           r_log > r_prev_log - std::log(2.0))))
         return {{.kind = outcome_kind::residual_stalled, .value = r_max, .count = pass}};
       r_prev_log = r_log;
-      if (const outcome o = detail::correct(matrices_, work_, r_max, hl_d, st); !o.ok()) return {o};
+      if (const outcome o = detail::solve_correction(matrices_, work_, hl_d, wide_floor(out.scale_log), st); !o.ok())
+        return {o};
+      if (settled_by_correction(r_max, out.scale_log, hl_d)) {  // Yc is not needed any more
+        out.settled = true;
+        return out;
+      }
+      detail::add_correction(work_);
       if (const auto done = refine_by_updates(hl, r_log, r_prev_log, out, st)) return *done;
     }
   }
@@ -327,11 +350,55 @@ class chebyshev_picard {
         if (converged(r_up_log, r_prev_log, out.scale_log)) return out;
         if (r_up_log > r_prev_log - std::log(2.0)) return std::nullopt;
         r_prev_log = r_up_log;
-        if (const outcome o = detail::correct(matrices_, work_, r_up, to_d(hl), st); !o.ok()) return solve_result{o};
+        if (const outcome o = detail::correct(matrices_, work_, r_up, to_d(hl), wide_floor(out.scale_log), st); !o.ok())
+          return solve_result{o};
+        if (settled_by_correction(r_up, out.scale_log, to_d(hl))) {
+          solve_result settled = out;
+          settled.settled = true;
+          return settled;
+        }
       }
     }
     return std::nullopt;
   }
+
+  // Where the increment f(X + delta) - f(X) is exact (euler_field.hpp: a torque that does not
+  // read the state) and T is wider than double, the correction of a residual r in T (or of its
+  // update, exact to 2^-100 of the last full one) leaves a residual of at most its own
+  // error: the sweeps' stop (below wide_floor), and double's rounding of r, of the increments and
+  // of the sums, about 1e-16 |r| each. When that is below wide_floor, a further residual in T
+  // would only confirm convergence: the corrected iterate becomes the segment's values (Yn) and
+  // the residual is not evaluated again. Otherwise false (a new residual decides). The tail
+  // estimate then reads F + g, with g the increment the last sweep left (f(X + delta) - f(X) to
+  // 1e-16 of itself), the derivative of the values it judges: F alone would carry an error of
+  // about |r|, which a tolerance far below 1e-32 (MPFR) reads as a slow tail.
+  bool settles(double r_max, double scale_log) const {
+    if constexpr (!detail::field_of<P>::has_double_double_rhs || std::is_same_v<T, double>)
+      return false;
+    else
+      return 64 * 0x1p-53 * r_max <= wide_floor(scale_log);
+  }
+  bool settled_by_correction(double r_max, double scale_log, double hl_d) {
+    if constexpr (!detail::field_of<P>::has_double_double_rhs || std::is_same_v<T, double>) {
+      return false;
+    } else {
+      if (!settles(r_max, scale_log)) return false;
+      // Yn += hl S g in double: the Picard image of the corrected iterate, to 1e-16 of |hl S g|,
+      // about |r|. The image rather than the corrected iterate itself: its values are the
+      // integral of one polynomial, which is what the certificate's residual bound measures.
+      matrices_.double_integral(work_.g, work_.Sg);
+      for (std::size_t i = 0; i < D; ++i) {
+        for (std::size_t j = 1; j < n1_; ++j) work_.add_double(work_.Yn[i][j], hl_d * work_.Sg[i][j]);
+      }
+      return true;
+    }
+  }
+
+  // The accuracy a correction needs after a residual in double-double or T: 2^-20 of the
+  // tolerance at the state's scale (log). Each segment's error adds to the run's: with a
+  // sixteenth, a body spinning about one axis (k = 1e-6, increments a millionth of the state)
+  // ended 1.7e-33 from its exact solution to tau = 1000 instead of 2e-34.
+  double wide_floor(double scale_log) const { return std::exp(tol_log_ + scale_log) * 0x1p-20; }
 
   // Converged: residual within the tolerance or at the rounding level of one residual
   // evaluation (a sum of N+1 rounded terms: ~sqrt(N+1) eps), or stagnant near that floor.
@@ -343,14 +410,60 @@ class chebyshev_picard {
   }
 
   // For wide T, the passes before the first residual in T: one in double from the warm start and
-  // one in double-double, each followed by its correction. Sets r_log to the log of the last
-  // residual.
+  // one in double-double, each followed by its correction; they leave the iterate in Yc. Sets
+  // r_log to the log of the last residual. Where the field has a double-double right-hand side,
+  // the iterate stays in double-double until the end (Ydd), and these passes make no operation
+  // in T per node.
   outcome narrow_passes(const state& x0, const state& c0, const T& hl, picard_stats& st, double& r_log) {
+    constexpr bool in_double_double = detail::field_of<P>::has_double_double_rhs;
     const double hl_d = to_d(hl);
+    for (std::size_t i = 0; i < D; ++i)
+      for (std::size_t j = 0; j < n1_; ++j) {
+        if constexpr (in_double_double) {
+          work_.Ydd_hi[i][j] = work_.warm[i][j];
+          work_.Ydd_lo[i][j] = 0;
+        } else {
+          work_.Yc[i][j] = T(work_.warm[i][j]);
+        }
+      }
     const double r_double = detail::double_residual(matrices_, work_, x0, c0, hl_d);
-    if (const outcome o = detail::correct(matrices_, work_, r_double, hl_d, st); !o.ok()) return o;
-    const double r_dd = detail::double_double_residual(matrices_, work_, x0, c0, hl);
-    if (const outcome o = detail::correct(matrices_, work_, r_dd, hl_d, st); !o.ok()) return o;
+    double scale = 0, increments = 0;
+    for (std::size_t i = 0; i < D; ++i)
+      for (std::size_t j = 0; j < n1_; ++j) {
+        scale = std::max(scale, std::abs(work_.Xd[i][j]));
+        increments = std::max(increments, std::abs(work_.warm[i][j]));
+      }
+    // The residual in double errs by about double's rounding of the increments it integrates
+    // (the warm start's; none from a cold start): no need to solve its correction any closer.
+    const double floor_double = 0x1p-53 * increments, floor_wide = wide_floor(std::log(scale));
+    double r_dd = 0;
+    if constexpr (in_double_double) {
+      if (!std::isfinite(r_double)) return {outcome_kind::residual_non_finite};
+      if (const outcome o = detail::solve_correction(matrices_, work_, hl_d, floor_double, st); !o.ok()) return o;
+      detail::add_correction_double_double(work_);
+      std::array<double_double, D> x0dd;
+      for (std::size_t i = 0; i < D; ++i) {
+        x0dd[i].hi = to_d(x0[i]);
+        work_.acc = x0[i];
+        work_.acc -= x0dd[i].hi;
+        work_.acc += c0[i];
+        x0dd[i].lo = to_d(work_.acc);
+      }
+      const double_double hl_dd{hl_d, to_d(T(hl - T(hl_d)))};
+      r_dd = detail::double_double_residual(matrices_, work_, x0dd, hl_dd);
+      if (!std::isfinite(r_dd)) return {outcome_kind::residual_non_finite};
+      if (const outcome o = detail::solve_correction(matrices_, work_, hl_d, floor_wide, st); !o.ok()) return o;
+      detail::add_correction_double_double(work_);
+      for (std::size_t i = 0; i < D; ++i)
+        for (std::size_t j = 0; j < n1_; ++j) {
+          work_.Yc[i][j] = work_.Ydd_hi[i][j];
+          work_.add_double(work_.Yc[i][j], work_.Ydd_lo[i][j]);
+        }
+    } else {
+      if (const outcome o = detail::correct(matrices_, work_, r_double, hl_d, floor_double, st); !o.ok()) return o;
+      r_dd = detail::double_double_residual(matrices_, work_, x0, c0, hl);
+      if (const outcome o = detail::correct(matrices_, work_, r_dd, hl_d, floor_wide, st); !o.ok()) return o;
+    }
     if (log_of(r_dd) > log_of(r_double) - std::log(2.0)) return {outcome_kind::residual_not_decreasing};
     r_log = log_of(r_dd);
     return {};

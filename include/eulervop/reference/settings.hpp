@@ -22,7 +22,7 @@ struct picard_stats {
   std::size_t rejected = 0;        // segments shrunk and retried
   std::size_t wide_residuals = 0;  // residual evaluations in T (each one matrix product in T)
   std::size_t residual_updates = 0;  // residuals updated in double-double after a correction
-  std::size_t double_sweeps = 0;   // Picard sweeps of the double-precision correction
+  std::size_t double_sweeps = 0;   // sweeps of the double-precision correction
 };
 
 // Progress callback: the tau reached so far, and the segments accepted.

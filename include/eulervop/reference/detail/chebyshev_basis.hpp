@@ -2,11 +2,13 @@
 #pragma once
 
 #include <eulervop/core/scalar.hpp>
+#include <eulervop/reference/detail/fixed_point_matvec.hpp>
 
 #include <boost/math/constants/constants.hpp>
 
 #include <cmath>
 #include <cstddef>
+#include <type_traits>
 #include <vector>
 
 namespace eulervop::detail {
@@ -38,10 +40,12 @@ struct chebyshev_basis {
     nodes.resize(n1);
     for (std::size_t j = 0; j < n1; ++j) nodes[j] = -cos(pi * T(j) / T(N));
     // T_k(s_j) with s_j = cos(pi - j pi/N): T_k(s_j) = (-1)^k cos(k j pi / N). The angle k*j is
-    // reduced modulo 2N first so that cos is evaluated on [0, 2 pi) in T.
+    // reduced modulo 2N first so that cos is evaluated on [0, 2 pi) in T, and the 2N cosines are
+    // tabulated (a cosine per entry cost several milliseconds at start-up in quad).
+    std::vector<T> cosines(2 * N);
+    for (std::size_t m = 0; m < 2 * N; ++m) cosines[m] = cos(pi * T(m) / T(N));
     auto Tk = [&](std::size_t k, std::size_t j) {
-      const std::size_t m = (k * j) % (2 * N);
-      T c = cos(pi * T(m) / T(N));
+      const T& c = cosines[(k * j) % (2 * N)];
       return (k % 2) ? T(-c) : c;
     };
     // Values -> coefficients (discrete Chebyshev transform on Lobatto nodes):
@@ -74,12 +78,29 @@ struct chebyshev_basis {
     for (std::size_t j = 0; j < n1; ++j)
       for (std::size_t k = 0; k < n2; ++k) E[j * n2 + k] = Tk(k, j);
     integral.assign(n1 * n1, T(0));
-    for (std::size_t j = 0; j < n1; ++j)
+    if constexpr (std::is_same_v<T, double>) {
+      for (std::size_t j = 0; j < n1; ++j)
+        for (std::size_t i = 0; i < n1; ++i) {
+          T acc = 0;
+          for (std::size_t k = 0; k < n2; ++k) acc += E[j * n2 + k] * to_coeffs[k * n1 + i];
+          integral[j * n1 + i] = acc;
+        }
+    } else {
+      // Column by column as exact integer dot products rounded once (fixed_point_matvec.hpp):
+      // the (N+1)^2 (N+2) products in soft-float quad took several milliseconds at start-up.
+      fixed_point_matrix<T> e = [&] {
+        if constexpr (std::is_same_v<T, quad>)
+          return fixed_point_matrix<T>(E, n1, n2);
+        else
+          return fixed_point_matrix<T>(E, n1, n2, significand_bits<T>());
+      }();
+      std::vector<T> column(n2), out(n1, T(0));
       for (std::size_t i = 0; i < n1; ++i) {
-        T acc = 0;
-        for (std::size_t k = 0; k < n2; ++k) acc += E[j * n2 + k] * to_coeffs[k * n1 + i];
-        integral[j * n1 + i] = acc;
+        for (std::size_t k = 0; k < n2; ++k) column[k] = to_coeffs[k * n1 + i];
+        e.multiply(column.data(), out.data());
+        for (std::size_t j = 0; j < n1; ++j) integral[j * n1 + i] = out[j];
       }
+    }
     // The first row integrates over an empty interval: exactly zero, not rounding noise.
     for (std::size_t i = 0; i < n1; ++i) integral[i] = 0;
   }

@@ -16,6 +16,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <vector>
 
 namespace eulervop::detail {
 
@@ -36,6 +37,13 @@ class coupled_field {
   const P& problem() const { return problem_; }
 
   void rhs(const T& t, const std::array<T, D>& x, std::array<T, D>& dx) const { problem_.rhs(t, x, dx); }
+  // At node j: the torque reads the state, so there is nothing to keep from pass to pass.
+  void rhs_at_node(std::size_t, const T& t, const std::array<T, D>& x, std::array<T, D>& dx) const {
+    rhs(t, x, dx);
+  }
+  void set_node_times(const std::vector<T>&) {}
+  // Its narrow passes work in T (the formulas of q are evaluated in T only).
+  static constexpr bool has_double_double_rhs = false;
   void rhs_double(double t, const std::array<double, D>& x, std::array<double, D>& dx) const {
     problem_d_.rhs(t, x, dx);
   }

@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <cmath>
 #include <utility>
+#include <vector>
 
 namespace eulervop::detail {
 
@@ -33,6 +34,8 @@ class euler_field {
   euler_field() = default;
   explicit euler_field(const P& problem)
       : problem_(problem), torque_d_(convert_torque<double>(problem.torque)) {
+    if constexpr (!torque_traits_type::depends_on_time && !torque_traits_type::depends_on_state)
+      constant_torque_dd_ = to_double_double(problem.torque.value(problem.tau0, vec3<T>{}));
     if (problem.normalized()) return;  // a = (-1, 1, -1): exact in double
     a_max_ = 0;
     for (int i = 0; i < 3; ++i) {
@@ -45,6 +48,44 @@ class euler_field {
   const P& problem() const { return problem_; }
 
   void rhs(const T& t, const vec3<T>& x, vec3<T>& dx) const { problem_.rhs(t, x, dx); }
+  // The same at node j of the segment whose node times `set_node_times` last received: a torque
+  // of time alone is evaluated there once per segment, not in every pass (the passes of one
+  // segment see the same times; a sinq costs about 0.7 us in quad). The same operations as rhs,
+  // so the same bits.
+  void rhs_at_node(std::size_t j, const T& t, const vec3<T>& x, vec3<T>& dx) const {
+    if constexpr (caches_torque) {
+      if (problem_.normalized())
+        euler_rhs(x, node_torque_[j], dx);
+      else
+        direct_rhs(problem_.a, x, node_torque_[j], dx);
+    } else {
+      rhs(t, x, dx);
+    }
+  }
+  void set_node_times(const std::vector<T>& t) {
+    if constexpr (caches_torque) {
+      node_torque_.resize(t.size());
+      node_torque_dd_.resize(t.size());
+      for (std::size_t j = 0; j < t.size(); ++j) {
+        node_torque_[j] = problem_.torque.value(t[j], vec3<T>{});
+        node_torque_dd_[j] = to_double_double(node_torque_[j]);
+      }
+    }
+  }
+
+  // For a torque that does not read the state: f(t_j, x) hl at node j in double-double from x in
+  // double-double, about 2^-104 relative, for the residual that drives the second correction
+  // (picard_residuals.hpp). No operation in T: x, the torque and a are split once.
+  static constexpr bool has_double_double_rhs = !torque_traits_type::depends_on_state;
+  void scaled_rhs(std::size_t j, const std::array<double_double, 3>& x, const double_double& hl,
+                  std::array<double_double, 3>& out) const {
+    const std::array<double_double, 3>& g = caches_torque ? node_torque_dd_[j] : constant_torque_dd_;
+    for (int i = 0; i < 3; ++i) {
+      const auto [a, b] = P::quadratic_pair[i];
+      const double_double q = mul(mul(x[a], x[b]), double_double{a_d_[i], a_lo_[i]});  // exact for a = +-1 (Eq. 5)
+      out[i] = mul(add(g[i], q), hl);
+    }
+  }
   void rhs_double(double t, const vec3<double>& x, vec3<double>& dx) const {
     direct_rhs(a_d_, x, torque_d_.value(t, x), dx);
   }
@@ -63,6 +104,13 @@ class euler_field {
     g1 = a_d_[0] * (x2 * d3 + x3 * d2 + d2 * d3);
     g2 = a_d_[1] * (x1 * d3 + x3 * d1 + d1 * d3);
     g3 = a_d_[2] * (x1 * d2 + x2 * d1 + d1 * d2);
+  }
+
+  // J(x) v for the quadratic part's Jacobian at x in double, J_ij = a_i x_k, J_ik = a_i x_j: for
+  // the correction's implicit node step (picard_correction.hpp).
+  std::array<double, 3> quadratic_jacobian_times(const std::array<double, 3>& x, const std::array<double, 3>& v) const {
+    return {a_d_[0] * (x[2] * v[1] + x[1] * v[2]), a_d_[1] * (x[2] * v[0] + x[0] * v[2]),
+            a_d_[2] * (x[1] * v[0] + x[0] * v[1])};
   }
 
   // The same in double-double from x in double-double, errs by about 2^-100 |d|.
@@ -93,7 +141,20 @@ class euler_field {
   }
 
  private:
+  static constexpr bool caches_torque = torque_traits_type::depends_on_time && !torque_traits_type::depends_on_state;
+  static std::array<double_double, 3> to_double_double(const vec3<T>& v) {
+    std::array<double_double, 3> out;
+    for (int i = 0; i < 3; ++i) {
+      out[i].hi = static_cast<double>(v[i]);
+      out[i].lo = static_cast<double>(T(v[i] - T(out[i].hi)));
+    }
+    return out;
+  }
+
   P problem_;
+  std::vector<vec3<T>> node_torque_;  // the torque at the nodes (a torque of time alone)
+  std::vector<std::array<double_double, 3>> node_torque_dd_;  // the same in double-double
+  std::array<double_double, 3> constant_torque_dd_{};         // a constant torque in double-double
   double_torque torque_d_;
   std::array<double, 3> a_d_{-1.0, 1.0, -1.0}, a_lo_{};
   double a_max_ = 1;

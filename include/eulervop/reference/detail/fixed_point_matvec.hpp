@@ -36,10 +36,12 @@ class fixed_point_matrix;
 // halves whose products are exact. Row r of A and x enter rounded to nearest, with absolute
 // errors of at most 2^-117 max_k |A_rk| and 2^-117 max|x| (none for entries within 3 binades of
 // those largest), the dropped low half of each product is below 2^-168 max_k |A_rk| max|x|, and
-// the result is rounded to quad once, then by at most half an ulp again when the two partial
-// sums are added. So
+// the exact integer sum is rounded to quad once (twice, by at most an ulp each, where the result
+// is not a normal number). So
 //   |y_r - (A x)_r| <= 2^-116 n max_k |A_rk| max|x| + 2 ulp(y_r),
 // the same order as n products and n sums in quad arithmetic, at a small fraction of the cost.
+// The vector enters and the result leaves through their bit patterns (scaled_integer, rounded):
+// integer shifts instead of soft-float conversions.
 template <>
 class fixed_point_matrix<quad> {
  public:
@@ -90,12 +92,9 @@ class fixed_point_matrix<quad> {
     std::memcpy(&xmax_value, &max_bits, sizeof xmax_value);
     const quad xmax(xmax_value);
     const int x_shift = shift_for(xmax);
-    const quad scale = power_of_two(x_shift);
-    for (std::size_t k = 0; k < cols_; ++k) split(nearest_integer(x[k] * scale), xh_[k], xl_[k]);
+    for (std::size_t k = 0; k < cols_; ++k) split(scaled_integer(x[k], x_shift), xh_[k], xl_[k]);
     for (std::size_t r = first_row; r < rows_; ++r) {
       // y = (H 2^128 + M 2^64) 2^-(a_shift + x_shift), with H and M exact integer sums.
-      const quad unit_hi = power_of_two(128 - a_shift_[r] - x_shift);
-      const quad unit_mid = power_of_two(64 - a_shift_[r] - x_shift);
       const std::int64_t* ah = &hi_[r * cols_];
       const std::uint64_t* al = &lo_[r * cols_];
       __int128 H = 0, M = 0;
@@ -105,11 +104,82 @@ class fixed_point_matrix<quad> {
              static_cast<__int128>(xh_[k]) * static_cast<__int128>(al[k]) +
              static_cast<__int128>((static_cast<unsigned __int128>(al[k]) * xl_[k]) >> 64);
       }
-      // Carry the middle sum's high half into H, so that the first term holds all but 64 bits.
+      // Carry the middle sum's high half into H: y = (H 2^64 + m_low) 2^(64 - a_shift - x_shift).
       H += M >> 64;
-      const auto m_low = static_cast<std::uint64_t>(M);
-      y[r] = quad(static_cast<__float128>(H)) * unit_hi + quad(static_cast<__float128>(m_low)) * unit_mid;
+      y[r] = rounded(H, static_cast<std::uint64_t>(M), 64 - a_shift_[r] - x_shift);
     }
+  }
+
+  // v 2^shift rounded to the nearest integer, halves towards zero (as nearest_integer), from v's
+  // bit pattern: a normal binary128 number is (2^112 + m) 2^(e - 16495), so this is an integer
+  // shift and a comparison of the bits shifted out, with no soft-float operation (six of them
+  // per entry through nearest_integer). Requires |v| 2^shift < 2^126; zero and subnormal v take
+  // the soft-float way.
+  static __int128 scaled_integer(const quad& v, int shift) {
+    unsigned __int128 bits;
+    std::memcpy(&bits, &v.backend().value(), sizeof bits);
+    const int biased = static_cast<int>(bits >> 112) & 0x7fff;
+    if (biased == 0) return nearest_integer(v * power_of_two(shift));
+    const unsigned __int128 one = 1;
+    const unsigned __int128 significand = (bits & ((one << 112) - 1)) | (one << 112);
+    const int k = biased - 16495 + shift;  // v 2^shift = significand 2^k
+    unsigned __int128 n = 0;
+    if (k >= 0) {
+      n = significand << k;
+    } else if (k > -114) {  // below that, |v| 2^shift < 1/2
+      n = significand >> -k;
+      const unsigned __int128 rest = significand & ((one << -k) - 1), half = one << (-k - 1);
+      if (rest > half) ++n;
+    }
+    return (bits >> 127) ? -static_cast<__int128>(n) : static_cast<__int128>(n);
+  }
+
+  // (H 2^64 + low) 2^e rounded to binary128 once (to nearest, ties to even), by assembling its
+  // bit pattern from the integer's leading 113 bits; the soft-float way (two conversions, two
+  // products and a sum, rounding twice) where the result would not be a normal number.
+  static quad rounded(__int128 H, std::uint64_t low, int e) {
+    const bool negative = H < 0;
+    auto hi = static_cast<unsigned __int128>(H);
+    if (negative) {  // the magnitude of the 192-bit two's complement integer
+      low = ~low + 1;
+      hi = ~hi + (low == 0 ? 1 : 0);
+    }
+    if (hi == 0) {
+      const quad v = quad(static_cast<__float128>(low)) * power_of_two(e);  // exact: 64 bits
+      return negative ? quad(-v) : v;
+    }
+    const auto top = static_cast<std::uint64_t>(hi >> 64);
+    const int lz = top ? __builtin_clzll(top) : 64 + __builtin_clzll(static_cast<std::uint64_t>(hi));
+    // Shifted so that the leading one is bit 127 of n_hi; n_lo holds what follows.
+    unsigned __int128 n_hi = hi;
+    std::uint64_t n_lo = low;
+    if (lz > 0 && lz < 64) {
+      n_hi = (hi << lz) | (low >> (64 - lz));
+      n_lo = low << lz;
+    } else if (lz >= 64) {
+      n_hi = (hi << lz) | (static_cast<unsigned __int128>(low) << (lz - 64));
+      n_lo = 0;
+    }
+    unsigned __int128 significand = n_hi >> 15;  // 113 bits
+    const auto rest = static_cast<unsigned>(n_hi & 0x7fff);
+    if (rest > 0x4000 || (rest == 0x4000 && (n_lo != 0 || (significand & 1)))) ++significand;
+    int exponent = 191 - lz + e;  // of the leading bit
+    if (significand >> 113) {
+      significand >>= 1;
+      ++exponent;
+    }
+    const int biased = exponent + 16383;
+    if (biased < 1 || biased > 32766) {
+      const quad v = quad(static_cast<__float128>(static_cast<__int128>(hi >> 1))) * power_of_two(e + 65) +
+                     quad(static_cast<__float128>(((hi & 1) << 64) | low)) * power_of_two(e);
+      return negative ? quad(-v) : v;
+    }
+    const unsigned __int128 one = 1;
+    const unsigned __int128 out = (static_cast<unsigned __int128>(negative) << 127) |
+                                  (static_cast<unsigned __int128>(biased) << 112) | (significand & ((one << 112) - 1));
+    __float128 f;
+    std::memcpy(&f, &out, sizeof f);
+    return quad(f);
   }
 
  private:

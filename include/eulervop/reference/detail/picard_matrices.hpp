@@ -18,7 +18,7 @@ template <scalar T>
 struct picard_matrices {
   std::size_t N, n1;            // the degree, and the number of nodes N + 1
   chebyshev_basis<T> basis;     // S (integral), Q (to_coeffs), C (coeffs) and the nodes, in T
-  std::vector<double> S_dt;     // S in double, transposed: column k contiguous
+  std::vector<double> S_d, S_dt;  // S in double, and transposed: column k contiguous
   std::vector<double> Q_d, C_d;  // Q and C in double
   double_double_matrix S_dd;    // S in double-double (wide T)
   // S and Q in fixed point (wide T): exact integer products rounded once.
@@ -28,6 +28,8 @@ struct picard_matrices {
 
   // `product_bits`: the bits the MPFR products must resolve (the run's effective bits).
   picard_matrices(std::size_t degree, unsigned product_bits) : N(degree), n1(degree + 1), basis(degree) {
+    S_d.resize(n1 * n1);
+    for (std::size_t k = 0; k < n1 * n1; ++k) S_d[k] = static_cast<double>(basis.integral[k]);
     S_dt.resize(n1 * n1);
     for (std::size_t j = 0; j < n1; ++j)
       for (std::size_t k = 0; k < n1; ++k) S_dt[k * n1 + j] = static_cast<double>(basis.integral[j * n1 + k]);

@@ -31,14 +31,17 @@ struct picard_workspace {
   //   Yn     the Picard map hl S f(X) of the iterate, in T: the segment's values once converged
   //   F      f(X) in T (times hl in the double-double residual)
   wide F, Yc, Yn;
-  //   Xd     X in double, where the correction linearizes f; Xl: X - Xd (wide T), so X in
+  //   Xd     X in double, where the correction linearizes f; Xl: X - Xd (MPFR), so X in
   //          double-double for the residual updates
   //   warm   the warm start's increments
   //   r      the residual hl S f(X) - Yc
-  //   delta, delta_new  the correction of Yc and its next sweep
+  //   delta  the correction of Yc; Sg  S g when a correction settles the segment
   //   g      f(X + delta) - f(X) in a sweep (f(X) in the double residual)
   //   df_hi, df_lo  g in double-double, for the residual updates
-  narrow Xd, Xl, warm, r, delta, delta_new, g, df_hi, df_lo;
+  //   Ydd_hi, Ydd_lo  the iterate in double-double during the passes before the first residual
+  //          in T, for a field whose right-hand side has a double-double form
+  //   Fdd_hi, Fdd_lo  hl f(X) in double-double there
+  narrow Xd, Xl, warm, r, delta, Sg, g, df_hi, df_lo, Ydd_hi, Ydd_lo, Fdd_hi, Fdd_lo;
   // One component at a time: F and S F split into double-double hi + lo.
   std::vector<double> F_hi, F_lo, Y_hi, Y_lo;
   // The node times, for a torque of time: in T and in double.
@@ -53,7 +56,7 @@ struct picard_workspace {
   explicit picard_workspace(std::size_t nodes) : n1(nodes) {
     for (auto* set : {&F, &Yc, &Yn})
       for (auto& v : *set) v.resize(n1);
-    for (auto* set : {&Xd, &Xl, &warm, &r, &delta, &delta_new, &g, &df_hi, &df_lo})
+    for (auto* set : {&Xd, &Xl, &warm, &r, &delta, &Sg, &g, &df_hi, &df_lo, &Ydd_hi, &Ydd_lo, &Fdd_hi, &Fdd_lo})
       for (auto& v : *set) v.resize(n1);
     for (auto* v : {&F_hi, &F_lo, &Y_hi, &Y_lo}) v->resize(n1);
     if constexpr (traits::depends_on_time) {

@@ -34,11 +34,14 @@ class tail_estimator {
   // decay of the Chebyshev coefficients b_k of the increment b = hl Q F (F the derivative at the
   // nodes, per component): a least-squares line through log max_i |b_k| over the coefficients
   // above their rounding floor, evaluated at k = N+1, and the last coefficients themselves.
+  // `dF`, if set, is a small change of F in double (the increment of a correction that settled
+  // the segment, chebyshev_picard.hpp): the coefficients are those of F + dF, with dF's share
+  // formed in double.
   template <std::size_t D>
   double excess_log(picard_matrices<T>& m, const std::array<std::vector<T>, D>& F, const T& hl,
-                    double scale_log) {
+                    double scale_log, const std::array<std::vector<double>, D>* dF = nullptr) {
     const std::size_t nb = N_ + 2, tail_from = N_ - 2;
-    const double head_max = coefficient_logs(m, F, hl, tail_from);
+    const double head_max = coefficient_logs(m, F, dF, hl, tail_from);
     const double head_noise = std::log(std::max(head_max, 1e-300) * 8.0 * n1_ * 2.2e-16);
     const double tail_noise = eps_log_ + scale_log + std::log(4.0 * n1_);
     for (std::size_t k = 0; k < nb; ++k) noise_log_[k] = k < tail_from ? std::max(head_noise, tail_noise) : tail_noise;
@@ -80,13 +83,13 @@ class tail_estimator {
   // double (it only has to show the decay rate); the tail in T, since it must be resolved down
   // to the tolerance. Returns the largest head coefficient.
   template <std::size_t D>
-  double coefficient_logs(picard_matrices<T>& m, const std::array<std::vector<T>, D>& F, const T& hl,
-                          std::size_t tail_from) {
+  double coefficient_logs(picard_matrices<T>& m, const std::array<std::vector<T>, D>& F,
+                          const std::array<std::vector<double>, D>* dF, const T& hl, std::size_t tail_from) {
     const double hl_d = static_cast<double>(hl);
     std::fill(coeff_log_.begin(), coeff_log_.end(), -std::numeric_limits<double>::infinity());
     double head_max = 0;
     for (std::size_t i = 0; i < D; ++i) {
-      for (std::size_t j = 0; j < n1_; ++j) Fd_[j] = static_cast<double>(F[i][j]);
+      for (std::size_t j = 0; j < n1_; ++j) Fd_[j] = static_cast<double>(F[i][j]) + (dF ? (*dF)[i][j] : 0.0);
       for (std::size_t k = 1; k < tail_from; ++k) {
         const double* row = &m.Q_d[k * n1_];
         double a = 0;
@@ -95,17 +98,26 @@ class tail_estimator {
         head_max = std::max(head_max, a);
         coeff_log_[k] = std::max(coeff_log_[k], a > 0 ? std::log(a) : -std::numeric_limits<double>::infinity());
       }
-      tail_logs(m, F[i], hl, tail_from);
+      tail_logs(m, F[i], dF ? &(*dF)[i] : nullptr, hl, tail_from);
     }
     return head_max;
   }
 
-  // The tail coefficients b_tail_from .. b_{N+1} of one component, in T.
-  void tail_logs(picard_matrices<T>& m, const std::vector<T>& F, const T& hl, std::size_t tail_from) {
+  // The tail coefficients b_tail_from .. b_{N+1} of one component, in T (dF's share in double).
+  void tail_logs(picard_matrices<T>& m, const std::vector<T>& F, const std::vector<double>* dF, const T& hl,
+                 std::size_t tail_from) {
     const std::size_t nb = N_ + 2;
     if constexpr (!std::is_same_v<T, double>) {
       m.Q_fx.multiply(F.data(), tail_.data(), tail_from);
-      for (std::size_t k = tail_from; k < nb; ++k) coeff_log_[k] = std::max(coeff_log_[k], log_abs(T(tail_[k] * hl)));
+      for (std::size_t k = tail_from; k < nb; ++k) {
+        if (dF) {
+          const double* row = &m.Q_d[k * n1_];
+          double d = 0;
+          for (std::size_t j = 0; j < n1_; ++j) d += row[j] * (*dF)[j];
+          tail_[k] += d;
+        }
+        coeff_log_[k] = std::max(coeff_log_[k], log_abs(T(tail_[k] * hl)));
+      }
     } else {
       for (std::size_t k = tail_from; k < nb; ++k) {
         const T* row = &m.basis.to_coeffs[k * n1_];
