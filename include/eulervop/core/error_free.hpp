@@ -6,7 +6,9 @@
 //   split         Dekker's splitting (1971): a = hi + lo with 26-bit halves, so that the products
 //                 of halves are exact (no hardware FMA is assumed);
 //   two_product   Dekker's exact product: p + e = a b exactly.
-// The generic two_sum serves every scalar type (rounded to nearest); the rest is for double.
+//   to_double_double  any wider scalar (quad, MPFR) as hi + lo doubles.
+// The generic two_sum and to_double_double serve every scalar type (rounded to nearest); the
+// rest is for double.
 #pragma once
 
 namespace eulervop {
@@ -64,5 +66,13 @@ inline double_double add(const double_double& x, const double_double& y) {
   return quick_two_sum(s.hi, s.lo + (x.lo + y.lo));
 }
 inline double_double negated(const double_double& x) { return {-x.hi, -x.lo}; }
+
+// v as hi + lo: its double, and the double of what that leaves (any scalar convertible to double
+// whose difference with a double is exact or rounded in its own type: quad, MPFR).
+template <class T>
+double_double to_double_double(const T& v) {
+  const double hi = static_cast<double>(v);
+  return {hi, static_cast<double>(T(v - T(hi)))};
+}
 
 }  // namespace eulervop

@@ -379,19 +379,14 @@ class chebyshev_picard {
       return 64 * 0x1p-53 * r_max <= wide_floor(scale_log);
   }
   bool settled_by_correction(double r_max, double scale_log, double hl_d) {
-    if constexpr (!detail::field_of<P>::has_double_double_rhs || std::is_same_v<T, double>) {
-      return false;
-    } else {
-      if (!settles(r_max, scale_log)) return false;
-      // Yn += hl S g in double: the Picard image of the corrected iterate, to 1e-16 of |hl S g|,
-      // about |r|. The image rather than the corrected iterate itself: its values are the
-      // integral of one polynomial, which is what the certificate's residual bound measures.
-      matrices_.double_integral(work_.g, work_.Sg);
-      for (std::size_t i = 0; i < D; ++i) {
-        for (std::size_t j = 1; j < n1_; ++j) work_.add_double(work_.Yn[i][j], hl_d * work_.Sg[i][j]);
-      }
-      return true;
-    }
+    if (!settles(r_max, scale_log)) return false;
+    // Yn += hl S g in double: the Picard image of the corrected iterate, to 1e-16 of |hl S g|,
+    // about |r|. The image rather than the corrected iterate itself: its values are the integral
+    // of one polynomial, which is what the certificate's residual bound measures.
+    matrices_.double_integral(work_.g, work_.Sg);
+    for (std::size_t i = 0; i < D; ++i)
+      for (std::size_t j = 1; j < n1_; ++j) work_.add_double(work_.Yn[i][j], hl_d * work_.Sg[i][j]);
+    return true;
   }
 
   // The accuracy a correction needs after a residual in double-double or T: 2^-20 of the
@@ -449,8 +444,7 @@ class chebyshev_picard {
         work_.acc += c0[i];
         x0dd[i].lo = to_d(work_.acc);
       }
-      const double_double hl_dd{hl_d, to_d(T(hl - T(hl_d)))};
-      r_dd = detail::double_double_residual(matrices_, work_, x0dd, hl_dd);
+      r_dd = detail::double_double_residual(matrices_, work_, x0dd, to_double_double(hl));
       if (!std::isfinite(r_dd)) return {outcome_kind::residual_non_finite};
       if (const outcome o = detail::solve_correction(matrices_, work_, hl_d, floor_wide, st); !o.ok()) return o;
       detail::add_correction_double_double(work_);

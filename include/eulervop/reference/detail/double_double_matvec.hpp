@@ -29,8 +29,9 @@ class double_double_matrix {
       : rows_(rows), cols_(cols), hi_(a.size()), lo_(a.size()), h1_(a.size()), h2_(a.size()),
         x1_(cols), x2_(cols) {
     for (std::size_t i = 0; i < a.size(); ++i) {
-      hi_[i] = static_cast<double>(a[i]);
-      lo_[i] = static_cast<double>(T(a[i] - T(hi_[i])));
+      const double_double v = to_double_double(a[i]);
+      hi_[i] = v.hi;
+      lo_[i] = v.lo;
       split(hi_[i], h1_[i], h2_[i]);
     }
   }

@@ -35,12 +35,13 @@ class euler_field {
   explicit euler_field(const P& problem)
       : problem_(problem), torque_d_(convert_torque<double>(problem.torque)) {
     if constexpr (!torque_traits_type::depends_on_time && !torque_traits_type::depends_on_state)
-      constant_torque_dd_ = to_double_double(problem.torque.value(problem.tau0, vec3<T>{}));
+      constant_torque_dd_ = split(problem.torque.value(problem.tau0, vec3<T>{}));
     if (problem.normalized()) return;  // a = (-1, 1, -1): exact in double
     a_max_ = 0;
     for (int i = 0; i < 3; ++i) {
-      a_d_[i] = static_cast<double>(problem.a[i]);
-      a_lo_[i] = static_cast<double>(T(problem.a[i] - T(a_d_[i])));
+      const double_double a = to_double_double(problem.a[i]);
+      a_d_[i] = a.hi;
+      a_lo_[i] = a.lo;
       a_max_ = std::max(a_max_, std::abs(a_d_[i]));
     }
   }
@@ -68,7 +69,7 @@ class euler_field {
       node_torque_dd_.resize(t.size());
       for (std::size_t j = 0; j < t.size(); ++j) {
         node_torque_[j] = problem_.torque.value(t[j], vec3<T>{});
-        node_torque_dd_[j] = to_double_double(node_torque_[j]);
+        node_torque_dd_[j] = split(node_torque_[j]);
       }
     }
   }
@@ -142,13 +143,8 @@ class euler_field {
 
  private:
   static constexpr bool caches_torque = torque_traits_type::depends_on_time && !torque_traits_type::depends_on_state;
-  static std::array<double_double, 3> to_double_double(const vec3<T>& v) {
-    std::array<double_double, 3> out;
-    for (int i = 0; i < 3; ++i) {
-      out[i].hi = static_cast<double>(v[i]);
-      out[i].lo = static_cast<double>(T(v[i] - T(out[i].hi)));
-    }
-    return out;
+  static std::array<double_double, 3> split(const vec3<T>& v) {
+    return {to_double_double(v[0]), to_double_double(v[1]), to_double_double(v[2])};
   }
 
   P problem_;

@@ -122,7 +122,7 @@ class tail_estimator {
       for (std::size_t k = tail_from; k < nb; ++k) {
         const T* row = &m.basis.to_coeffs[k * n1_];
         acc_ = 0;
-        for (std::size_t j = 0; j < n1_; ++j) acc_ += row[j] * F[j];
+        for (std::size_t j = 0; j < n1_; ++j) acc_ += row[j] * (dF ? F[j] + (*dF)[j] : F[j]);
         acc_ *= hl;
         coeff_log_[k] = std::max(coeff_log_[k], log_abs(acc_));
       }
