@@ -137,10 +137,7 @@ INSTANTIATE_TEST_SUITE_P(Moduli, TorqueFreeCertificate,
                          ::testing::Values(torque_free_case{"0.5", "1", 4e-31},         // k = 0.5
                                            torque_free_case{"0.999999", "1", 1e-25},    // k = 1 - 1e-6
                                            torque_free_case{"0.000001", "1", 3e-34},    // k = 1e-6
-                                           // k = 2 > 1: the mirror of k = 0.5, whose rows' signed
-                                           // local errors happen to add up here (true error 1.1e-31
-                                           // at tau = 1000, radius 9.6e-31)
-                                           torque_free_case{"1", "0.5", 2e-30},
+                                           torque_free_case{"1", "0.5", 4e-31},         // k = 2 > 1
                                            torque_free_case{"0.3", "0.7", 1e-31}),      // k = 3/7
                          [](const auto& info) { return "case" + std::to_string(info.index); });
 
