@@ -94,9 +94,11 @@ TEST(TorqueFree, QuadMatchesExactSolutionOnLongSpan) {
 
 // A tolerance looser than the precision is what the run's global error reaches (each segment's
 // truncation is held to a sixteenth of it), and the residual updates in double-double that such
-// a tolerance allows do not cost accuracy (at 1e-50; at 1e-40 the correction of the first
-// residual in T already settles each segment, and no update is needed). Exact values as above,
-// at 400 bits.
+// a tolerance allows do not cost accuracy. At 1e-40 they follow the first residual in T where
+// its correction does not settle the segment (measured: 253 updates over 205 segments). At 1e-50
+// the first residual in T runs on three limbs (picard_matrices.hpp, S_fx_first) and the
+// correction of the full one after it settles every segment, so none is needed there. Exact
+// values as above, at 400 bits.
 TEST(TorqueFree, Mpfr256MeetsALooserToleranceWithResidualUpdates) {
   for (const double tol : {1e-40, 1e-50}) {
     eulervop::picard_stats st;
@@ -108,7 +110,7 @@ TEST(TorqueFree, Mpfr256MeetsALooserToleranceWithResidualUpdates) {
     std::printf("mpfr:256 tol %.0e k=0.99: max error %.3e over tau in [0,200], %zu segments, %zu updates\n", tol,
                 err, st.segments, st.residual_updates);
     EXPECT_LE(err, tol);
-    if (tol < 1e-45) EXPECT_GT(st.residual_updates, 0u) << "the update path was not taken";
+    if (tol > 1e-45) EXPECT_GT(st.residual_updates, 0u) << "the update path was not taken";
   }
 }
 

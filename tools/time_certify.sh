@@ -6,6 +6,7 @@
 # Usage: tools/time_certify.sh [REPEAT] [-- REFERENCE ARGS...]   (default 3 runs; the paper scene)
 #   EULERVOP=path   the program (default build/eulervop)
 set -euo pipefail
+shopt -s inherit_errexit  # a failed run inside $(...) stops the script instead of timing an error
 root=$(cd "$(dirname "$0")/.." && pwd)
 eulervop=${EULERVOP:-$root/build/eulervop}
 repeat=3

@@ -12,6 +12,7 @@
 # Each case also prints the error its output reached against a higher precision: `--verify`
 # (one precision up, 64 more bits) in a separate, untimed run.
 set -euo pipefail
+shopt -s inherit_errexit  # a failed run inside $(...) stops the script instead of timing an error
 root=$(cd "$(dirname "$0")/.." && pwd)
 eulervop=${EULERVOP:-$root/build/eulervop}
 bench=${BENCH:-$root/build/benchmarks/bench_reference}

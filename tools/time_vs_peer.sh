@@ -11,6 +11,7 @@
 #        tools/time_vs_peer.sh 5 odeint data/scenes/paper-fig1.toml --precision mpfr:256 --tolerance 1e-60
 #   EULERVOP=path, BENCH_PROBLEMS=path   the programs (default build/eulervop, build/benchmarks/bench_problems)
 set -euo pipefail
+shopt -s inherit_errexit  # a failed run inside $(...) stops the script instead of timing an error
 root=$(cd "$(dirname "$0")/.." && pwd)
 eulervop=${EULERVOP:-$root/build/eulervop}
 bench=${BENCH_PROBLEMS:-$root/build/benchmarks/bench_problems}

@@ -234,6 +234,19 @@ inline bool same_point(const interval& x, const interval& y) {
   return same;
 }
 
+// x = exp(x), enclosed at 64 bits (x first rounded outward to them): for the growth factors of
+// the bounds (exp(mu h) and the like), which multiply quantities far below the state and need no
+// more than a few digits. At the working precision (~180 bits for quad) each exponential costs
+// two MPFR exponentials of that size, a few per segment and one per row.
+inline void exp_at_64_bits(interval& x) {
+  mpfi_t t;
+  mpfi_init2(t, 64);
+  mpfi_set(t, x.get());
+  mpfi_exp(t, t);
+  mpfi_set(x.get(), t);
+  mpfi_clear(t);
+}
+
 // An upper bound of max |x| over the interval, as a double rounded up (+inf if it overflows).
 inline double magnitude_up(const interval& x) {
   mpfr_t m;

@@ -86,7 +86,7 @@ row_enclosure enclose_row(const T& tau, const exact_problem& problem, const segm
   set_exact(dt, tau);
   mpfi_sub(dt.get(), dt.get(), S.a.get());
   mpfi_mul(e.get(), B.mu.get(), dt.get());
-  mpfi_exp(e.get(), e.get());
+  exp_at_64_bits(e);
   mpfi_mul(out.error.get(), e.get(), B.rho_a.get());
   mpfi_add(out.error.get(), out.error.get(), B.rsup2.get());
   mpfi_sqr(t.get(), B.R.get());

@@ -306,9 +306,20 @@ class chebyshev_picard {
       solve_result out;
       out.scale_log = std::log(std::max(scale, 1e-300));
       ++st.wide_residuals;
-      const double r_max = detail::wide_residual(matrices_, work_, hl);
+      // MPFR's first residual comes after double-double's, at about 2^-106 of the state, and its
+      // correction (in double) reaches about 2^-159: products on three limbs (188 bits) resolve
+      // that. It never ends the segment; the next residual, in full, decides.
+      const bool first = pass == 1 && matrices_.has_first_residual_matrix();
+      const double r_max = detail::wide_residual(matrices_, work_, hl, first);
       if (!std::isfinite(r_max)) return {{outcome_kind::residual_non_finite}};
       const double r_log = log_of(r_max);
+      if (first) {
+        r_prev_log = r_log;
+        if (const outcome o = detail::solve_correction(matrices_, work_, hl_d, wide_floor(out.scale_log), st); !o.ok())
+          return {o};
+        detail::add_correction(work_);
+        continue;
+      }
       // A converged residual is corrected too where that settles the segment (and it is not
       // already below the correction's floor): the corrected iterate is within about 1e-16 |r|
       // of the collocation solution, the Picard image Yn only within about |r|, up to the

@@ -63,14 +63,14 @@ inline void segment_bounds::a_priori(const exact_problem& problem, const segment
   const interval_precision_scope scope(P.bits);
   mpfi_add(C_.get(), rho_a.get(), rsup2.get());
   mpfi_mul(t_.get(), jmax.get(), P.h.get());
-  mpfi_exp(t_.get(), t_.get());
+  exp_at_64_bits(t_);
   mpfi_mul(R.get(), C_.get(), t_.get());
   mpfi_mul_ui(R.get(), R.get(), 2);
   to_upper_point(R);
   interval L = remainder_bound(problem, R);
   mpfi_add(L.get(), L.get(), jmax.get());
   mpfi_mul(L.get(), L.get(), P.h.get());
-  mpfi_exp(L.get(), L.get());
+  exp_at_64_bits(L);
   mpfi_mul(L.get(), L.get(), C_.get());
   if (!(mpfi_cmp(L.get(), R.get()) < 0)) P.fail(outcome_kind::certify_a_priori);
   to_zero_hull(R);
@@ -80,7 +80,7 @@ inline void segment_bounds::a_priori(const exact_problem& problem, const segment
   mpfi_sqr(t_.get(), R.get());
   ell = remainder_bound(problem, t_);
   mpfi_mul(t_.get(), mu.get(), P.h.get());
-  mpfi_exp(t_.get(), t_.get());
+  exp_at_64_bits(t_);
   mpfi_mul(ell.get(), ell.get(), t_.get());
   mpfi_mul(ell.get(), ell.get(), P.h.get());
 }

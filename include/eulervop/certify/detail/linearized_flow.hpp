@@ -48,7 +48,7 @@ struct linear_growth {
     if (!std::isfinite(supR)) P.fail(outcome_kind::certify_non_finite);
     mpfi_set_d(out.get(), mu);
     mpfi_mul_d(out.get(), out.get(), h);
-    mpfi_exp(out.get(), out.get());
+    exp_at_64_bits(out);
     mpfi_mul_d(out.get(), out.get(), h);
     mpfi_mul_d(out.get(), out.get(), jmax);
     mpfi_add_ui(out.get(), out.get(), 1);

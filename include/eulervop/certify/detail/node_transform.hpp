@@ -159,20 +159,17 @@ template <std::size_t L>
 void node_transform::sums_on_limbs(long shift, std::vector<interval>& c, int i) {
   constexpr std::size_t W = 2 * L + 1;
   mp_limb_t* acc = lacc_.data();
+  const auto add = [&](limbs::column_sum<L>& sum, std::size_t q, std::size_t f) {
+    limbs::product_columns<L> p;
+    limbs::columns_of<L>(&Ml_[q * L], &fl_[f * L], p);
+    sum.add(p, (Mneg_[q] ^ fneg_[f]) & 1);
+  };
   for (std::size_t k = 0; k < n1_; ++k) {
     const std::size_t folded = (k % 2) ? half_ : 0;  // minus or plus
-    std::fill(acc, acc + W, 0);
-    mp_limb_t product[2 * L];
-    for (std::size_t j = 0; j < half_; ++j) {
-      const std::size_t q = k * n1_ + j, f = folded + j;
-      limbs::product<L>(&Ml_[q * L], &fl_[f * L], product);
-      limbs::accumulate<L>(acc, product, Mneg_[q] ^ fneg_[f]);
-    }
-    if (n1_ % 2) {
-      const std::size_t q = k * n1_ + half_, f = 2 * half_;
-      limbs::product<L>(&Ml_[q * L], &fl_[f * L], product);
-      limbs::accumulate<L>(acc, product, Mneg_[q] ^ fneg_[f]);
-    }
+    limbs::column_sum<L> sum;
+    for (std::size_t j = 0; j < half_; ++j) add(sum, k * n1_ + j, folded + j);
+    if (n1_ % 2) add(sum, k * n1_ + half_, 2 * half_);
+    sum.to_limbs(acc, W);
     limbs::round_to(acc, W, ck_.get(), static_cast<long>(bits_) + shift);
     mpfi_set_fr(c[i * n1_ + k].get(), ck_.get());
   }

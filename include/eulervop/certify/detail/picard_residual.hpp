@@ -96,7 +96,7 @@ inline picard_residual::picard_residual(mpfr_prec_t bits, std::size_t degree, co
       pmid_(3 * n1_, real(bits)), outmid_(np_, real(bits)), pq_(3 * n1_, grid_integer(bits + 64)),
       acc_(np_, grid_integer(2 * bits + 128)), pair_(2 * bits + 128),
       limbs_((static_cast<std::size_t>(bits) + 64) / 64), pl_(3 * n1_ * limbs_), pneg_(3 * n1_),
-      lacc_(np_ * (2 * limbs_ + 1)), gd_(np_, 0.0),
+      lacc_(2 * limbs_ + 1), gd_(np_, 0.0),
       Pabs_(3, real(64)), Prad_(3, real(64)), product_rem_(3, real(64)), tmp_(bits), lo_(bits), hi_(bits),
       t_(interval::zero(bits)), r_scaled_(3 * nr_, interval::zero(bits)), hl_over_2k_(nr_, interval::zero(bits)) {
   for (int i = 0; i < 3; ++i) {
@@ -180,16 +180,17 @@ double picard_residual::multiply_on_limbs(const segment_polynomial& P, int i) {
   const mp_limb_t* B = &pl_[factors_[i][1] * n1_ * L];
   const mp_limb_t* A_neg = &pneg_[factors_[i][0] * n1_];
   const mp_limb_t* B_neg = &pneg_[factors_[i][1] * n1_];
-  std::fill(lacc_.begin(), lacc_.begin() + np_ * W, 0);
+  std::vector<limbs::column_sum<L>> sums(np_);
   const double rem = pairs(P, i, [&](std::size_t m, std::size_t n, std::size_t d) {
-    mp_limb_t product[2 * L];
-    limbs::product<L>(&A[m * L], &B[n * L], product);
-    const mp_limb_t negative = A_neg[m] ^ B_neg[n];
-    limbs::accumulate<L>(&lacc_[(m + n) * W], product, negative);
-    limbs::accumulate<L>(&lacc_[d * W], product, negative);
+    limbs::product_columns<L> p;
+    limbs::columns_of<L>(&A[m * L], &B[n * L], p);
+    const unsigned negative = (A_neg[m] ^ B_neg[n]) & 1;
+    sums[m + n].add(p, negative);
+    sums[d].add(p, negative);
   });
   return finish_product(i, rem, [&](std::size_t k, mpfr_ptr y, long shift) {
-    limbs::round_to(&lacc_[k * W], W, y, shift);
+    sums[k].to_limbs(lacc_.data(), W);
+    limbs::round_to(lacc_.data(), W, y, shift);
   });
 }
 

@@ -236,10 +236,12 @@ class fixed_point_matrix<quad> {
 // a two's-complement accumulator (negated where their sign is), and the sum is rounded to p
 // bits once (mpfr_set_z_2exp).
 //
-// Up to 8 limbs (p up to 508 bits) the limb loops are unrolled at compile time, with the product
-// and the accumulator in registers: a product of two entries is the sum of the limb products
-// a_i b_j 2^(64 (i + j)), and those with i + j >= L - 2 are summed column by column with the
-// carries passed up, while the lower ones, all below 2^(64 L) in the scaled units, are dropped:
+// Up to 8 limbs (p up to 508 bits) the limb loops are unrolled at compile time: a product of two
+// entries is the sum of the limb products a_i b_j 2^(64 (i + j)), and those with i + j >= L - 2
+// are added, for the whole row, into one 192-bit sum per column i + j and sign (positive and
+// negative products apart), so that no carry runs across the columns for each entry; the columns
+// are combined into the two's-complement sum once per row. The lower limb products, all below
+// 2^(64 L) in the scaled units, are dropped:
 // less than L 2^-(64 L + 62) max_k |A_rk| max|x| per column of A, far below the truncation of
 // the inputs. Wider entries are multiplied exactly by mpn_mul_n. In both cases
 //   |y_r - (A x)_r| <= 2^-(p+3) n max_k |A_rk| max|x| + ulp(y_r) / 2.
@@ -278,59 +280,18 @@ class fixed_point_matrix<mpfr_real> {
   }
 
  private:
-  using limb_pair = unsigned __int128;
-
-  // Column S of a b from limb I up: c (192 bits: c, c2) += a_I b_(S-I) + ...
-  template <std::size_t L, std::size_t S, std::size_t I>
-  [[gnu::always_inline]] static inline void column(const mp_limb_t* a, const mp_limb_t* b, limb_pair& c,
-                                                   std::uint64_t& c2) {
-    if constexpr (I < L && I <= S) {
-      if constexpr (S - I < L) {
-        const limb_pair p = static_cast<limb_pair>(a[I]) * b[S - I];
-        c += p;
-        c2 += c < p;
-      }
-      column<L, S, I + 1>(a, b, c, c2);
-    }
-  }
-  // Columns S .. 2 L - 2 of a b into out[S - lowest ...], the carry into the last limb.
-  template <std::size_t L, std::size_t S, std::size_t lowest>
-  [[gnu::always_inline]] static inline void columns(const mp_limb_t* a, const mp_limb_t* b, mp_limb_t* out,
-                                                    limb_pair c) {
-    if constexpr (S + 1 < 2 * L) {
-      std::uint64_t c2 = 0;
-      column<L, S, 0>(a, b, c, c2);
-      out[S - lowest] = static_cast<mp_limb_t>(c);
-      columns<L, S + 1, lowest>(a, b, out, (c >> 64) | (static_cast<limb_pair>(c2) << 64));
-    } else {
-      out[S - lowest] = static_cast<mp_limb_t>(c);
-    }
-  }
-
   template <std::size_t L>
   void unrolled_rows(std::size_t first_row, long x_shift, mpfr_real* y) {
     constexpr std::size_t lowest = L >= 2 ? L - 2 : 0;  // the lowest column summed
     constexpr std::size_t width = 2 * L - lowest;       // product limbs: columns lowest .. 2 L - 1
     for (std::size_t r = first_row; r < rows_; ++r) {
-      std::array<mp_limb_t, width + 1> sum{};
+      limbs::column_sum<L, lowest> sum;
       for (std::size_t k = 0; k < cols_; ++k) {
-        std::array<mp_limb_t, L> a, b;
-        std::copy_n(&a_[(r * cols_ + k) * L], L, a.begin());
-        std::copy_n(&x_[k * L], L, b.begin());
-        std::array<mp_limb_t, width> product;
-        columns<L, lowest, lowest>(a.data(), b.data(), product.data(), 0);
-        // sum += product, or -product = (product XOR m) + 1 with m all ones, sign-extended.
-        const mp_limb_t m = mp_limb_t(0) - mp_limb_t(a_negative_[r * cols_ + k] ^ x_negative_[k]);
-        limb_pair carry = m & 1;
-#pragma GCC unroll 32
-        for (std::size_t t = 0; t < width; ++t) {
-          carry += static_cast<limb_pair>(sum[t]) + (product[t] ^ m);
-          sum[t] = static_cast<mp_limb_t>(carry);
-          carry >>= 64;
-        }
-        sum[width] += m + static_cast<mp_limb_t>(carry);
+        limbs::product_columns<L, lowest> p;
+        limbs::columns_of<L, lowest>(&a_[(r * cols_ + k) * L], &x_[k * L], p);
+        sum.add(p, a_negative_[r * cols_ + k] ^ x_negative_[k]);
       }
-      std::copy(sum.begin(), sum.end(), sum_.begin());
+      sum.to_limbs(sum_.data(), width + 1);
       round_sum(width + 1, y[r], a_shift_[r] + x_shift - 64 * static_cast<long>(lowest));
     }
   }

@@ -25,6 +25,15 @@ struct picard_matrices {
   struct none {};
   using fixed_point = std::conditional_t<std::is_same_v<T, double>, none, fixed_point_matrix<T>>;
   fixed_point S_fx, Q_fx;
+  // MPFR: S on three limbs (188 bits) for a segment's first residual in T, where the products
+  // of S_fx take more limbs; empty (rows() == 0) otherwise.
+  fixed_point S_fx_first;
+  static constexpr unsigned first_residual_bits = 188;
+
+  bool has_first_residual_matrix() const {
+    if constexpr (std::is_same_v<T, mpfr_real>) return S_fx_first.rows() > 0;
+    else return false;
+  }
 
   // `product_bits`: the bits the MPFR products must resolve (the run's effective bits).
   picard_matrices(std::size_t degree, unsigned product_bits) : N(degree), n1(degree + 1), basis(degree) {
@@ -47,6 +56,7 @@ struct picard_matrices {
       const unsigned bits = std::min(significand_bits<T>(), product_bits + 24);
       S_fx = fixed_point_matrix<T>(basis.integral, n1, n1, bits);
       Q_fx = fixed_point_matrix<T>(basis.to_coeffs, N + 2, n1, bits);
+      if (bits > first_residual_bits) S_fx_first = fixed_point_matrix<T>(basis.integral, n1, n1, first_residual_bits);
     }
   }
 

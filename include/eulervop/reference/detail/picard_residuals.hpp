@@ -52,14 +52,15 @@ double evaluate_nodes(picard_workspace<P>& w, const std::array<T, P::dimension>&
 
 // The Picard map Yn = hl S F in T, and r = Yn - Yc. For wide T the product S F is exact integer
 // arithmetic rounded once (fixed_point_matrix), several times faster than the same sums in T and
-// no less accurate.
+// no less accurate. `first`: with S_fx_first where there is one (MPFR), accurate to about 2^-180
+// of the state instead of the run's bits, for a residual that only starts a correction.
 template <class P, class T = typename P::value_type>
-double wide_residual(picard_matrices<T>& m, picard_workspace<P>& w, const T& hl) {
+double wide_residual(picard_matrices<T>& m, picard_workspace<P>& w, const T& hl, bool first = false) {
   double r_max = 0;
   for (std::size_t i = 0; i < P::dimension; ++i) {
     w.Yn[i][0] = 0;
     if constexpr (!std::is_same_v<T, double>) {
-      m.S_fx.multiply(w.F[i].data(), w.Yn[i].data(), 1);
+      (first && m.has_first_residual_matrix() ? m.S_fx_first : m.S_fx).multiply(w.F[i].data(), w.Yn[i].data(), 1);
       for (std::size_t j = 1; j < w.n1; ++j) w.Yn[i][j] *= hl;
     } else {
       for (std::size_t j = 1; j < w.n1; ++j) {
