@@ -11,6 +11,7 @@
 // scene/decimal.hpp).
 #pragma once
 
+#include <eulervop/core/error_free.hpp>
 #include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/core/vec3.hpp>
 
@@ -168,6 +169,126 @@ class compiled_expression {
   T operator()(const T& t, const vec3<T>& y) const { return evaluate(t, y, nullptr); }
   // The value at time t, state y and attitude q.
   T operator()(const T& t, const vec3<T>& y, const attitude_values& q) const { return evaluate(t, y, &q); }
+
+  // The values at a segment's node times t_j = (alpha + alpha_lo) + beta s_j (t: those times as
+  // the integrator rounded them; alpha_lo: what alpha's rounding left, so that the sum is the
+  // segment's exact midpoint), of an expression of time alone, into out[j]: node by node the
+  // operations of operator(), except that a sine or cosine of an argument affine in s (t and
+  // constants joined by +, -, negation, and products or quotients by constants) is handed whole to
+  // `affine_sine(a, a_lo, b, cosine, values)`, which either fills values[j] with
+  // sin(a + a_lo + b s_j) (or the cosine) and returns true, or returns false to have it evaluated
+  // node by node. A reference integrator's torque of time thus costs one sine per segment, not one
+  // per node. a_lo follows the sums (TwoSum) and, in quad, the products and quotients by constants
+  // (Dekker's product) exactly to first order: the roundings of the midpoint and of the argument's
+  // operations are common to all of a segment's nodes, and left out they would bias the segment's
+  // torque coherently by up to half an ulp of the argument.
+  template <class AffineSine>
+  void values_at_nodes(const T& alpha, const T& alpha_lo, const T& beta, const std::vector<T>& t,
+                       AffineSine&& affine_sine, std::vector<T>& out) const {
+    using std::cos;
+    using std::exp;
+    using std::log;
+    using std::sin;
+    using std::sqrt;
+    const std::size_t n = t.size();
+    if (node_stack_.size() < values_.size()) node_stack_.resize(values_.size());
+    if (affine_.size() < values_.size()) affine_.resize(values_.size());
+    const auto elementwise = [&](std::size_t i, auto&& f) {
+      for (T& x : node_stack_[i]) f(x);
+      affine_[i].known = affine_[i].known && affine_[i].b == 0 && affine_[i].lo == 0;  // a constant stays one
+      if (affine_[i].known) affine_[i].a = node_stack_[i][0];
+    };
+    std::size_t sp = 0;
+    for (const expression_step& s : source_.code) {
+      switch (s.op) {
+        case expression_op::constant:
+        case expression_op::pi: {
+          const T& c = s.op == expression_op::pi ? pi_ : constants_[static_cast<std::size_t>(s.arg)];
+          node_stack_[sp].assign(n, c);
+          affine_[sp++] = {true, c, T(0), T(0)};
+          break;
+        }
+        case expression_op::variable:
+          if (s.arg != expression::time_slot) throw std::logic_error("values_at_nodes: the expression reads the state");
+          node_stack_[sp] = t;
+          affine_[sp++] = {true, alpha, alpha_lo, beta};
+          break;
+        case expression_op::add:
+        case expression_op::sub:
+        case expression_op::mul:
+        case expression_op::div: {
+          --sp;
+          std::vector<T>& x = node_stack_[sp - 1];
+          const std::vector<T>& y = node_stack_[sp];
+          affine_tag& p = affine_[sp - 1];
+          const affine_tag& q = affine_[sp];
+          for (std::size_t j = 0; j < n; ++j) {
+            if (s.op == expression_op::add) x[j] += y[j];
+            else if (s.op == expression_op::sub) x[j] -= y[j];
+            else if (s.op == expression_op::mul) x[j] *= y[j];
+            else x[j] /= y[j];
+          }
+          if (s.op == expression_op::add || s.op == expression_op::sub) {
+            p.known = p.known && q.known;
+            if (p.known) {
+              const bool add = s.op == expression_op::add;
+              T sum, error, scratch;
+              two_sum(p.a, add ? q.a : T(-q.a), sum, error, scratch);
+              p.lo = add ? T(p.lo + q.lo) : T(p.lo - q.lo);
+              p.lo += error;
+              p.a = sum;
+              p.b = add ? T(p.b + q.b) : T(p.b - q.b);
+            }
+          } else if (s.op == expression_op::mul && p.known && q.known && (p.b == 0 || q.b == 0)) {
+            T a, rounding;  // a + rounding = p.a q.a exactly
+            if constexpr (std::is_same_v<T, quad>) two_product(p.a, q.a, a, rounding);
+            else a = p.a * q.a, rounding = 0;
+            const T lo = p.lo * q.a + p.a * q.lo + rounding, b = p.b == 0 ? T(p.a * q.b) : T(p.b * q.a);
+            p = {true, a, lo, b};
+          } else if (s.op == expression_op::div && p.known && q.known && q.b == 0) {
+            const T a = p.a / q.a;
+            T rest = 0;  // p.a - a q.a, exactly (Sterbenz: a q.a is within an ulp of p.a)
+            if constexpr (std::is_same_v<T, quad>) {
+              T hi, lo;
+              two_product(a, q.a, hi, lo);
+              rest = (p.a - hi) - lo;
+            }
+            p = {true, a, T((p.lo + rest - a * q.lo) / q.a), T(p.b / q.a)};
+          } else {
+            p.known = false;
+          }
+          break;
+        }
+        case expression_op::neg:
+          for (T& x : node_stack_[sp - 1]) detail::negate_in_place(x);
+          if (affine_[sp - 1].known) {
+            detail::negate_in_place(affine_[sp - 1].a);
+            detail::negate_in_place(affine_[sp - 1].lo);
+            detail::negate_in_place(affine_[sp - 1].b);
+          }
+          break;
+        case expression_op::pow: elementwise(sp - 1, [&](T& x) { integer_power(x, s.arg); }); break;
+        case expression_op::sin:
+        case expression_op::cos: {
+          const bool cosine = s.op == expression_op::cos;
+          affine_tag& p = affine_[sp - 1];
+          if (p.known && p.b != 0 && affine_sine(p.a, p.lo, p.b, cosine, node_stack_[sp - 1])) {
+            p.known = false;
+            break;
+          }
+          elementwise(sp - 1, [&](T& x) {
+            s1_ = cosine ? cos(x) : sin(x);
+            std::swap(x, s1_);
+          });
+          break;
+        }
+        case expression_op::exp: elementwise(sp - 1, [&](T& x) { s1_ = exp(x); std::swap(x, s1_); }); break;
+        case expression_op::log: elementwise(sp - 1, [&](T& x) { s1_ = log(x); std::swap(x, s1_); }); break;
+        case expression_op::sqrt: elementwise(sp - 1, [&](T& x) { s1_ = sqrt(x); std::swap(x, s1_); }); break;
+      }
+    }
+    out = node_stack_[0];
+  }
 
   // The value, and in dy its partial derivatives d/dy_k (k = 0, 1, 2) at (t, y).
   T value_and_gradient(const T& t, const vec3<T>& y, vec3<T>& dy) const {
@@ -414,6 +535,13 @@ class compiled_expression {
   mutable std::vector<partials> partials_;
   mutable std::size_t count_ = 3;  // the partials in use: 3, or 7 with q
   mutable T s1_, s2_, s3_;
+  // values_at_nodes: the stack of node values, and whether each entry is a + b s (known).
+  struct affine_tag {
+    bool known = false;
+    T a, lo, b;  // a + lo + b s
+  };
+  mutable std::vector<std::vector<T>> node_stack_;
+  mutable std::vector<affine_tag> affine_;
 };
 
 }  // namespace eulervop

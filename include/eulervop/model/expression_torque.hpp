@@ -19,6 +19,7 @@
 // throws numerical_failure naming the component, the formula and the time: no NaN is integrated.
 #pragma once
 
+#include <eulervop/core/error_free.hpp>
 #include <eulervop/core/numerical_failure.hpp>
 #include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/core/vec3.hpp>
@@ -114,6 +115,48 @@ class expression_torque {
 
   vec3<T> value(const T& t, const vec3<T>& y) const {
     return integrator_torque(scene_torque(t, scene_time(t), scene_state(y), nullptr));
+  }
+
+  // The torque at a segment's node times t_j = (alpha + alpha_lo) + beta s_j (t: those times),
+  // for a law of time alone, into out[j]: compiled_expression::values_at_nodes per component,
+  // with `affine_sine` as there; the same checks and change of variables as value(). False (out
+  // untouched) where the nodes do not all lie in one interval of the pieces.
+  template <class AffineSine>
+  bool values_at_nodes(const T& alpha, const T& alpha_lo, const T& beta, const std::vector<T>& t,
+                       AffineSine&& affine_sine, std::vector<vec3<T>>& out) const
+    requires(!OfState)
+  {
+    const compiled_set& set = set_at(t.front());
+    if (&set != &set_at(t.back())) return false;
+    const std::size_t n = t.size();
+    node_times_.resize(n);
+    for (std::size_t j = 0; j < n; ++j) node_times_[j] = scene_time(t[j]);
+    // The scene's time, t / rate, with the quotient's rounding kept in a_lo (as values_at_nodes
+    // keeps its own; quad only, where the sines take a_lo).
+    const T a = vars_.identity ? alpha : T(alpha / vars_.rate), b = vars_.identity ? beta : T(beta / vars_.rate);
+    T a_lo = alpha_lo;
+    if (!vars_.identity) {
+      T rest = 0;  // alpha - a rate, exactly
+      if constexpr (std::is_same_v<T, quad>) {
+        T hi, lo;
+        two_product(a, vars_.rate, hi, lo);
+        rest = (alpha - hi) - lo;
+      }
+      a_lo = (alpha_lo + rest) / vars_.rate;
+    }
+    std::array<std::vector<T>, 3> m;
+    for (int i = 0; i < 3; ++i) {
+      const term& c = set[i];
+      if (c.constant) m[i].assign(n, c.value);
+      else c.program->values_at_nodes(a, a_lo, b, node_times_, affine_sine, m[i]);
+    }
+    out.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      vec3<T> mj;
+      for (int i = 0; i < 3; ++i) mj[i] = checked(set[i], m[i][j], i, node_times_[j], t[j]);
+      out[j] = integrator_torque(mj);
+    }
+    return true;
   }
 
   // J[i][k] += d g_i / d y_k (the chain rule through the change of variables).
@@ -240,6 +283,8 @@ class expression_torque {
   }
 
   T integrator_time(const T& ts) const { return vars_.identity ? ts : T(ts * vars_.rate); }
+
+  mutable std::vector<T> node_times_;  // values_at_nodes: the scene's times of the nodes
 
   // The value of component i, or numerical_failure when it is not finite. The message names the
   // formula as the scene wrote it, the scene's time to 15 digits (all a double states reliably:

@@ -254,7 +254,11 @@ class chebyshev_picard {
         work_.t[j] = tau + hl * (matrices_.basis.nodes[j] + 1);
         work_.t_d[j] = to_d(work_.t[j]);
       }
-    if constexpr (torque_traits<typename P::torque_type>::depends_on_time) work_.field.set_node_times(work_.t);
+    if constexpr (torque_traits<typename P::torque_type>::depends_on_time) {
+      T mid, mid_lo, scratch;  // the midpoint tau + hl exactly, as a sum of two
+      two_sum(tau, hl, mid, mid_lo, scratch);
+      work_.field.set_node_times(work_.t, mid, mid_lo, hl);
+    }
   }
 
   // The solved segment [at.tau, tau_b] (increments in work_.Yn), stored in segment_ (already

@@ -274,11 +274,15 @@ inline void picard_residual::integrate(const segment_polynomial& P, int i) {
   const interval* f = &prod_[i * np_];
   interval* out = &r[i * nr_];
   for (std::size_t k = 1; k < nr_; ++k) {
-    if (k - 1 < np_) mpfi_set(out[k].get(), f[k - 1].get()); else mpfi_set_ui(out[k].get(), 0);
-    if (k + 1 < np_) {
-      mpfi_set(t_.get(), f[k + 1].get());
-      if (k == 1) mpfi_mul_2si(t_.get(), t_.get(), -1);
-      mpfi_sub(out[k].get(), out[k].get(), t_.get());
+    if (k + 1 < np_ && k == 1) {
+      mpfi_mul_2si(t_.get(), f[2].get(), -1);
+      mpfi_sub(out[1].get(), f[0].get(), t_.get());
+    } else if (k + 1 < np_) {
+      mpfi_sub(out[k].get(), f[k - 1].get(), f[k + 1].get());
+    } else if (k - 1 < np_) {
+      mpfi_set(out[k].get(), f[k - 1].get());
+    } else {
+      mpfi_set_ui(out[k].get(), 0);
     }
     mpfi_mul(out[k].get(), out[k].get(), hl_over_2k_[k].get());
   }

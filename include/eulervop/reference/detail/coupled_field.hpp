@@ -41,7 +41,7 @@ class coupled_field {
   void rhs_at_node(std::size_t, const T& t, const std::array<T, D>& x, std::array<T, D>& dx) const {
     rhs(t, x, dx);
   }
-  void set_node_times(const std::vector<T>&) {}
+  void set_node_times(const std::vector<T>&, const T&, const T&, const T&) {}
   // Its narrow passes work in T (the formulas of q are evaluated in T only).
   static constexpr bool has_double_double_rhs = false;
   void rhs_double(double t, const std::array<double, D>& x, std::array<double, D>& dx) const {

@@ -11,11 +11,14 @@
 #include <eulervop/core/error_free.hpp>
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/model/euler_problem.hpp>
+#include <eulervop/reference/detail/node_sines.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cmath>
+#include <optional>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -63,14 +66,29 @@ class euler_field {
       rhs(t, x, dx);
     }
   }
-  void set_node_times(const std::vector<T>& t) {
+  // t: the node times, t_j = (alpha + alpha_lo) + beta s_j, alpha + alpha_lo the segment's exact
+  // midpoint. In quad, a law of time whose sines and cosines have arguments affine in t gets them
+  // from one sine per segment (node_sines.hpp); otherwise, and wherever node_sines declines, a
+  // value per node.
+  void set_node_times(const std::vector<T>& t, const T& alpha, const T& alpha_lo, const T& beta) {
     if constexpr (caches_torque) {
-      node_torque_.resize(t.size());
       node_torque_dd_.resize(t.size());
-      for (std::size_t j = 0; j < t.size(); ++j) {
-        node_torque_[j] = problem_.torque.value(t[j], vec3<T>{});
-        node_torque_dd_[j] = split(node_torque_[j]);
+      bool batched = false;
+      if constexpr (std::is_same_v<T, quad> &&
+                    requires { problem_.torque.values_at_nodes(alpha, alpha_lo, beta, t, affine_sine_type{}, node_torque_); }) {
+        if (!sines_ || sines_->degree() + 1 != t.size()) sines_.emplace(t.size() - 1);
+        batched = problem_.torque.values_at_nodes(
+            alpha, alpha_lo, beta, t,
+            [this](const T& a, const T& a_lo, const T& b, bool cosine, std::vector<T>& out) {
+              return sines_->evaluate(a, a_lo, b, cosine, out);
+            },
+            node_torque_);
       }
+      if (!batched) {
+        node_torque_.resize(t.size());
+        for (std::size_t j = 0; j < t.size(); ++j) node_torque_[j] = problem_.torque.value(t[j], vec3<T>{});
+      }
+      for (std::size_t j = 0; j < t.size(); ++j) node_torque_dd_[j] = split(node_torque_[j]);
     }
   }
 
@@ -143,12 +161,17 @@ class euler_field {
 
  private:
   static constexpr bool caches_torque = torque_traits_type::depends_on_time && !torque_traits_type::depends_on_state;
+  // The shape of the callback values_at_nodes takes (for the requires-test above).
+  struct affine_sine_type {
+    bool operator()(const T&, const T&, const T&, bool, std::vector<T>&) const { return false; }
+  };
   static std::array<double_double, 3> split(const vec3<T>& v) {
     return {to_double_double(v[0]), to_double_double(v[1]), to_double_double(v[2])};
   }
 
   P problem_;
   std::vector<vec3<T>> node_torque_;  // the torque at the nodes (a torque of time alone)
+  std::optional<node_sines> sines_;    // quad: sines of arguments affine in t, for this degree
   std::vector<std::array<double_double, 3>> node_torque_dd_;  // the same in double-double
   std::array<double_double, 3> constant_torque_dd_{};         // a constant torque in double-double
   double_torque torque_d_;

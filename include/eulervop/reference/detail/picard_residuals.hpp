@@ -72,9 +72,7 @@ double wide_residual(picard_matrices<T>& m, picard_workspace<P>& w, const T& hl,
       }
     }
     for (std::size_t j = 1; j < w.n1; ++j) {
-      w.acc = w.Yn[i][j];
-      w.acc -= w.Yc[i][j];
-      w.r[i][j] = static_cast<double>(w.acc);
+      w.r[i][j] = difference_to_double(w.Yn[i][j], w.Yc[i][j], w.acc);
       r_max = std::max(r_max, std::abs(w.r[i][j]));
     }
     w.r[i][0] = 0;
