@@ -2,6 +2,7 @@
 #pragma once
 
 #include <eulervop/core/scalar.hpp>
+#include <eulervop/reference/detail/fixed_point_matvec.hpp>
 
 #include <array>
 #include <cstddef>
@@ -41,6 +42,7 @@ struct chebyshev_segment {
 // barycentric Lagrange interpolation (second form) on the Lobatto nodes, with weights (-1)^j,
 // halved at the ends: backward stable for these nodes (Higham 2004, Berrut & Trefethen 2004) and
 // O(N) per call. At a node, and at the segment's start, the stored value is returned exactly.
+// In quad the numerators and the denominator are exact integer sums rounded once.
 template <scalar T, std::size_t D>
 std::array<T, D> evaluate_segment(const chebyshev_segment<T, D>& seg, const std::vector<T>& nodes, const T& tau) {
   std::array<T, D> out;
@@ -53,6 +55,20 @@ std::array<T, D> evaluate_segment(const chebyshev_segment<T, D>& seg, const std:
     if (detail::equal_values(s, nodes[j])) hit = j;
   if (hit < n1) {
     for (std::size_t i = 0; i < D; ++i) out[i] = seg.base[i] + (seg.base_lo[i] + seg.values[hit][i]);
+    return out;
+  }
+  if constexpr (std::is_same_v<T, quad>) {
+    // The sums as exact integer sums of the weights' and values' images, each rounded once
+    // (fixed_point_matvec.hpp): seven of a node's nine soft-float operations, and more accurate.
+    std::vector<T> w(n1);
+    for (std::size_t j = 0; j < n1; ++j) {
+      w[j] = 1 / (s - nodes[j]);
+      if (j % 2) w[j] = -w[j];
+      if (j == 0 || j + 1 == n1) w[j] /= 2;
+    }
+    const T den = detail::fixed_point_matrix<quad>::dot(w.data(), nullptr, 0, n1);
+    for (std::size_t i = 0; i < D; ++i)
+      out[i] = seg.base[i] + (seg.base_lo[i] + detail::fixed_point_matrix<quad>::dot(w.data(), &seg.values[0][i], D, n1) / den);
     return out;
   }
   T den = 0;

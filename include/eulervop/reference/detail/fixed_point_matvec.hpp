@@ -110,6 +110,39 @@ class fixed_point_matrix<quad> {
     }
   }
 
+  // sum_k a[k] b[k b_stride] for two vectors that change with every call (b null: the plain sum
+  // of a): both enter as integer images at their own scale, as x does in multiply(), and the
+  // exact sum is rounded once, with the bound of multiply() for max|a| max|b| (of the sum of a:
+  // 2^-117 n max|a| + 2 ulp).
+  static quad dot(const quad* a, const quad* b, std::size_t b_stride, std::size_t n) {
+    unsigned __int128 a_bits = 0, b_bits = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      a_bits = std::max(a_bits, magnitude_bits(a[k]));
+      if (b) b_bits = std::max(b_bits, magnitude_bits(b[k * b_stride]));
+    }
+    if (a_bits == 0 || (b && b_bits == 0)) return 0;
+    if (a_bits >= infinity_bits || b_bits >= infinity_bits) return std::numeric_limits<quad>::quiet_NaN();
+    const int a_shift = shift_for(from_bits(a_bits));
+    if (!b) {
+      __int128 sum = 0;
+      for (std::size_t k = 0; k < n; ++k) sum += scaled_integer(a[k], a_shift);
+      return rounded(sum >> 64, static_cast<std::uint64_t>(sum), -a_shift);
+    }
+    const int b_shift = shift_for(from_bits(b_bits));
+    __int128 H = 0, M = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      std::int64_t ah, bh;
+      std::uint64_t al, bl;
+      split(scaled_integer(a[k], a_shift), ah, al);
+      split(scaled_integer(b[k * b_stride], b_shift), bh, bl);
+      H += static_cast<__int128>(ah) * bh;
+      M += static_cast<__int128>(ah) * static_cast<__int128>(bl) + static_cast<__int128>(bh) * static_cast<__int128>(al) +
+           static_cast<__int128>((static_cast<unsigned __int128>(al) * bl) >> 64);
+    }
+    H += M >> 64;
+    return rounded(H, static_cast<std::uint64_t>(M), 64 - a_shift - b_shift);
+  }
+
   // v 2^shift rounded to the nearest integer, halves towards zero (as nearest_integer), from v's
   // bit pattern: a normal binary128 number is (2^112 + m) 2^(e - 16495), so this is an integer
   // shift and a comparison of the bits shifted out, with no soft-float operation (six of them
@@ -184,6 +217,11 @@ class fixed_point_matrix<quad> {
 
  private:
   static constexpr unsigned __int128 infinity_bits = static_cast<unsigned __int128>(0x7fff) << 112;
+  static quad from_bits(unsigned __int128 bits) {
+    __float128 f;
+    std::memcpy(&f, &bits, sizeof f);
+    return quad(f);
+  }
   static unsigned __int128 magnitude_bits(const quad& v) {
     unsigned __int128 bits;
     std::memcpy(&bits, &v.backend().value(), sizeof bits);
