@@ -93,35 +93,32 @@ inline void two_product(const quad& a, const quad& b, quad& p, quad& e) {
 }
 
 namespace detail {
-// The same for a binary128 number from its bit pattern, where hi and lo are normal doubles: hi
-// is the significand's leading 53 bits rounded to nearest (ties to even), lo the exact rest (at
-// most 61 bits) rounded to nearest by the integer conversion: the same two roundings as the
-// soft-float way (four soft-float operations, about 0.1 us). False elsewhere.
+// For binary128 numbers from their bit patterns: the integer conversion to double rounds to
+// nearest (ties to even) once, as the soft-float conversion does, so these give its results bit
+// for bit at the cost of integer operations. False (the caller takes the soft-float way) outside
+// the cases stated.
+
+// v = hi + lo, v normal with hi and lo normal doubles: hi is the 113-bit significand rounded to
+// 53 bits, lo the exact rest (at most 60 bits) rounded (four soft-float operations otherwise).
 inline bool binary128_to_double_double(const __float128& v, double_double& out) {
   unsigned __int128 bits;
   std::memcpy(&bits, &v, sizeof bits);
-  const int biased = static_cast<int>(bits >> 112) & 0x7fff;
-  const int e = biased - 16383;  // v = 1.f 2^e
+  const int e = (static_cast<int>(bits >> 112) & 0x7fff) - 16383;  // v = 1.f 2^e
   if (e < -900 || e > 1000) return false;  // near double's limits, zero, subnormal, inf, NaN
   const unsigned __int128 one = 1;
-  const unsigned __int128 significand = (bits & ((one << 112) - 1)) | (one << 112);  // 113 bits
-  std::uint64_t top = static_cast<std::uint64_t>(significand >> 60);  // 53 bits
-  const std::uint64_t rest = static_cast<std::uint64_t>(significand) & ((std::uint64_t{1} << 60) - 1);
-  const std::uint64_t half = std::uint64_t{1} << 59;
-  if (rest > half || (rest == half && (top & 1))) ++top;  // may reach 2^53: still exact in double
-  // v - hi = (significand - top 2^60) 2^(e - 112), |.| <= 2^59 2^(e - 112): normal in double.
-  const auto diff = static_cast<std::int64_t>(static_cast<__int128>(significand) - (static_cast<__int128>(top) << 60));
+  const unsigned __int128 significand = (bits & ((one << 112) - 1)) | (one << 112);
+  const auto hi = static_cast<double>(significand);  // an integer below 2^114: exact back
+  const auto rest = static_cast<std::int64_t>(static_cast<__int128>(significand) -
+                                              static_cast<__int128>(static_cast<unsigned __int128>(hi)));
   const double sign = (bits >> 127) ? -1.0 : 1.0;
-  out.hi = sign * std::ldexp(static_cast<double>(top), e - 52);
-  out.lo = diff == 0 ? 0.0 : sign * std::ldexp(static_cast<double>(diff), e - 112);  // +0 as v - hi gives
+  out.hi = sign * std::ldexp(hi, e - 112);
+  out.lo = rest == 0 ? 0.0 : sign * std::ldexp(static_cast<double>(rest), e - 112);  // +0 as v - hi gives
   return true;
 }
 
-// double(a - b) for binary128 a and b, from their bit patterns where a - b is exact in binary128
-// (the same sign, exponents at most one apart, the difference within 113 bits: Sterbenz's case,
-// where the residuals of the reference integrator fall) and its double is normal: the exact
-// difference rounded to nearest (ties to even) once, as the soft-float subtraction and
-// conversion do. False elsewhere.
+// double(a - b) where a - b is exact in binary128 (the same sign, exponents at most one apart,
+// the difference within 113 bits: Sterbenz's case, where the reference integrator's residuals
+// fall) and its double is normal.
 inline bool binary128_difference_to_double(const __float128& a, const __float128& b, double& out) {
   unsigned __int128 x, y;
   std::memcpy(&x, &a, sizeof x);
@@ -133,30 +130,19 @@ inline bool binary128_difference_to_double(const __float128& a, const __float128
   const int e = ex < ey ? ex : ey;  // both significands on the grid of the smaller exponent
   const auto sx = static_cast<__int128>(((x & fraction) | (one << 112)) << (ex - e));
   const auto sy = static_cast<__int128>(((y & fraction) | (one << 112)) << (ey - e));
-  __int128 d = sx - sy;  // a - b = +-d 2^(e - 16383 - 112), |d| < 2^114
+  const __int128 d = sx - sy;  // a - b = +-d 2^(e - 16383 - 112), |d| < 2^114
   if (d == 0) {
     out = 0.0;  // +0, as x - x is in round to nearest
     return true;
   }
-  const bool negative = (d < 0) != static_cast<bool>(x >> 127);
-  auto m = static_cast<unsigned __int128>(d < 0 ? -d : d);
+  const auto m = static_cast<unsigned __int128>(d < 0 ? -d : d);
   if (m >> 113) return false;  // not exact in binary128: rounded there first
   const int lead = 127 - (static_cast<std::uint64_t>(m >> 64) ? __builtin_clzll(static_cast<std::uint64_t>(m >> 64))
                                                                 : 64 + __builtin_clzll(static_cast<std::uint64_t>(m)));
-  int shift = lead - 52;  // bits below the 53 kept
-  std::uint64_t top;
-  if (shift > 0) {
-    top = static_cast<std::uint64_t>(m >> shift);
-    const unsigned __int128 rest = m & ((one << shift) - 1), half = one << (shift - 1);
-    if (rest > half || (rest == half && (top & 1))) ++top;
-  } else {
-    top = static_cast<std::uint64_t>(m);
-    shift = 0;
-  }
-  const int exponent = e - 16383 - 112 + shift;  // value = top 2^exponent, top <= 2^53
-  if (exponent + 53 > 1023 || exponent + lead - shift < -1022) return false;
-  out = std::ldexp(static_cast<double>(top), exponent);
-  if (negative) out = -out;
+  const int scale = e - 16383 - 112;
+  if (scale + lead + 1 > 1023 || scale + lead < -1022) return false;  // the double would not be normal
+  out = std::ldexp(static_cast<double>(m), scale);
+  if ((d < 0) != static_cast<bool>(x >> 127)) out = -out;
   return true;
 }
 }  // namespace detail

@@ -241,8 +241,12 @@ class compiled_expression {
             }
           } else if (s.op == expression_op::mul && p.known && q.known && (p.b == 0 || q.b == 0)) {
             T a, rounding;  // a + rounding = p.a q.a exactly
-            if constexpr (std::is_same_v<T, quad>) two_product(p.a, q.a, a, rounding);
-            else a = p.a * q.a, rounding = 0;
+            if constexpr (std::is_same_v<T, quad>) {
+              two_product(p.a, q.a, a, rounding);
+            } else {
+              a = p.a * q.a;
+              rounding = 0;
+            }
             const T lo = p.lo * q.a + p.a * q.lo + rounding, b = p.b == 0 ? T(p.a * q.b) : T(p.b * q.a);
             p = {true, a, lo, b};
           } else if (s.op == expression_op::div && p.known && q.known && q.b == 0) {

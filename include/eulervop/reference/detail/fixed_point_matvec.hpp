@@ -98,12 +98,7 @@ class fixed_point_matrix<quad> {
       const std::int64_t* ah = &hi_[r * cols_];
       const std::uint64_t* al = &lo_[r * cols_];
       __int128 H = 0, M = 0;
-      for (std::size_t k = 0; k < cols_; ++k) {
-        H += static_cast<__int128>(ah[k]) * xh_[k];
-        M += static_cast<__int128>(ah[k]) * static_cast<__int128>(xl_[k]) +
-             static_cast<__int128>(xh_[k]) * static_cast<__int128>(al[k]) +
-             static_cast<__int128>((static_cast<unsigned __int128>(al[k]) * xl_[k]) >> 64);
-      }
+      for (std::size_t k = 0; k < cols_; ++k) add_product(ah[k], al[k], xh_[k], xl_[k], H, M);
       // Carry the middle sum's high half into H: y = (H 2^64 + m_low) 2^(64 - a_shift - x_shift).
       H += M >> 64;
       y[r] = rounded(H, static_cast<std::uint64_t>(M), 64 - a_shift_[r] - x_shift);
@@ -135,9 +130,7 @@ class fixed_point_matrix<quad> {
       std::uint64_t al, bl;
       split(scaled_integer(a[k], a_shift), ah, al);
       split(scaled_integer(b[k * b_stride], b_shift), bh, bl);
-      H += static_cast<__int128>(ah) * bh;
-      M += static_cast<__int128>(ah) * static_cast<__int128>(bl) + static_cast<__int128>(bh) * static_cast<__int128>(al) +
-           static_cast<__int128>((static_cast<unsigned __int128>(al) * bl) >> 64);
+      add_product(ah, al, bh, bl, H, M);
     }
     H += M >> 64;
     return rounded(H, static_cast<std::uint64_t>(M), 64 - a_shift - b_shift);
@@ -217,6 +210,14 @@ class fixed_point_matrix<quad> {
 
  private:
   static constexpr unsigned __int128 infinity_bits = static_cast<unsigned __int128>(0x7fff) << 112;
+  // H 2^128 + M 2^64 += (ah 2^64 + al)(bh 2^64 + bl), the low half of al bl dropped (below
+  // 2^64 in these units).
+  [[gnu::always_inline]] static void add_product(std::int64_t ah, std::uint64_t al, std::int64_t bh, std::uint64_t bl,
+                                                 __int128& H, __int128& M) {
+    H += static_cast<__int128>(ah) * bh;
+    M += static_cast<__int128>(ah) * static_cast<__int128>(bl) + static_cast<__int128>(bh) * static_cast<__int128>(al) +
+         static_cast<__int128>((static_cast<unsigned __int128>(al) * bl) >> 64);
+  }
   static quad from_bits(unsigned __int128 bits) {
     __float128 f;
     std::memcpy(&f, &bits, sizeof f);

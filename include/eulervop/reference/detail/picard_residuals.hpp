@@ -187,9 +187,7 @@ double updated_difference(picard_workspace<P>& w, int i) {
   for (std::size_t j = 1; j < w.n1; ++j) {
     w.add_double(w.Yn[i][j], w.Y_hi[j]);
     w.add_double(w.Yn[i][j], w.Y_lo[j]);
-    w.acc = w.Yn[i][j];
-    w.acc -= w.Yc[i][j];
-    w.r[i][j] = static_cast<double>(w.acc);
+    w.r[i][j] = difference_to_double(w.Yn[i][j], w.Yc[i][j], w.acc);
     r_max = std::max(r_max, std::abs(w.r[i][j]));
   }
   return r_max;
