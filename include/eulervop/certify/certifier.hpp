@@ -61,7 +61,8 @@ namespace eulervop {
 class prepared_segment {
  public:
   prepared_segment(mpfr_prec_t bits, std::size_t degree, const detail::node_transform& transform,
-                const exact_problem& problem, const detail::jacobian_rows& rows);
+                   std::shared_ptr<const detail::integral_term_nodes> nodes, const exact_problem& problem,
+                   const detail::jacobian_rows& rows);
 
   // Fails (numerical_failure, certification_failed) on a value that is not finite.
   template <scalar T>
@@ -80,10 +81,12 @@ class prepared_segment {
   detail::integrated_products sums_;
 };
 
-inline prepared_segment::prepared_segment(mpfr_prec_t bits, std::size_t degree, const detail::node_transform& transform,
-                                    const exact_problem& problem, const detail::jacobian_rows& rows)
-    : P(bits, degree), residual(bits, degree, problem.torque.G, unit_coefficients(problem)), bounds(bits), phi(bits),
-      u(bits, degree), problem_(problem), rows_(rows), transform_(transform) {}
+inline prepared_segment::prepared_segment(mpfr_prec_t bits, std::size_t degree,
+                                          const detail::node_transform& transform,
+                                          std::shared_ptr<const detail::integral_term_nodes> nodes,
+                                          const exact_problem& problem, const detail::jacobian_rows& rows)
+    : P(bits, degree), residual(bits, degree, problem.torque.G, unit_coefficients(problem)),
+      u(std::move(nodes)), problem_(problem), rows_(rows), transform_(transform) {}
 
 template <scalar T>
 void prepared_segment::prepare(const chebyshev_segment<T>& seg) {
@@ -92,10 +95,9 @@ void prepared_segment::prepare(const chebyshev_segment<T>& seg) {
   P.enclose(transform_);
   residual.compute(P);
   bounds.linear(problem_, P, residual.rsup);
-  residual.to_doubles();
   const detail::linear_growth growth = bounds.growth(P);
   phi.compute(P, rows_, growth, sums_);
-  u.compute(P, residual, rows_, growth, sums_);
+  u.compute(P, residual, phi, rows_, growth, sums_);
 }
 
 class certifier {
@@ -123,7 +125,7 @@ class certifier {
   // prepared check, in order. advance returns the previous segment's check, for reuse (null at
   // the first). Rows then refer to the latest advanced segment.
   std::unique_ptr<prepared_segment> make_segment() const {
-    return std::make_unique<prepared_segment>(bits_, degree_, transform_, problem_, jacobian_);
+    return std::make_unique<prepared_segment>(bits_, degree_, transform_, integral_nodes_, problem_, jacobian_);
   }
   std::unique_ptr<prepared_segment> advance(std::unique_ptr<prepared_segment> prepared);
 
@@ -158,7 +160,10 @@ class certifier {
   exact_problem problem_;
   detail::jacobian_rows jacobian_;
   detail::node_transform transform_;  // copied into every check
+  std::shared_ptr<const detail::integral_term_nodes> integral_nodes_;  // shared by every check
   std::unique_ptr<prepared_segment> current_, spare_;
+  // The box and the ball that widens it: errors far below the state (linearized_flow.hpp).
+  static constexpr mpfr_prec_t box_bits = detail::error_bits;
   detail::lohner_box box_;
   // The joins: P(b) of the previous segment and b, exactly.
   std::vector<interval> prev_end_;
@@ -172,8 +177,9 @@ template <class Torque>
 certifier::certifier(mpfr_prec_t bits, std::size_t degree, const euler_problem<interval, Torque>& problem)
     : bits_(bits), degree_(degree), problem_(with_constant_torque(problem)),
       jacobian_(detail::jacobian_pattern(unit_coefficients(problem_))), transform_(bits, degree),
-      box_(bits), prev_end_(3, interval::zero(bits)), prev_b_(interval::zero(bits)), ball_(interval::zero(bits)),
-      scratch_(interval::zero(bits)), max_radius_(interval::zero(bits)) {}
+      integral_nodes_(std::make_shared<const detail::integral_term_nodes>(degree)), box_(box_bits),
+      prev_end_(3, interval::zero(bits)), prev_b_(interval::zero(bits)), ball_(interval::zero(box_bits)),
+      scratch_(interval::zero(box_bits)), max_radius_(interval::zero(bits)) {}
 
 // The problem with its torque as the one vector it is.
 template <class Torque>
@@ -200,7 +206,7 @@ inline std::unique_ptr<prepared_segment> certifier::advance(std::unique_ptr<prep
   } else {
     for (int i = 0; i < 3; ++i) {
       mpfi_sub(prev_end_[i].get(), prev_end_[i].get(), P.X0[i].get());
-      mpfi_sub(prev_end_[i].get(), prev_end_[i].get(), P.v[i * P.n1].get());
+      mpfi_sub(prev_end_[i].get(), prev_end_[i].get(), P.v_first[i].get());
     }
     box_.join(prev_end_);
   }
@@ -212,7 +218,7 @@ inline std::unique_ptr<prepared_segment> certifier::advance(std::unique_ptr<prep
   mpfi_add(ball_.get(), ball_.get(), c.u.eps.get());
   detail::to_symmetric_hull(ball_, scratch_);
   box_.step(c.phi.Phi1, c.residual.r1, c.u.u1, ball_, P);
-  for (int i = 0; i < 3; ++i) mpfi_add(prev_end_[i].get(), P.X0[i].get(), P.v[i * P.n1 + P.N].get());
+  for (int i = 0; i < 3; ++i) mpfi_add(prev_end_[i].get(), P.X0[i].get(), P.v_last[i].get());
   mpfi_add(prev_b_.get(), P.a.get(), P.h.get());
   started_ = true;
   std::swap(current_, prepared);

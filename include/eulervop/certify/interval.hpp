@@ -155,32 +155,50 @@ inline void set_exact_rounded(interval& out, __float128 x) {
 
 // A binary128 number from its fields (IEEE 754-2008, 3.4): sign, a 15-bit biased exponent and a
 // 112-bit fraction, so |x| = (2^112 + fraction) 2^(e - 16383 - 112), or
-// fraction 2^(1 - 16383 - 112) for e = 0. The 113-bit integer enters MPFR in two exact steps (high 49 bits, shifted, plus the
-// low 64); with at least 113 bits nothing rounds, and no temporary is allocated (the reference
-// stores thousands of these per second). Fewer bits, infinities and NaN take
-// set_exact_rounded.
-inline void set_exact_binary128(interval& out, __float128 x) {
+// fraction 2^(1 - 16383 - 112) for e = 0. The 113-bit integer enters MPFR in one exact step, read
+// in place as two limbs, and no temporary is allocated (the reference stores thousands of these
+// per second). False, and `out` untouched, for infinities, NaN, or fewer than 113 bits.
+inline bool set_exact_binary128(mpfr_ptr out, __float128 x) {
   static_assert(std::endian::native == std::endian::little, "binary128 fields read as little-endian words");
+  static_assert(sizeof(mp_limb_t) == 8, "two 64-bit limbs");
   std::uint64_t w[2];
   std::memcpy(w, &x, sizeof w);
   const unsigned biased = static_cast<unsigned>(w[1] >> 48) & 0x7fffu;
-  if (out.bits() < 113 || biased == 0x7fffu) {
+  if (mpfr_get_prec(out) < 113 || biased == 0x7fffu) return false;
+  mp_limb_t significand[2] = {static_cast<mp_limb_t>(w[0]), static_cast<mp_limb_t>(w[1] & ((std::uint64_t{1} << 48) - 1))};
+  long exponent = 1 - 16383 - 112;
+  if (biased != 0) {
+    significand[1] |= mp_limb_t{1} << 48;
+    exponent = static_cast<long>(biased) - 16383 - 112;
+  }
+  const mp_size_t size = significand[1] != 0 ? 2 : (significand[0] != 0 ? 1 : 0);
+  mpz_t view;
+  mpfr_set_z_2exp(out, mpz_roinit_n(view, significand, (w[1] >> 63) ? -size : size), exponent, MPFR_RNDN);
+  if (size == 0 && (w[1] >> 63)) mpfr_neg(out, out, MPFR_RNDN);  // -0
+  return true;
+}
+
+inline void set_exact_binary128(interval& out, __float128 x) {
+  if (!set_exact_binary128(&out.get()->left, x)) {
     set_exact_rounded(out, x);
     return;
   }
-  std::uint64_t high = w[1] & ((std::uint64_t{1} << 48) - 1);
-  long exponent = 1 - 16383 - 112;
-  if (biased != 0) {
-    high |= std::uint64_t{1} << 48;
-    exponent = static_cast<long>(biased) - 16383 - 112;
+  mpfr_set(&out.get()->right, &out.get()->left, MPFR_RNDN);
+}
+
+// The exact value of x (quad, MPFR or double) as an MPFR number of at least its bits (quad: 113);
+// false for one that is not finite or has more bits.
+template <scalar T>
+[[nodiscard]] bool set_exact(mpfr_ptr out, const T& x) {
+  bool exact = false;
+  if constexpr (std::is_same_v<T, double>) {
+    exact = mpfr_set_d(out, x, MPFR_RNDN) == 0;
+  } else if constexpr (std::is_same_v<T, mpfr_real>) {
+    exact = mpfr_set(out, x.backend().data(), MPFR_RNDN) == 0;
+  } else {
+    exact = set_exact_binary128(out, x.backend().value());
   }
-  mpfr_ptr left = &out.get()->left;
-  mpfr_set_ui(left, static_cast<unsigned long>(high), MPFR_RNDN);
-  mpfr_mul_2ui(left, left, 64, MPFR_RNDN);
-  mpfr_add_ui(left, left, static_cast<unsigned long>(w[0]), MPFR_RNDN);
-  mpfr_mul_2si(left, left, exponent, MPFR_RNDN);
-  if (w[1] >> 63) mpfr_neg(left, left, MPFR_RNDN);
-  mpfr_set(&out.get()->right, left, MPFR_RNDN);
+  return exact && mpfr_number_p(out);
 }
 
 // The exact value of x (quad or MPFR) as a point interval. Exact when `out` has at least the

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <eulervop/certify/detail/a_priori_bound.hpp>
+#include <eulervop/certify/detail/real.hpp>
 #include <eulervop/certify/detail/segment_polynomial.hpp>
 #include <eulervop/certify/exact_problem.hpp>
 #include <eulervop/certify/interval.hpp>
@@ -13,6 +14,8 @@
 #include <mpfi.h>
 
 #include <array>
+#include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -47,6 +50,90 @@ inline interval row_radius(const row_enclosure& at, const std::array<std::string
 
 namespace detail {
 
+// P from its coefficients on their grid (segment_polynomial::grid) at s, an enclosure of
+// dt / hl - 1 within [-1, 1]: with s^ its left end (|s - s^| <= d, its width), t_k = T_k(s^) by the
+// three-term recurrence at the working precision (one rounding each, a fused multiply-subtract)
+// and e_k >= |t_k - T_k(s)|:
+//   e_0 = 0, e_1 = d, e_k = 2 |s^| e_(k-1) + e_(k-2) + 2 d + 2^-bits |t_k|   (|T_(k-1)(s)| <= 1),
+// in double rounded up. Then with q_k t_k summed as one exact integer per component (t_k on the
+// grid 2^-bits, toward zero: one step more) and rounded once to nearest,
+//   |P(s) - sum q_k t_k| <= sum |p_k - q_k| |T_k| + sum |q_k| |T_k - t_k|
+//                        <= rad + sum cmag_k (e_k + 2^-bits),
+// plus the rounding's 2^-bits of the result. e_k grows like 2.4^k but multiplies p_k, which
+// decay faster (as below). False where a t_k needs more than L limbs, or where 2^-bits is below
+// double's range.
+template <std::size_t L>
+bool polynomial_on_grid(const segment_polynomial& S, const interval& s, std::vector<interval>& P) {
+  constexpr std::size_t W = 2 * L + 1;
+  const std::size_t n1 = S.n1;
+  const mpfr_prec_t bits = S.bits;
+  if (bits > 1000) return false;
+  const double unit = std::ldexp(1.0, -static_cast<int>(bits));
+  std::vector<mp_limb_t> t(n1 * L), t_negative(n1);
+  std::vector<double> deviation(n1);
+  real w(64), two_s(bits), prev(bits), cur(bits), next(bits);
+  mpfr_srcptr s_hat = &s.get()->left;
+  width_up(w, s);
+  const double d = mpfr_get_d(w.get(), MPFR_RNDU);
+  const double s_abs = std::abs(mpfr_get_d(s_hat, MPFR_RNDA));
+  mpfr_mul_2ui(two_s.get(), s_hat, 1, MPFR_RNDN);  // exact
+  double e_prev = 0, e_cur = d;
+  mpfr_set_ui(prev.get(), 1, MPFR_RNDN);
+  mpfr_set(cur.get(), s_hat, MPFR_RNDN);
+  for (std::size_t k = 0; k < n1; ++k) {
+    mpfr_srcptr tk = prev.get();
+    double ek = e_prev;
+    if (k == 1) {
+      tk = cur.get();
+      ek = e_cur;
+    } else if (k >= 2) {
+      mpfr_fms(next.get(), two_s.get(), cur.get(), prev.get(), MPFR_RNDN);
+      const double e_next =
+          (2 * s_abs * e_cur + e_prev + 2 * d + unit * std::abs(mpfr_get_d(next.get(), MPFR_RNDA))) * (1 + 1e-12);
+      mpfr_swap(prev.get(), cur.get());
+      mpfr_swap(cur.get(), next.get());
+      e_prev = e_cur;
+      e_cur = e_next;
+      tk = cur.get();
+      ek = e_cur;
+    }
+    if (!limbs::load_truncated(tk, bits, L, &t[k * L], t_negative[k])) return false;
+    deviation[k] = (ek + unit) * (1 + 1e-12);
+  }
+  mpfr_set_d(w.get(), unit, MPFR_RNDU);
+  mpfr_ptr step = w.get();
+  mp_limb_t acc[W];
+  real y(bits), e(64);
+  interval spread = interval::zero(64);
+  for (int i = 0; i < 3; ++i) {
+    limbs::column_sum<L> sum;
+    double weighted = 0;
+    for (std::size_t k = 0; k < n1; ++k) {
+      const std::size_t q = i * n1 + k;
+      limbs::product_columns<L> product;
+      limbs::columns_of<L>(&S.grid.q[q * L], &t[k * L], product);
+      sum.add(product, (S.grid.negative[q] ^ t_negative[k]) & 1);
+      weighted += S.cmag[q] * deviation[k];
+    }
+    sum.to_limbs(acc, W);
+    limbs::round_to(acc, W, y.get(), S.grid.shift + static_cast<long>(bits));
+    // The bound: rad + the weighted deviations (their products may underflow: n1 denorm_min more)
+    // + 2^-bits |y|, rounded up.
+    mpfr_abs(e.get(), y.get(), MPFR_RNDU);
+    mpfr_mul(e.get(), e.get(), step, MPFR_RNDU);
+    mpfr_add(e.get(), e.get(), S.grid.rad[i].get(), MPFR_RNDU);
+    mpfr_add_d(e.get(), e.get(),
+               (weighted + static_cast<double>(n1) * std::numeric_limits<double>::denorm_min()) * (1 + 1e-12),
+               MPFR_RNDU);
+    mpfi_interv_fr(spread.get(), e.get(), e.get());
+    mpfi_neg(spread.get(), spread.get());
+    mpfi_put_fr(spread.get(), e.get());  // [-e, e]
+    mpfi_set_fr(P[i].get(), y.get());
+    mpfi_add(P[i].get(), P[i].get(), spread.get());
+  }
+  return true;
+}
+
 // P = sum p_k T_k(s) at s = dt / hl - 1, summed directly: T_k from the three-term recurrence,
 // each clipped to [-1, 1] (where the exact T_k(s) lies). The recurrence's widths grow like
 // 2.4^k, but they multiply p_k, which decay faster; Clenshaw's algorithm instead multiplies the
@@ -57,6 +144,10 @@ inline void polynomial_at(const segment_polynomial& S, const interval& dt, std::
   mpfi_sub_ui(s.get(), s.get(), 1);
   mpfi_interv_si(unit.get(), -1, 1);
   mpfi_intersect(s.get(), s.get(), unit.get());  // the exact s lies in [-1, 1]
+  bool done = false;
+  if (S.grid.on_limbs)
+    limbs::with_limb_count(S.grid.limbs, [&](auto L) { done = polynomial_on_grid<decltype(L)::value>(S, s, P); });
+  if (done) return;
   std::vector<interval> Tk(S.n1, interval::zero(S.bits));
   mpfi_set_ui(Tk[0].get(), 1);
   if (S.n1 > 1) mpfi_set(Tk[1].get(), s.get());

@@ -6,6 +6,7 @@
 #include <gmp.h>
 #include <mpfr.h>
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
@@ -117,6 +118,92 @@ inline bool load(mpz_srcptr z, std::size_t L, mp_limb_t* out, mp_limb_t& negativ
   if (size > L) return false;
   for (std::size_t i = 0; i < L; ++i) out[i] = i < size ? mpz_getlimbn(z, static_cast<mp_size_t>(i)) : 0;
   negative = mpz_sgn(z) < 0 ? ~mp_limb_t(0) : 0;
+  return true;
+}
+
+// The magnitude of trunc(x 2^shift) into out[0, L) and x's sign as a mask, read from x's
+// significand in place (MPFR's custom interface): no integer is allocated, as mpfr_get_z_2exp
+// would. False if x is not finite or the result needs more than L limbs.
+inline bool load_truncated(mpfr_srcptr x, long shift, std::size_t L, mp_limb_t* out, mp_limb_t& negative) {
+  for (std::size_t i = 0; i < L; ++i) out[i] = 0;
+  negative = 0;
+  if (mpfr_zero_p(x)) return true;
+  if (!mpfr_regular_p(x)) return false;
+  negative = mpfr_signbit(x) ? ~mp_limb_t(0) : 0;
+  const auto* m = static_cast<const mp_limb_t*>(mpfr_custom_get_significand(x));
+  const std::size_t nx = (static_cast<std::size_t>(mpfr_get_prec(x)) + 63) / 64;
+  // |x| = M 2^(e - 64 nx), M the nx limbs as an integer, its top bit set (bits below the
+  // precision are zero).
+  const long up = static_cast<long>(mpfr_get_exp(x)) - 64 * static_cast<long>(nx) + shift;
+  if (up >= 0) {
+    const auto words = static_cast<std::size_t>(up / 64);
+    const auto bits = static_cast<unsigned>(up % 64);
+    if (words + nx > L) return false;
+    mp_limb_t carry = 0;
+    if (bits)
+      carry = mpn_lshift(out + words, m, static_cast<mp_size_t>(nx), bits);
+    else
+      for (std::size_t i = 0; i < nx; ++i) out[words + i] = m[i];
+    if (carry) {
+      if (words + nx >= L) return false;
+      out[words + nx] = carry;
+    }
+    return true;
+  }
+  const auto words = static_cast<std::size_t>(-up / 64);
+  const auto bits = static_cast<unsigned>(-up % 64);
+  if (words >= nx) return true;  // below one step
+  const std::size_t n = nx - words;  // the top limb stays nonzero
+  if (n > L) return false;
+  if (bits)
+    mpn_rshift(out, m + words, static_cast<mp_size_t>(n), bits);
+  else
+    for (std::size_t i = 0; i < n; ++i) out[i] = m[words + i];
+  return true;
+}
+
+// out = a + b or a - b (`subtract`) for sign-magnitude numbers of L limbs (load's form); the
+// result must fit in L limbs.
+inline void signed_sum(const mp_limb_t* a, mp_limb_t a_negative, const mp_limb_t* b, mp_limb_t b_negative,
+                       bool subtract, std::size_t L, mp_limb_t* out, mp_limb_t& negative) {
+  if (subtract) b_negative = ~b_negative;
+  const auto n = static_cast<mp_size_t>(L);
+  if ((a_negative & 1) == (b_negative & 1)) {
+    mpn_add_n(out, a, b, n);
+    negative = a_negative;
+  } else if (mpn_cmp(a, b, n) >= 0) {
+    mpn_sub_n(out, a, b, n);
+    negative = a_negative;
+  } else {
+    mpn_sub_n(out, b, a, n);
+    negative = b_negative;
+  }
+}
+
+// acc += d 2^shift, acc a two's-complement integer of n limbs, where d 2^shift is an integer
+// that fits beside acc's sign limb; false (acc unchanged) for a d that is not finite, has bits
+// below the grid or is too large.
+inline bool add_double(mp_limb_t* acc, std::size_t n, double d, long shift) {
+  if (d == 0) return true;
+  if (!std::isfinite(d)) return false;
+  int e = 0;
+  const double m = std::frexp(std::abs(d), &e);  // |d| = m 2^e, m in [1/2, 1)
+  auto M = static_cast<std::uint64_t>(std::ldexp(m, 53));  // |d| = M 2^(e - 53), exactly
+  long up = static_cast<long>(e) - 53 + shift;
+  if (up < 0) {
+    if (up <= -64 || (M & ((std::uint64_t{1} << -up) - 1)) != 0) return false;
+    M >>= -up;
+    up = 0;
+  }
+  const auto words = static_cast<std::size_t>(up / 64);
+  const auto bits = static_cast<unsigned>(up % 64);
+  if (words + 2 >= n) return false;
+  const mp_limb_t term[2] = {static_cast<mp_limb_t>(M << bits), bits ? static_cast<mp_limb_t>(M >> (64 - bits)) : 0};
+  const auto size = static_cast<mp_size_t>(n - words);
+  if (d > 0)
+    mpn_add(acc + words, acc + words, size, term, 2);
+  else
+    mpn_sub(acc + words, acc + words, size, term, 2);
   return true;
 }
 

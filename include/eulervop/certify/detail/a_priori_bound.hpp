@@ -19,10 +19,12 @@
 
 namespace eulervop::detail {
 
+// At error_bits (linearized_flow.hpp): bounds of magnitudes and of errors far below the state.
 struct segment_bounds {
-  explicit segment_bounds(mpfr_prec_t bits)
-      : rho_a(interval::zero(bits)), mu(interval::zero(bits)), jmax(interval::zero(bits)), rsup2(interval::zero(bits)),
-        R(interval::zero(bits)), ell(interval::zero(bits)), C_(interval::zero(bits)), t_(interval::zero(bits)) {}
+  segment_bounds()
+      : rho_a(interval::zero(error_bits)), mu(interval::zero(error_bits)), jmax(interval::zero(error_bits)),
+        rsup2(interval::zero(error_bits)), R(interval::zero(error_bits)), ell(interval::zero(error_bits)),
+        C_(interval::zero(error_bits)), t_(interval::zero(error_bits)) {}
 
   // mu, jmax and rsup2 for P with the residual bounds `rsup`: they do not depend on e(a).
   void linear(const exact_problem& problem, const segment_polynomial& P, const std::vector<interval>& rsup);
@@ -48,7 +50,7 @@ struct segment_bounds {
 
 inline void segment_bounds::linear(const exact_problem& problem, const segment_polynomial& P,
                                    const std::vector<interval>& rsup) {
-  const interval_precision_scope scope(P.bits);
+  const interval_precision_scope scope(error_bits);
   mu = log_norm_bound(problem, P.psup);
   jmax = jacobian_norm_bound(problem, P.psup);
   mpfi_set_ui(rsup2.get(), 0);
@@ -60,7 +62,7 @@ inline void segment_bounds::linear(const exact_problem& problem, const segment_p
 }
 
 inline void segment_bounds::a_priori(const exact_problem& problem, const segment_polynomial& P) {
-  const interval_precision_scope scope(P.bits);
+  const interval_precision_scope scope(error_bits);
   mpfi_add(C_.get(), rho_a.get(), rsup2.get());
   mpfi_mul(t_.get(), jmax.get(), P.h.get());
   exp_at_64_bits(t_);

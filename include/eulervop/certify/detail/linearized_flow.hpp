@@ -16,6 +16,11 @@
 
 namespace eulervop::detail {
 
+// The precision of the enclosures that leave the linear parts for the error box: r(b), Phi(b),
+// u(b) and their error bounds. They are errors far below the state, or factors of them, whose
+// last digits do not matter; what cancels is computed before, at the working precision.
+inline constexpr mpfr_prec_t error_bits = 64;
+
 // J_ik = coefficient * P_c.
 struct jacobian_entry {
   int k, c;

@@ -1,9 +1,9 @@
 // The error at a segment's start, e(a) = y(a) - P(a), kept as a parallelepiped B [x]: B a point
 // matrix (doubles), x a box (docs/certified.md, "How", step 5; Lohner 1987, Nedialkov & Jackson
 // 2001). Across a segment, e(b) lies in Phi B x + r(b) + u(b) + a ball; the new B is the Q of a
-// QR factorisation of mid(Phi B) (columns by decreasing size), its inverse enclosed from the
-// computed Q. The signed r(b) + u(b) moves the box, only the ball widens it, so the bound grows
-// like the flow's sensitivity, not like exp(int mu).
+// QR factorisation of mid(Phi B) (columns by decreasing length times the box's width along them),
+// its inverse enclosed from the computed Q. The signed r(b) + u(b) moves the box, only the ball
+// widens it, so the bound grows like the flow's sensitivity, not like exp(int mu).
 #pragma once
 
 #include <eulervop/certify/detail/segment_polynomial.hpp>
@@ -20,6 +20,8 @@ namespace eulervop::detail {
 
 class lohner_box {
  public:
+  // `bits`: the box's own precision. Its numbers are tiny errors, whose enclosures need only a
+  // few digits; what cancels (the joins, r(b) and u(b)) arrives enclosed at the working precision.
   explicit lohner_box(mpfr_prec_t bits)
       : x_(3, interval::zero(bits)), Qinv_(9, interval::zero(bits)), A_(9, interval::zero(bits)),
         C_(9, interval::zero(bits)), local_(3, interval::zero(bits)), next_(3, interval::zero(bits)),
@@ -50,9 +52,11 @@ class lohner_box {
 
 inline void lohner_box::start(const vec3<interval>& Omega0, const segment_polynomial& P) {
   B_ = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  interval e = interval::zero(P.bits);  // the difference cancels: at P's bits, then rounded outward
   for (int i = 0; i < 3; ++i) {
-    mpfi_sub(x_[i].get(), Omega0[i].get(), P.X0[i].get());
-    mpfi_sub(x_[i].get(), x_[i].get(), P.v[i * P.n1].get());
+    mpfi_sub(e.get(), Omega0[i].get(), P.X0[i].get());
+    mpfi_sub(e.get(), e.get(), P.v_first[i].get());
+    mpfi_set(x_[i].get(), e.get());
   }
 }
 
@@ -112,7 +116,8 @@ inline void lohner_box::orthogonal_factor(double Q[9]) {
   double weight[3];
   for (int j = 0; j < 3; ++j) {
     const double len = std::hypot(Am[j], Am[3 + j], Am[6 + j]);
-    weight[j] = len * magnitude_up(x_[j]);
+    // The width, not the magnitude: only the widths wrap (the centres move by the point part).
+    weight[j] = len * (mpfr_get_d(&x_[j].get()->right, MPFR_RNDU) - mpfr_get_d(&x_[j].get()->left, MPFR_RNDD));
   }
   std::sort(order.begin(), order.end(), [&](int p, int q) { return weight[p] > weight[q]; });
   auto orthogonalize = [&](double v[3], int c) {

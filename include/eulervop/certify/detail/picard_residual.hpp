@@ -1,16 +1,22 @@
 // The Picard residual of a segment's polynomial (docs/certified.md, "How", step 1):
 //   r(tau) = P(a) + int_a^tau f(P) - P(tau),   f(y)_i = a_i y_j y_k + G_i,
-// (j, k) = euler_problem::quadratic_pair[i], a polynomial of degree 2N + 1 with enclosed Chebyshev
-// coefficients (f is quadratic, and the torque constant), so that sup |r| <= sum |r_k|.
+// (j, k) = euler_problem::quadratic_pair[i], a polynomial of degree 2N + 1 (f is quadratic, and the
+// torque constant), so that sup |r| <= sum |r_k|.
 //
 // The products use T_m T_n = (T_{m+n} + T_{|m-n|}) / 2. Those of the large coefficients run on
-// the midpoints put on a grid, as exact integers (grid_integer.hpp), those far below the
-// reference's precision in double; both are widened afterwards by a bound of their errors, which
-// the integral turns into a bound of the function.
+// points of P's enclosures put on a grid, as exact integers (grid_integer.hpp), those far below
+// the reference's precision in double. The integral and the cancellation against P run on MPFR
+// numbers at the working precision, rounded to nearest, with a bound of every rounding carried
+// beside them (Higham, "Accuracy and Stability of Numerical Algorithms", 2002, section 2.2: a
+// rounded result is within 2^-p of its magnitude): intervals would round every operation twice
+// and cost four times as much, for the few digits of r that the certificate uses. The bounds
+// hold per component for the sum over the coefficients, which is all that sup |r|, r(1) and the
+// doubles of r need.
 #pragma once
 
 #include <eulervop/certify/detail/bounded_chebyshev.hpp>
 #include <eulervop/certify/detail/grid_integer.hpp>
+#include <eulervop/certify/detail/linearized_flow.hpp>
 #include <eulervop/certify/detail/real.hpp>
 #include <eulervop/certify/detail/segment_polynomial.hpp>
 #include <eulervop/certify/exact_problem.hpp>
@@ -33,15 +39,11 @@ class picard_residual {
   // `a`: the problem's coefficients, each -1, 0 or 1 (unit_coefficients).
   picard_residual(mpfr_prec_t bits, std::size_t degree, const vec3<interval>& G, const std::array<int, 3>& a);
 
-  // r, rsup, r1, r_rem of P.
+  // rsup, r1, rd, rrad and r_scale of P.
   void compute(const segment_polynomial& P);
-  // rd, rrad, r_scale from r.
-  void to_doubles();
 
-  std::vector<interval> r;     // 3 x (2N + 2) coefficients
-  std::vector<interval> rsup;  // sup |r_i| on the segment
+  std::vector<interval> rsup;  // >= sup |r_i| on the segment (a point)
   std::vector<interval> r1;    // r_i(b), signed
-  std::vector<interval> r_rem; // [-e, e]: the share of the inexact products in r_i, widening r1
   // r as doubles: 2^-r_scale times rd, rd within rrad (per component, summed over k) of the
   // exact coefficients scaled. At deep MPFR levels r lies far below double's range.
   std::vector<double> rd;
@@ -56,49 +58,44 @@ class picard_residual {
   template <class IntegerPair>
   double pairs(const segment_polynomial& P, int i, IntegerPair&& integer_pair);
   template <class ExactSum>
-  double finish_product(int i, double rem, ExactSum&& exact_sum);
-  void product_error(int i, double rem_double);
+  double finish_product(const segment_polynomial& P, int i, double rem, ExactSum&& exact_sum);
+  void product_error(const segment_polynomial& P, int i, double rem_double);
   void integrate(const segment_polynomial& P, int i);
-  void bound(const segment_polynomial& P, int i);
+  void to_doubles(const segment_polynomial& P);
 
   mpfr_prec_t bits_;
   std::size_t n1_, np_, nr_;
   vec3<interval> G_;
   std::array<int, 3> a_;
   std::array<std::array<int, 2>, 3> factors_;  // the quadratic pairs, ascending
-  std::vector<interval> prod_;                  // f_i, 3 x (2N + 1)
-  // Midpoints at the working precision: P, and a product's sums rounded back; P's midpoints on
-  // the grid of step 2^-shift_, a product's exact sums on the grid 2^-(2 shift_ + 1) (T_m T_n's
-  // factor 1/2), one product; the products in double.
-  std::vector<real> pmid_, outmid_;
+  // f_i (one component at a time, 2N + 1 coefficients) and r (3 x (2N + 2), from k = 1): MPFR
+  // numbers at the working precision, rounded to nearest; hl / (2k) rounded to nearest (hl itself
+  // at k = 1).
+  std::vector<real> f_, r_, hl_over_2k_;
+  // P's points on the grid of step 2^-shift_, a product's exact sums on the grid 2^-(2 shift_ + 1)
+  // (T_m T_n's factor 1/2), one product (the first two made where the limbs below do not serve);
+  // the products in double.
   std::vector<grid_integer> pq_, acc_;
   grid_integer pair_;
-  // The same on at most 8 limbs (limbs_ per number; the sums on 2 limbs_ + 1) where they fit, with
-  // the limb loops unrolled (grid_integer.hpp, limbs); GMP's integers otherwise.
-  std::size_t limbs_;
-  bool on_limbs_ = false;
-  std::vector<mp_limb_t> pl_, pneg_, lacc_;
+  // A sum on limbs (2 L + 1, P's L) to round; the grid's shift.
+  std::vector<mp_limb_t> lacc_;
   long shift_ = 0;
   std::vector<double> gd_;
-  // At 64 bits, rounded up: sum |p^_ik|, sum width(p_ik), the products' error per component.
-  std::vector<real> Pabs_, Prad_, product_rem_;
-  real bound_scratch_{64}, product_error_scale_{64};
-  real tmp_, lo_, hi_;  // scratch at the working precision
+  double f_abs_ = 0;  // >= sum |f_k|
+  // At 64 bits, rounded up: the error of f_i's coefficients (summed), then of r_i's.
+  std::vector<real> product_rem_, r_error_;
+  real bound_scratch_{64}, product_error_scale_{64}, width_{64}, f_rounding_{64};
+  real tmp_;  // scratch at the working precision
   interval t_;
-  std::vector<interval> r_scaled_, hl_over_2k_;
 };
 
 inline picard_residual::picard_residual(mpfr_prec_t bits, std::size_t degree, const vec3<interval>& G,
                                         const std::array<int, 3>& a)
-    : r(3 * (2 * degree + 2), interval::zero(bits)), rsup(3, interval::zero(bits)), r1(3, interval::zero(bits)),
-      r_rem(3, interval::zero(bits)), rd(3 * (2 * degree + 2), 0.0), bits_(bits), n1_(degree + 1),
-      np_(2 * degree + 1), nr_(2 * degree + 2), G_(G), a_(a), prod_(3 * np_, interval::zero(bits)),
-      pmid_(3 * n1_, real(bits)), outmid_(np_, real(bits)), pq_(3 * n1_, grid_integer(bits + 64)),
-      acc_(np_, grid_integer(2 * bits + 128)), pair_(2 * bits + 128),
-      limbs_((static_cast<std::size_t>(bits) + 64) / 64), pl_(3 * n1_ * limbs_), pneg_(3 * n1_),
-      lacc_(2 * limbs_ + 1), gd_(np_, 0.0),
-      Pabs_(3, real(64)), Prad_(3, real(64)), product_rem_(3, real(64)), tmp_(bits), lo_(bits), hi_(bits),
-      t_(interval::zero(bits)), r_scaled_(3 * nr_, interval::zero(bits)), hl_over_2k_(nr_, interval::zero(bits)) {
+    : rsup(3, interval::zero(error_bits)), r1(3, interval::zero(error_bits)), rd(3 * (2 * degree + 2), 0.0), bits_(bits),
+      n1_(degree + 1), np_(2 * degree + 1), nr_(2 * degree + 2), G_(G), a_(a), f_(np_, real(bits)),
+      r_(3 * nr_, real(bits)), hl_over_2k_(nr_, real(bits)), pair_(2 * bits + 128),
+      lacc_(2 * ((static_cast<std::size_t>(bits) + 64) / 64) + 1), gd_(np_, 0.0), product_rem_(3, real(64)),
+      r_error_(3, real(64)), tmp_(bits), t_(interval::zero(error_bits)) {
   for (int i = 0; i < 3; ++i) {
     const auto [j, k] = exact_problem::quadratic_pair[i];
     factors_[i] = {std::min(j, k), std::max(j, k)};
@@ -110,56 +107,37 @@ inline picard_residual::picard_residual(mpfr_prec_t bits, std::size_t degree, co
 }
 
 inline void picard_residual::compute(const segment_polynomial& P) {
-  // hl / (2k) for k >= 2 (hl for k = 1, and the halving of f_2 there), once for the three
-  // components: one interval product per coefficient instead of a division and a product.
-  for (std::size_t k = 1; k < nr_; ++k) {
-    mpfi_set(hl_over_2k_[k].get(), P.hl.get());
-    if (k > 1) mpfi_div_ui(hl_over_2k_[k].get(), hl_over_2k_[k].get(), static_cast<unsigned long>(2 * k));
-  }
+  // hl is exact (segment_polynomial::place); hl / (2k) for k >= 2 once for the three components.
+  mpfr_srcptr hl = &P.hl.get()->left;
+  if (!mpfr_equal_p(hl, &P.hl.get()->right)) P.fail(outcome_kind::certify_non_finite);
+  mpfr_set(hl_over_2k_[1].get(), hl, MPFR_RNDN);
+  for (std::size_t k = 2; k < nr_; ++k)
+    mpfr_div_ui(hl_over_2k_[k].get(), hl, static_cast<unsigned long>(2 * k), MPFR_RNDN);
   midpoints(P);
   for (int i = 0; i < 3; ++i) {
-    product_error(i, multiply(P, i));
-    mpfi_add(prod_[i * np_].get(), prod_[i * np_].get(), G_[i].get());
+    product_error(P, i, multiply(P, i));
     integrate(P, i);
-    bound(P, i);
   }
+  to_doubles(P);
 }
 
-// p^ = mid p, |p - p^| <= width, and q = p^ on the grid 2^-shift_ (under the largest p^, p bits
-// deep; |p^ - q| < a step): Pabs >= sum |q_k| and Prad >= sum |p_k - q_k| per component, each
-// with n1 steps added to the midpoints' sums.
+// P's coefficients on their grid (segment_polynomial::grid), as GMP's integers where they do not
+// fit on limbs.
 inline void picard_residual::midpoints(const segment_polynomial& P) {
-  for (int c = 0; c < 3; ++c) {
-    mpfr_set_ui(Pabs_[c].get(), 0, MPFR_RNDU);
-    mpfr_set_ui(Prad_[c].get(), 0, MPFR_RNDU);
-    for (std::size_t k = 0; k < n1_; ++k) {
-      const std::size_t q = c * n1_ + k;
-      mpfi_mid(pmid_[q].get(), P.p[q].get());
-      add_abs_up(Pabs_[c], pmid_[q].get());
-      width_up(hi_, P.p[q], lo_);
-      mpfr_add(Prad_[c].get(), Prad_[c].get(), hi_.get(), MPFR_RNDU);
-    }
-  }
-  shift_ = grid_shift(pmid_, [](const real& x) { return x.get(); }, bits_);
-  for (std::size_t q = 0; q < 3 * n1_; ++q) to_grid(pq_[q], pmid_[q].get(), shift_);
-  on_limbs_ = limbs_ <= 8;  // |q| <= 2^bits < 2^(64 limbs_): always fits
-  for (std::size_t q = 0; on_limbs_ && q < 3 * n1_; ++q)
-    on_limbs_ = limbs::load(pq_[q].get(), limbs_, &pl_[q * limbs_], pneg_[q]);
-  mpfr_ptr steps = bound_scratch_.get();
-  mpfr_set_ui_2exp(steps, static_cast<unsigned long>(n1_), -shift_, MPFR_RNDU);
-  for (int c = 0; c < 3; ++c) {
-    mpfr_add(Pabs_[c].get(), Pabs_[c].get(), steps, MPFR_RNDU);
-    mpfr_add(Prad_[c].get(), Prad_[c].get(), steps, MPFR_RNDU);
-  }
+  shift_ = P.grid.shift;
+  if (P.grid.on_limbs) return;
+  if (pq_.empty()) pq_.assign(3 * n1_, grid_integer(bits_ + 64));
+  for (std::size_t q = 0; q < 3 * n1_; ++q) to_grid(pq_[q], &P.p[q].get()->left, shift_);
 }
 
-// prod_ row i = a_i P_j P_k, on the grid (exact) and in double (pairs); returns the bound of the
-// double part's error.
+// f_ = a_i P_j P_k + G_i, on the grid (exact) and in double (pairs); returns the bound of the
+// double products' error.
 inline double picard_residual::multiply(const segment_polynomial& P, int i) {
   double rem = 0;
-  if (on_limbs_ &&
-      limbs::with_limb_count(limbs_, [&](auto L) { rem = multiply_on_limbs<decltype(L)::value>(P, i); }))
+  if (P.grid.on_limbs &&
+      limbs::with_limb_count(P.grid.limbs, [&](auto L) { rem = multiply_on_limbs<decltype(L)::value>(P, i); }))
     return rem;
+  if (acc_.empty()) acc_.assign(np_, grid_integer(2 * bits_ + 128));
   const grid_integer* A = &pq_[factors_[i][0] * n1_];
   const grid_integer* B = &pq_[factors_[i][1] * n1_];
   for (std::size_t k = 0; k < np_; ++k) mpz_set_ui(acc_[k].get(), 0);
@@ -168,18 +146,19 @@ inline double picard_residual::multiply(const segment_polynomial& P, int i) {
     mpz_add(acc_[m + n].get(), acc_[m + n].get(), pair_.get());
     mpz_add(acc_[d].get(), acc_[d].get(), pair_.get());
   });
-  return finish_product(i, rem, [&](std::size_t k, mpfr_ptr y, long shift) {
+  return finish_product(P, i, rem, [&](std::size_t k, mpfr_ptr y, long shift, double) {
     mpfr_set_z_2exp(y, acc_[k].get(), -shift, MPFR_RNDN);
+    return false;
   });
 }
 
 template <std::size_t L>
 double picard_residual::multiply_on_limbs(const segment_polynomial& P, int i) {
   constexpr std::size_t W = 2 * L + 1;
-  const mp_limb_t* A = &pl_[factors_[i][0] * n1_ * L];
-  const mp_limb_t* B = &pl_[factors_[i][1] * n1_ * L];
-  const mp_limb_t* A_neg = &pneg_[factors_[i][0] * n1_];
-  const mp_limb_t* B_neg = &pneg_[factors_[i][1] * n1_];
+  const mp_limb_t* A = &P.grid.q[factors_[i][0] * n1_ * L];
+  const mp_limb_t* B = &P.grid.q[factors_[i][1] * n1_ * L];
+  const mp_limb_t* A_neg = &P.grid.negative[factors_[i][0] * n1_];
+  const mp_limb_t* B_neg = &P.grid.negative[factors_[i][1] * n1_];
   std::vector<limbs::column_sum<L>> sums(np_);
   const double rem = pairs(P, i, [&](std::size_t m, std::size_t n, std::size_t d) {
     limbs::product_columns<L> p;
@@ -188,9 +167,11 @@ double picard_residual::multiply_on_limbs(const segment_polynomial& P, int i) {
     sums[m + n].add(p, negative);
     sums[d].add(p, negative);
   });
-  return finish_product(i, rem, [&](std::size_t k, mpfr_ptr y, long shift) {
+  return finish_product(P, i, rem, [&](std::size_t k, mpfr_ptr y, long shift, double d) {
     sums[k].to_limbs(lacc_.data(), W);
+    const bool added = limbs::add_double(lacc_.data(), W, d, shift);
     limbs::round_to(lacc_.data(), W, y, shift);
+    return added;
   });
 }
 
@@ -224,26 +205,37 @@ double picard_residual::pairs(const segment_polynomial& P, int i, IntegerPair&& 
                    : 0.0;
 }
 
-// prod_ row i from the exact sums on the grid 2^-(2 shift + 1) (`exact_sum(k, y, shift)` rounds
-// sum k to nearest into y) and the double ones: back to p bits (one rounding each), times a_i,
-// exact (-1, 0 or 1). Returns `rem`.
+// f_ from the exact sums on the grid 2^-(2 shift + 1) and the double ones gd_k:
+// `exact_sum(k, y, shift, d)` rounds sum k plus d to nearest into y where d falls on the grid
+// (true), or sum k alone (false), and gd_k is then added rounded to nearest. Back at p bits (the
+// one rounding of an exact sum is product_error's), times a_i, exact (-1, 0 or 1), plus G_i's left
+// end at k = 0, rounded to nearest. Those other roundings, the double sums' share of the first and
+// G_i's width go to f_rounding_. Returns `rem`.
 template <class ExactSum>
-double picard_residual::finish_product(int i, double rem, ExactSum&& exact_sum) {
-  interval* out = &prod_[i * np_];
+double picard_residual::finish_product(const segment_polynomial& P, int i, double rem, ExactSum&& exact_sum) {
+  double small = 0;  // sum |gd_k|
   for (std::size_t k = 0; k < np_; ++k) {
-    mpfr_ptr y = outmid_[k].get();
-    exact_sum(k, y, 2 * shift_ + 1);
+    mpfr_ptr y = f_[k].get();
+    const bool with_double = gd_[k] != 0 && a_[i] != 0;
+    const bool added = exact_sum(k, y, 2 * shift_ + 1, with_double ? gd_[k] : 0.0);
     if (a_[i] < 0) mpfr_neg(y, y, MPFR_RNDN);
     if (a_[i] == 0) mpfr_set_ui(y, 0, MPFR_RNDN);
-    if (gd_[k] == 0) {
-      mpfi_set_fr(out[k].get(), y);
-      continue;
+    if (with_double) {
+      if (!added) mpfr_add_d(y, y, a_[i] * gd_[k], MPFR_RNDN);
+      small += std::abs(gd_[k]);
     }
-    // y + a_i gd_k with the end points rounded outward (the double enters exactly).
-    mpfr_set_d(tmp_.get(), a_[i] * gd_[k], MPFR_RNDN);
-    mpfr_add(&out[k].get()->left, y, tmp_.get(), MPFR_RNDD);
-    mpfr_add(&out[k].get()->right, y, tmp_.get(), MPFR_RNDU);
   }
+  const auto& G = *G_[i].get();
+  mpfr_add(f_[0].get(), f_[0].get(), &G.left, MPFR_RNDN);
+  // f_abs_ >= sum |f_k|: the exact sums are at most A B (product_error), each rounded twice at
+  // most, plus the double ones and G.
+  mpfr_ptr e = f_rounding_.get();
+  mpfr_mul(e, P.grid.abs[factors_[i][0]].get(), P.grid.abs[factors_[i][1]].get(), MPFR_RNDU);
+  f_abs_ = (mpfr_get_d(e, MPFR_RNDU) + small + std::abs(mpfr_get_d(&G.left, MPFR_RNDA))) * (1 + 1e-9);
+  mpfr_set_d(e, f_abs_, MPFR_RNDU);
+  mpfr_mul_2si(e, e, -static_cast<long>(bits_), MPFR_RNDU);
+  mpfr_sub(width_.get(), &G.right, &G.left, MPFR_RNDU);
+  mpfr_add(e, e, width_.get(), MPFR_RNDU);
   return rem;
 }
 
@@ -251,96 +243,121 @@ double picard_residual::finish_product(int i, double rem, ExactSum&& exact_sum) 
 // A B' + A' B + A' B' + 2^-p (1 + 2^-20) A B, with A = sum |q_m|, A' = sum |a_m - q_m| (the same
 // for b): sum_k |g_k - g^_k| <= sum_mn |a_m b_n - q_m r_n| (each pair's two halves), and the
 // rounding of each exact sum to p bits is at most 2^-p |g^_k|, sum_k |g^_k| <= A B. |a_i| <= 1
-// leaves it a bound of a_i's multiple.
-inline void picard_residual::product_error(int i, double rem_double) {
+// leaves it a bound of a_i's multiple. Then the double products' error `rem_double` (pairs) and
+// the roundings after the exact sums (finish_product).
+inline void picard_residual::product_error(const segment_polynomial& P, int i, double rem_double) {
   const int ca = factors_[i][0], cb = factors_[i][1];
   real& e = product_rem_[i];
   real& w = bound_scratch_;
-  mpfr_mul(e.get(), Pabs_[ca].get(), Prad_[cb].get(), MPFR_RNDU);
-  mpfr_mul(w.get(), Prad_[ca].get(), Pabs_[cb].get(), MPFR_RNDU);
+  const std::vector<real>& A = P.grid.abs;
+  const std::vector<real>& R = P.grid.rad;
+  mpfr_mul(e.get(), A[ca].get(), R[cb].get(), MPFR_RNDU);
+  mpfr_mul(w.get(), R[ca].get(), A[cb].get(), MPFR_RNDU);
   mpfr_add(e.get(), e.get(), w.get(), MPFR_RNDU);
-  mpfr_mul(w.get(), Prad_[ca].get(), Prad_[cb].get(), MPFR_RNDU);
+  mpfr_mul(w.get(), R[ca].get(), R[cb].get(), MPFR_RNDU);
   mpfr_add(e.get(), e.get(), w.get(), MPFR_RNDU);
-  mpfr_mul(w.get(), Pabs_[ca].get(), Pabs_[cb].get(), MPFR_RNDU);
+  mpfr_mul(w.get(), A[ca].get(), A[cb].get(), MPFR_RNDU);
   mpfr_mul(w.get(), w.get(), product_error_scale_.get(), MPFR_RNDU);
   mpfr_add(e.get(), e.get(), w.get(), MPFR_RNDU);
   mpfr_add_d(e.get(), e.get(), rem_double, MPFR_RNDU);
+  mpfr_add(e.get(), e.get(), f_rounding_.get(), MPFR_RNDU);
 }
 
-// F = int_{-1}^s f: b_1 = a_0 - a_2/2, b_k = (a_{k-1} - a_{k+1}) / (2k), b_0 so that F(-1) = 0.
-// Then r = v_0 - q + hl F (q the increment polynomial, q(-1) = v_0 exactly: node 0 is s = -1).
-// hl b_k is formed directly as (a_{k-1} - a_{k+1}) times the enclosure of hl / (2k).
+// F = int_{-1}^s f: b_1 = f_0 - f_2/2, b_k = (f_{k-1} - f_{k+1}) / (2k) for k >= 1. Then
+// r = v_0 - q + hl F (q the increment polynomial, q(-1) = v_0 exactly: node 0 is s = -1), so for
+// k >= 1, r_k = t_k - q_k with t_k = hl b_k formed as (f_{k-1} - f_{k+1}) times hl / (2k) and q_k
+// taken at the left end of its enclosure (q_k = p_k for k >= 1; none beyond N). r_0 follows from
+// r(-1) = 0 (to_doubles). With u = 2^-p, each rounded result x errs by at most u |x|:
+//   - t_k: its difference, hl / (2k) and the product, together at most 3 u |t_k| (1 + 3u);
+//   - r_k = t_k - q_k adds u |r_k|, and q_k's width;
+//   - an error e_m of f_m moves sum_k |t_k| by at most |hl| e_m (f_m enters t_{m-1} and t_{m+1},
+//     with factors below 1 together).
 inline void picard_residual::integrate(const segment_polynomial& P, int i) {
-  const interval* f = &prod_[i * np_];
-  interval* out = &r[i * nr_];
+  const real* f = f_.data();
+  real* r = &r_[i * nr_];
+  const interval* q = &P.p[i * n1_];
+  mpfr_ptr half = tmp_.get();
   for (std::size_t k = 1; k < nr_; ++k) {
-    if (k + 1 < np_ && k == 1) {
-      mpfi_mul_2si(t_.get(), f[2].get(), -1);
-      mpfi_sub(out[1].get(), f[0].get(), t_.get());
+    mpfr_ptr t = r[k].get();
+    if (k == 1 && k + 1 < np_) {
+      mpfr_mul_2si(half, f[2].get(), -1, MPFR_RNDN);  // exact
+      mpfr_sub(t, f[0].get(), half, MPFR_RNDN);
+      mpfr_mul(t, t, hl_over_2k_[k].get(), MPFR_RNDN);
     } else if (k + 1 < np_) {
-      mpfi_sub(out[k].get(), f[k - 1].get(), f[k + 1].get());
+      mpfr_sub(t, f[k - 1].get(), f[k + 1].get(), MPFR_RNDN);
+      mpfr_mul(t, t, hl_over_2k_[k].get(), MPFR_RNDN);
     } else if (k - 1 < np_) {
-      mpfi_set(out[k].get(), f[k - 1].get());
+      mpfr_mul(t, f[k - 1].get(), hl_over_2k_[k].get(), MPFR_RNDN);
     } else {
-      mpfi_set_ui(out[k].get(), 0);
+      mpfr_set_ui(t, 0, MPFR_RNDN);
     }
-    mpfi_mul(out[k].get(), out[k].get(), hl_over_2k_[k].get());
+    if (k < n1_) mpfr_sub(t, t, &q[k].get()->left, MPFR_RNDN);
   }
-  mpfi_set_ui(out[0].get(), 0);
-  for (std::size_t k = 1; k < nr_; ++k) {
-    if (k % 2) mpfi_add(out[0].get(), out[0].get(), out[k].get());
-    else mpfi_sub(out[0].get(), out[0].get(), out[k].get());
-  }
-  for (std::size_t k = 0; k < n1_; ++k) mpfi_sub(out[k].get(), out[k].get(), P.c[i * n1_ + k].get());
-  mpfi_add(out[0].get(), out[0].get(), P.v[i * n1_].get());
+  // The magnitudes that the roundings scale with: sum |t_k| <= T = |hl| sum |f_m| (1 + 4u) (the
+  // factors of each f_m are below 1 together), sum |r_k| <= (T + sum_{k >= 1} |q_k|) (1 + u).
+  double q_abs = 0;
+  for (std::size_t k = 1; k < n1_; ++k) q_abs += P.cmag[i * n1_ + k];
+  const double t_abs = std::abs(mpfr_get_d(hl_over_2k_[1].get(), MPFR_RNDA)) * f_abs_ * (1 + 1e-9);
+  const double units = (3 * (1 + 1e-6) * t_abs + (t_abs + q_abs) * (1 + 1e-9)) * (1 + 1e-12);
+  // The bound of sum_{k >= 1} |r_k - exact r_k|: q's widths, u times the magnitudes, the products'.
+  mpfr_ptr E = r_error_[i].get();
+  mpfr_set(E, P.c_width[i].get(), MPFR_RNDU);
+  mpfr_ptr e = bound_scratch_.get();
+  mpfr_set_d(e, units, MPFR_RNDU);
+  if (!mpfr_number_p(e)) P.fail(outcome_kind::certify_non_finite);
+  mpfr_mul_2si(e, e, -static_cast<long>(bits_), MPFR_RNDU);
+  mpfr_add(E, E, e, MPFR_RNDU);
+  mpfr_abs(e, hl_over_2k_[1].get(), MPFR_RNDU);
+  mpfr_mul(e, e, product_rem_[i].get(), MPFR_RNDU);
+  mpfr_add(E, E, e, MPFR_RNDU);
 }
 
-// sup |r| <= sum |r_k| (a point: the sum of the magnitudes rounded up); r(1) = sum r_k; both
-// widened by the inexact products' error, integrated:
-// |hl int_{-1}^s e| <= 2 |hl| rem.
-inline void picard_residual::bound(const segment_polynomial& P, int i) {
-  const interval* ri = &r[i * nr_];
-  mpfr_set_ui(lo_.get(), 0, MPFR_RNDU);  // sum_k max |r_k|, rounded up
-  mpfi_set_ui(r1[i].get(), 0);
-  for (std::size_t k = 0; k < nr_; ++k) {
-    mpfi_mag(hi_.get(), ri[k].get());
-    mpfr_add(lo_.get(), lo_.get(), hi_.get(), MPFR_RNDU);
-    mpfi_add(r1[i].get(), r1[i].get(), ri[k].get());
-  }
-  mpfi_set_fr(rsup[i].get(), lo_.get());
-  mpfi_set_fr(t_.get(), product_rem_[i].get());
-  mpfi_mul(t_.get(), t_.get(), P.hl.get());
-  mpfi_mul_2si(t_.get(), t_.get(), 1);
-  mpfi_abs(t_.get(), t_.get());
-  to_upper_point(t_);
-  mpfi_add(rsup[i].get(), rsup[i].get(), t_.get());
-  mpfi_set(r_rem[i].get(), t_.get());
-  to_symmetric_hull(r_rem[i], t_);  // [-b, b]
-  mpfi_add(r1[i].get(), r1[i].get(), r_rem[i].get());
-}
-
-// r scaled by 2^r_scale to about 1 before it becomes doubles; the integral term is linear in r,
-// so its results are scaled back exactly (signed_integral_term.hpp).
-inline void picard_residual::to_doubles() {
+// r scaled by 2^r_scale to about 1 and rounded to doubles (the integral term is linear in r, so
+// its results are scaled back exactly, signed_integral_term.hpp); then r_0 = sum_{k >= 1}
+// (-1)^(k+1) r_k, as the exact r vanishes at s = -1 (r(a) = P(a) - P(a)), summed in double; rsup
+// and r1 from the doubles. Each d_k (k >= 1) is within eps |d_k| + denorm_min of r_k 2^r_scale, so
+// with D >= the sum of those and of r's error scaled, d_0 is within D + gamma sum_{k >= 1} |d_k|
+// of r_0 2^r_scale; a sum of n doubles is within gamma_n times the sum of their magnitudes of the
+// exact sum (bounded_chebyshev.hpp).
+inline void picard_residual::to_doubles(const segment_polynomial& P) {
   mpfr_exp_t top = std::numeric_limits<mpfr_exp_t>::min();
-  for (const interval& x : r) {
-    mpfi_mag(hi_.get(), x.get());
-    if (mpfr_regular_p(hi_.get())) top = std::max(top, mpfr_get_exp(hi_.get()));
-  }
-  r_scale = top == std::numeric_limits<mpfr_exp_t>::min() ? 0 : -static_cast<long>(top);
-  for (std::size_t q = 0; q < r.size(); ++q) mpfi_mul_2si(r_scaled_[q].get(), r[q].get(), r_scale);
-  for (int i = 0; i < 3; ++i) {
-    rrad[i] = 0;
-    for (std::size_t k = 0; k < nr_; ++k) {
-      double rad = 0;
-      rd[i * nr_ + k] = to_double(r_scaled_[i * nr_ + k], rad, lo_, hi_);
-      rrad[i] += rad;
+  for (int i = 0; i < 3; ++i)
+    for (std::size_t k = 1; k < nr_; ++k) {
+      mpfr_srcptr x = r_[i * nr_ + k].get();
+      if (mpfr_regular_p(x)) top = std::max(top, mpfr_get_exp(x));
     }
-    rrad[i] *= 1 + 1e-12;
-  }
-  for (int i = 0; i < 3; ++i) {  // the inexact products' share of r, scaled like r
-    mpfi_mul_2si(t_.get(), r_rem[i].get(), r_scale);
-    rrad[i] += magnitude_up(t_) * (1 + 1e-12);
+  r_scale = top == std::numeric_limits<mpfr_exp_t>::min() ? 0 : -static_cast<long>(top);
+  const double eps = std::numeric_limits<double>::epsilon(), tiny = std::numeric_limits<double>::denorm_min();
+  const double gamma = gamma_of(nr_ + 1);
+  for (int i = 0; i < 3; ++i) {
+    double* d = &rd[i * nr_];
+    double first = 0, above = 0, rounding = 0;  // d_0; sum_{k >= 1} |d_k|; their distances
+    for (std::size_t k = 1; k < nr_; ++k) {
+      long e = 0;
+      const double m = mpfr_get_d_2exp(&e, r_[i * nr_ + k].get(), MPFR_RNDN);
+      d[k] = std::ldexp(m, static_cast<int>(std::max(e + r_scale, -4000L)));  // 2^-4000: zero
+      first += (k % 2) ? d[k] : -d[k];
+      above += std::abs(d[k]);
+      rounding += eps * std::abs(d[k]) + tiny;
+    }
+    d[0] = first;
+    mpfr_ptr scaled = bound_scratch_.get();
+    mpfr_mul_2si(scaled, r_error_[i].get(), r_scale, MPFR_RNDU);
+    const double D = rounding + mpfr_get_d(scaled, MPFR_RNDU);
+    rrad[i] = (2 * D + gamma * above) * (1 + 1e-12);
+    double sum = 0, magnitude = 0;
+    for (std::size_t k = 0; k < nr_; ++k) {
+      sum += d[k];
+      magnitude += std::abs(d[k]);
+    }
+    if (!std::isfinite(rrad[i]) || !std::isfinite(magnitude)) P.fail(outcome_kind::certify_non_finite);
+    mpfi_set_d(rsup[i].get(), (magnitude * (1 + gamma) + rrad[i]) * (1 + 1e-12));
+    mpfi_mul_2si(rsup[i].get(), rsup[i].get(), -r_scale);
+    const double spread = (gamma * magnitude + rrad[i]) * (1 + 1e-12);
+    mpfi_interv_d(t_.get(), -spread, spread);
+    mpfi_set_d(r1[i].get(), sum);
+    mpfi_add(r1[i].get(), r1[i].get(), t_.get());
+    mpfi_mul_2si(r1[i].get(), r1[i].get(), -r_scale);
   }
 }
 

@@ -1,7 +1,6 @@
 // Plain MPFR numbers beside the intervals (interval.hpp): the midpoints that the certificate's
 // large sums run on (rounded to nearest, then widened by a bound of their roundings), the bounds
-// of those roundings (at 64 bits, rounded up), and an interval's double with a bound of its
-// distance (for the parts computed in double, bounded_chebyshev.hpp).
+// of those roundings (at 64 bits, rounded up).
 #pragma once
 
 #include <eulervop/certify/interval.hpp>
@@ -57,12 +56,9 @@ inline void add_abs_up(real& bound, mpfr_srcptr x) {
     mpfr_add(bound.get(), bound.get(), x, MPFR_RNDU);
 }
 
-// out = the width of x, rounded up; `lo` a scratch number. Both at x's bits or more, so that
-// the end points are read exactly (MPFI rounds them outward: left down, right up).
-inline void width_up(real& out, const interval& x, real& lo) {
-  mpfi_get_left(lo.get(), x.get());
-  mpfi_get_right(out.get(), x.get());
-  mpfr_sub(out.get(), out.get(), lo.get(), MPFR_RNDU);
+// out = the width of x, rounded up, from its end points in place.
+inline void width_up(real& out, const interval& x) {
+  mpfr_sub(out.get(), &x.get()->right, &x.get()->left, MPFR_RNDU);
 }
 
 // out = an interval holding the exact sum of the n doubles x[0..n): their sum in
@@ -81,19 +77,6 @@ inline void enclose_double_sum(interval& out, const double* x, std::size_t n, in
   mpfi_set_d(out.get(), sum);
   mpfi_interv_d(scratch.get(), -error, error);
   mpfi_add(out.get(), out.get(), scratch.get());
-}
-
-// A double d near x, and an upper bound of max |x - d| over the interval: x's width plus an ulp
-// of d, plus denorm_min for a d that underflows. d is the right end rounded to nearest (within
-// half an ulp of it), read in place: mpfi_get_d would allocate a midpoint on every call. `lo`,
-// `hi`: scratch numbers at x's bits or more.
-inline double to_double(const interval& x, double& radius, real& lo, real& hi) {
-  const double d = mpfr_get_d(&x.get()->right, MPFR_RNDN);
-  width_up(hi, x, lo);
-  radius = (mpfr_get_d(hi.get(), MPFR_RNDU) + std::abs(d) * std::numeric_limits<double>::epsilon() +
-            std::numeric_limits<double>::denorm_min()) *
-           (1 + 1e-15);
-  return d;
 }
 
 }  // namespace eulervop::detail

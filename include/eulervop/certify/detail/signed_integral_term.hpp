@@ -1,7 +1,8 @@
 // The signed integral term of a segment (docs/certified.md, "How", step 3):
 //   u(b) = int_a^b Phi(b, s) J(s) r(s) ds,
-// which solves u = hl int J (u + r) (s from -1). It is computed in double by Picard iteration on
-// Chebyshev coefficients (degree 2N + 1, like r), then bounded: with
+// which solves u = hl int J (u + r) (s from -1). It is computed in double by variation of
+// constants on 2N + 2 Lobatto nodes (degree 2N + 1, like r), u(s) = Phi(s) int Phi^-1 hl J r with
+// the variational matrix's polynomial as Phi, then bounded: with
 // R_u = hl int J (u_num + r) - u_num, E = u - u_num solves E = R_u + hl int J E, so
 // |E(1)| <= sup|R_u| (1 + h exp(mu h) |J|). u_num(1) joins r(1) as a signed vector; only |E(1)|
 // is a ball. It is about ten times r(1) where a segment spans a good part of a rotation, so
@@ -13,7 +14,9 @@
 #include <eulervop/certify/detail/picard_residual.hpp>
 #include <eulervop/certify/detail/real.hpp>
 #include <eulervop/certify/detail/segment_polynomial.hpp>
+#include <eulervop/certify/detail/variational_matrix.hpp>
 #include <eulervop/certify/interval.hpp>
+#include <eulervop/reference/detail/chebyshev_basis.hpp>
 
 #include <mpfi.h>
 
@@ -21,18 +24,56 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 namespace eulervop::detail {
 
+// The nodes of the integral term (degree 2N + 1, a segment's reference of degree N), shared by
+// every segment's check. The nodes come in pairs s_(M-l) = -s_l (n = 2N + 2 is even), where
+// T_k(-s) = (-1)^k T_k(s): values from coefficients are the even and odd parts' sum and
+// difference, and coefficients from values sums and differences of mirrored values, each half the
+// products. The matrices are stored column by column, so that their products are sums of columns,
+// which the compiler vectorizes (a dot product in double is not, its order of summation fixed).
+struct integral_term_nodes {
+  explicit integral_term_nodes(std::size_t degree);
+  std::size_t n, h;              // 2N + 2 nodes and coefficients; h = n / 2
+  std::vector<double> T;         // T_k(s_l) at k h + l, l < h
+  std::vector<double> S;         // the integral from -1 (chebyshev_basis::integral), (l, k) at k n + l
+  std::vector<double> even, odd; // values -> coefficients (chebyshev_basis::coeffs): (2m, l) and
+                                 // (2m + 1, l) at l h + m, l < h
+};
+
+inline integral_term_nodes::integral_term_nodes(std::size_t degree)
+    : n(2 * degree + 2), h(degree + 1), T(n * h), S(n * n), even(h * h), odd(h * h) {
+  const std::size_t M = n - 1;
+  const double pi = 3.14159265358979323846;
+  // s_l = -cos(l pi / M), so T_k(s_l) = (-1)^k cos(k l pi / M), the angle reduced modulo 2M.
+  for (std::size_t k = 0; k < n; ++k)
+    for (std::size_t l = 0; l < h; ++l) {
+      const double c = std::cos(pi * static_cast<double>((k * l) % (2 * M)) / static_cast<double>(M));
+      T[k * h + l] = (k % 2) ? -c : c;
+    }
+  const chebyshev_basis<double> basis(M);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) S[j * n + i] = basis.integral[i * n + j];
+  for (std::size_t m = 0; m < h; ++m)
+    for (std::size_t l = 0; l < h; ++l) {
+      even[l * h + m] = basis.coeffs[(2 * m) * n + l];
+      odd[l * h + m] = basis.coeffs[(2 * m + 1) * n + l];
+    }
+}
+
 class signed_integral_term {
  public:
-  signed_integral_term(mpfr_prec_t bits, std::size_t degree)
-      : u1(3, interval::zero(bits)), eps(interval::zero(bits)), nr_(2 * degree + 2), ud_(3 * nr_), next_(3 * nr_),
-        w_(3 * nr_), scratch_(interval::zero(bits)) {}
+  explicit signed_integral_term(std::shared_ptr<const integral_term_nodes> nodes)
+      : u1(3, interval::zero(error_bits)), eps(interval::zero(error_bits)), nodes_(std::move(nodes)), nr_(nodes_->n),
+        ud_(3 * nr_), w_(3 * nr_), y_(3 * nr_), Phi_(9 * nr_), g_(3 * nr_), G_(3 * nr_), fold_(nr_),
+        scratch_(interval::zero(error_bits)) {}
 
-  void compute(const segment_polynomial& P, const picard_residual& r, const jacobian_rows& rows,
-               const linear_growth& g, integrated_products& sums);
+  // `phi`: the segment's variational matrix, computed.
+  void compute(const segment_polynomial& P, const picard_residual& r, const variational_matrix& phi,
+               const jacobian_rows& rows, const linear_growth& g, integrated_products& sums);
 
   std::vector<interval> u1;  // u_num(1), signed
   interval eps;              // |u(b) - u_num(1)|_2 <= eps
@@ -40,23 +81,27 @@ class signed_integral_term {
  private:
   void shorten(const segment_polynomial& P);
   void J_times(const segment_polynomial& P, const jacobian_rows& rows, int i, const double* w,
-               const std::array<double, 3>& wrad, bool full, double hl, integrated_products& sums) const;
-  void iterate(const segment_polynomial& P, const picard_residual& r, const jacobian_rows& rows, double hl,
-               integrated_products& sums);
+               const std::array<double, 3>& wrad, double hl, integrated_products& sums) const;
+  void solve(const segment_polynomial& P, const picard_residual& r, const variational_matrix& phi,
+             const jacobian_rows& rows, double hl);
   double residual_sup(const segment_polynomial& P, const picard_residual& r, const jacobian_rows& rows, double hl,
                       integrated_products& sums);
 
+  std::shared_ptr<const integral_term_nodes> nodes_;
   std::size_t nr_;
   std::array<std::size_t, 3> short_length_{};
-  std::vector<double> ud_, next_, w_;  // u_num (3 x nr), the next iterate, u_num + r
+  std::vector<double> ud_, w_;  // u_num (3 x nr), u_num + r
+  // At the nodes (component at i nr + l): P, Phi (entry q at q nr + l), Phi^-1 hl J r, its integral.
+  std::vector<double> y_, Phi_, g_, G_;
+  std::vector<double> fold_;  // even and odd parts (values), or sums (coefficients)
   interval scratch_;
 };
 
 inline void signed_integral_term::compute(const segment_polynomial& P, const picard_residual& r,
-                                          const jacobian_rows& rows, const linear_growth& g,
-                                          integrated_products& sums) {
+                                          const variational_matrix& phi, const jacobian_rows& rows,
+                                          const linear_growth& g, integrated_products& sums) {
   shorten(P);
-  iterate(P, r, rows, g.hl, sums);
+  solve(P, r, phi, rows, g.hl);
   sums.hl_error = g.hl_error;
   g.error_at_end(eps, residual_sup(P, r, rows, g.hl, sums), P);
   for (int i = 0; i < 3; ++i) {
@@ -66,7 +111,7 @@ inline void signed_integral_term::compute(const segment_polynomial& P, const pic
   mpfi_mul_2si(eps.get(), eps.get(), -r.r_scale);
 }
 
-// The iteration needs u to a few digits only, so it drops P's coefficients below 1e-9 of the
+// The solve needs u to a few digits only, so it drops P's coefficients below 1e-9 of the
 // largest (the final residual uses them all).
 inline void signed_integral_term::shorten(const segment_polynomial& P) {
   for (int c = 0; c < 3; ++c) {
@@ -80,36 +125,99 @@ inline void signed_integral_term::shorten(const segment_polynomial& P) {
 
 // sums = hl int (J w)_i, w three series of nr_ coefficients within wrad of the exact ones.
 inline void signed_integral_term::J_times(const segment_polynomial& P, const jacobian_rows& rows, int i,
-                                          const double* w, const std::array<double, 3>& wrad, bool full, double hl,
+                                          const double* w, const std::array<double, 3>& wrad, double hl,
                                           integrated_products& sums) const {
   std::array<product_term, 2> terms;
   for (int t = 0; t < 2; ++t) {
     const jacobian_entry& e = rows[i][t];
-    terms[t] = {e.coefficient, {&P.cd[e.c * P.n1], full ? P.n1 : short_length_[e.c], P.prad[e.c]},
+    terms[t] = {e.coefficient, P.short_view(e.c),
                 {&w[e.k * nr_], nr_, wrad[e.k]}};
   }
   sums.compute(hl, terms);
 }
 
-inline void signed_integral_term::iterate(const segment_polynomial& P, const picard_residual& r,
-                                          const jacobian_rows& rows, double hl, integrated_products& sums) {
-  std::fill(ud_.begin(), ud_.end(), 0.0);
-  for (int it = 0; it < 60; ++it) {
-    for (std::size_t q = 0; q < 3 * nr_; ++q) w_[q] = ud_[q] + r.rd[q];
-    double change = 0, size = 0;
-    for (int i = 0; i < 3; ++i) {
-      J_times(P, rows, i, w_.data(), {0, 0, 0}, false, hl, sums);
-      for (std::size_t k = 0; k < nr_; ++k) {  // truncated to r's length
-        const std::size_t q = i * nr_ + k;
-        change = std::max(change, std::abs(sums.coeffs[k] - ud_[q]));
-        size = std::max(size, std::abs(sums.coeffs[k]));
-        next_[q] = sums.coeffs[k];
+// u = hl int J (u + r) is u' = hl J u + hl J r, u(-1) = 0, so u(s) = Phi(s) int_{-1}^s Phi^-1 hl J r
+// with Phi' = hl J Phi, Phi(-1) = I: at the nodes, with Phi_num for Phi (ten digits) and S for the
+// integral, then back to coefficients. Only a few digits matter (the residual bound covers the
+// rest); one pass replaces a Picard iteration whose contraction is |J| h, a good part of one.
+inline void signed_integral_term::solve(const segment_polynomial& P, const picard_residual& r,
+                                        const variational_matrix& phi, const jacobian_rows& rows, double hl) {
+  const std::size_t n = nr_;
+  const integral_term_nodes& nodes = *nodes_;
+  const std::size_t h = nodes.h;
+  // Values at the nodes from coefficients: P (y_), r (w_), Phi_num (Phi_).
+  auto values = [&](const double* c, std::size_t length, double* __restrict out) {
+    double* __restrict e = fold_.data();
+    double* __restrict o = fold_.data() + h;
+    std::fill(fold_.begin(), fold_.end(), 0.0);
+    for (std::size_t k = 0; k < length; ++k) {
+      const double* __restrict Tk = &nodes.T[k * h];
+      double* __restrict part = (k % 2) ? o : e;
+      for (std::size_t l = 0; l < h; ++l) part[l] += c[k] * Tk[l];
+    }
+    for (std::size_t l = 0; l < h; ++l) {
+      out[l] = e[l] + o[l];
+      out[n - 1 - l] = e[l] - o[l];
+    }
+  };
+  for (int c = 0; c < 3; ++c) {
+    values(&P.cd[c * P.n1], short_length_[c], &y_[c * n]);
+    values(&r.rd[c * n], n, &w_[c * n]);
+  }
+  for (int q = 0; q < 9; ++q) values(phi.coefficients(q), variational_matrix::coefficient_count, &Phi_[q * n]);
+  for (std::size_t l = 0; l < n; ++l) {
+    double Jr[3] = {0, 0, 0};
+    for (int i = 0; i < 3; ++i)
+      for (const jacobian_entry& e : rows[i]) Jr[i] += e.coefficient * y_[e.c * n + l] * w_[e.k * n + l];
+    // Phi^-1 (hl J r) by the adjugate.
+    double Ph[9];
+    for (int q = 0; q < 9; ++q) Ph[q] = Phi_[q * n + l];
+    const double A00 = Ph[4] * Ph[8] - Ph[5] * Ph[7], A01 = Ph[2] * Ph[7] - Ph[1] * Ph[8],
+                 A02 = Ph[1] * Ph[5] - Ph[2] * Ph[4], A10 = Ph[5] * Ph[6] - Ph[3] * Ph[8],
+                 A11 = Ph[0] * Ph[8] - Ph[2] * Ph[6], A12 = Ph[2] * Ph[3] - Ph[0] * Ph[5],
+                 A20 = Ph[3] * Ph[7] - Ph[4] * Ph[6], A21 = Ph[1] * Ph[6] - Ph[0] * Ph[7],
+                 A22 = Ph[0] * Ph[4] - Ph[1] * Ph[3];
+    const double scale = hl / (Ph[0] * A00 + Ph[1] * A10 + Ph[2] * A20);
+    g_[l] = scale * (A00 * Jr[0] + A01 * Jr[1] + A02 * Jr[2]);
+    g_[n + l] = scale * (A10 * Jr[0] + A11 * Jr[1] + A12 * Jr[2]);
+    g_[2 * n + l] = scale * (A20 * Jr[0] + A21 * Jr[1] + A22 * Jr[2]);
+  }
+  // G = S g (the integrals at the nodes), then u = Phi G there (into w_), then u's coefficients.
+  auto columns = [&](const std::vector<double>& A, const double* x, double* __restrict out) {
+    std::fill(out, out + n, 0.0);
+    for (std::size_t k = 0; k < n; ++k) {
+      const double* __restrict Ak = &A[k * n];
+      for (std::size_t l = 0; l < n; ++l) out[l] += x[k] * Ak[l];
+    }
+  };
+  for (int i = 0; i < 3; ++i) columns(nodes.S, &g_[i * n], &G_[i * n]);
+  for (int i = 0; i < 3; ++i)
+    for (std::size_t l = 0; l < n; ++l) {
+      double acc = 0;
+      for (int j = 0; j < 3; ++j) acc += Phi_[(i * 3 + j) * n + l] * G_[j * n + l];
+      w_[i * n + l] = acc;
+    }
+  for (int i = 0; i < 3; ++i) {  // coefficients from values
+    const double* v = &w_[i * n];
+    double* __restrict e = fold_.data();
+    double* __restrict o = fold_.data() + h;
+    std::fill(fold_.begin(), fold_.end(), 0.0);
+    for (std::size_t l = 0; l < h; ++l) {
+      const double plus = v[l] + v[n - 1 - l], minus = v[l] - v[n - 1 - l];
+      const double* __restrict ce = &nodes.even[l * h];
+      const double* __restrict co = &nodes.odd[l * h];
+      for (std::size_t m = 0; m < h; ++m) {
+        e[m] += plus * ce[m];
+        o[m] += minus * co[m];
       }
     }
-    ud_.swap(next_);
-    if (!std::isfinite(change)) P.fail(outcome_kind::certify_non_finite);
-    if (change <= 1e-5 * size) break;  // enough: the residual bound covers the rest
+    for (std::size_t m = 0; m < h; ++m) {
+      ud_[i * n + 2 * m] = e[m];
+      ud_[i * n + 2 * m + 1] = o[m];
+    }
   }
+  for (double x : ud_)
+    if (!std::isfinite(x)) P.fail(outcome_kind::certify_non_finite);
 }
 
 // The residual of the exact polynomials: u_num exact, r = rd + (its radius); u_num + r as a view,
@@ -122,7 +230,7 @@ inline double signed_integral_term::residual_sup(const segment_polynomial& P, co
     std::array<double, 3> rad;
     for (int k = 0; k < 3; ++k)
       rad[k] = r.rrad[k] + gamma_of(2) * (abs_sum(&ud_[k * nr_], nr_) + abs_sum(&r.rd[k * nr_], nr_));
-    J_times(P, rows, i, w_.data(), rad, true, hl, sums);
+    J_times(P, rows, i, w_.data(), rad, hl, sums);
     const double b = residual_bound(0.0, sums, {&ud_[i * nr_], nr_, 0.0});
     sup2 += b * b;
   }

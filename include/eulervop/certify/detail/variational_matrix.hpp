@@ -26,17 +26,21 @@ namespace eulervop::detail {
 
 class variational_matrix {
  public:
-  explicit variational_matrix(mpfr_prec_t bits)
-      : Phi1(9, interval::zero(bits)), eps(interval::zero(bits)), scratch_(interval::zero(bits)) {}
+  variational_matrix()
+      : Phi1(9, interval::zero(error_bits)), eps(interval::zero(error_bits)), scratch_(interval::zero(error_bits)) {}
 
   void compute(const segment_polynomial& P, const jacobian_rows& rows, const linear_growth& g,
                integrated_products& sums);
+
+  // Phi_num's entry q = 3 i + j: its coefficient_count Chebyshev coefficients.
+  static constexpr std::size_t coefficient_count = 17;
+  const double* coefficients(int q) const { return &phi_[q * m1_]; }
 
   std::vector<interval> Phi1;  // 3x3: Phi_num(1), enclosed
   interval eps;                // |Phi(b, a) - Phi_num(1)|_2 <= eps
 
  private:
-  static constexpr std::size_t m1_ = 17;
+  static constexpr std::size_t m1_ = coefficient_count;
   void jacobian_at_nodes(const segment_polynomial& P, const jacobian_rows& rows);
   void iterate(const segment_polynomial& P, double hl);
   void coefficients();
@@ -119,7 +123,7 @@ inline double variational_matrix::residual_sup(const segment_polynomial& P, cons
       std::array<product_term, 2> terms;
       for (int t = 0; t < 2; ++t) {
         const jacobian_entry& e = rows[i][t];
-        terms[t] = {e.coefficient, {&P.cd[e.c * P.n1], P.n1, P.prad[e.c]}, {&phi_[(e.k * 3 + j) * m1_], m1_, 0.0}};
+        terms[t] = {e.coefficient, P.short_view(e.c), {&phi_[(e.k * 3 + j) * m1_], m1_, 0.0}};
       }
       sums.compute(hl, terms);
       const double b = residual_bound(i == j ? 1.0 : 0.0, sums, {&phi_[(i * 3 + j) * m1_], m1_, 0.0});
