@@ -13,6 +13,7 @@
 #include <eulervop/reference/integrate.hpp>
 
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
+#include <boost/math/special_functions/next.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -221,6 +222,45 @@ TEST(TorquedCertificate, PerturbedTorqueIsCoveredOrRefused) {
     EXPECT_GT(worst, 4 * clean_radius) << "the perturbation must show beyond the clean radius";
   } catch (const eulervop::numerical_failure& f) {
     EXPECT_EQ(f.status().kind, eulervop::outcome_kind::certification_failed);
+  }
+}
+
+// A node moved by a few ulps: a polynomial other than the integrator's, too close to it to show
+// beyond the radius; every row must still hold the truth (or the certificate refuse).
+TEST(TorquedCertificate, NodeMovedByUlpsIsCovered) {
+  const torqued_case c = paper_case();
+  auto tamper = [](eulervop::chebyshev_segment<quad>& s, std::size_t index) {
+    if (index == 50) {
+      quad& v = s.values[s.values.size() / 3][1];
+      v = boost::math::float_advance(v, 4);
+    }
+  };
+  try {
+    const auto rows = certified_rows(c.run, c.exact, c.tau_end, c.samples, tamper);
+    check_rows(rows, truth_at(rows));
+  } catch (const eulervop::numerical_failure& f) {
+    EXPECT_EQ(f.status().kind, eulervop::outcome_kind::certification_failed);
+  }
+}
+
+// A segment's start, or its length, moved by one ulp: the segments no longer join exactly, which
+// the fast path refuses (a gap the polynomials do not cover).
+TEST(TorquedCertificate, SegmentBoundaryMovedByAnUlpIsRefused) {
+  const torqued_case c = paper_case();
+  const std::vector<std::function<void(eulervop::chebyshev_segment<quad>&)>> moves = {
+      [](eulervop::chebyshev_segment<quad>& s) { s.tau_begin = boost::math::float_next(s.tau_begin); },
+      [](eulervop::chebyshev_segment<quad>& s) { s.half_length = boost::math::float_next(s.half_length); }};
+  for (const auto& move : moves) {
+    auto tamper = [&](eulervop::chebyshev_segment<quad>& s, std::size_t index) {
+      if (index == 50) move(s);
+    };
+    try {
+      certified_rows(c.run, c.exact, c.tau_end, c.samples, tamper);
+      ADD_FAILURE() << "a segment that does not join was certified";
+    } catch (const eulervop::numerical_failure& f) {
+      EXPECT_EQ(f.status().kind, eulervop::outcome_kind::certification_failed);
+      EXPECT_EQ(f.status().cause, eulervop::outcome_kind::certify_segment_gap);
+    }
   }
 }
 

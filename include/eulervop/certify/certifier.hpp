@@ -162,8 +162,7 @@ class certifier {
   detail::node_transform transform_;  // copied into every check
   std::shared_ptr<const detail::integral_term_nodes> integral_nodes_;  // shared by every check
   std::unique_ptr<prepared_segment> current_, spare_;
-  // The box and the ball that widens it: errors far below the state (linearized_flow.hpp).
-  static constexpr mpfr_prec_t box_bits = detail::error_bits;
+  // The box and the ball that widens it hold errors far below the state: detail::error_bits.
   detail::lohner_box box_;
   // The joins: P(b) of the previous segment and b, exactly.
   std::vector<interval> prev_end_;
@@ -177,9 +176,9 @@ template <class Torque>
 certifier::certifier(mpfr_prec_t bits, std::size_t degree, const euler_problem<interval, Torque>& problem)
     : bits_(bits), degree_(degree), problem_(with_constant_torque(problem)),
       jacobian_(detail::jacobian_pattern(unit_coefficients(problem_))), transform_(bits, degree),
-      integral_nodes_(std::make_shared<const detail::integral_term_nodes>(degree)), box_(box_bits),
-      prev_end_(3, interval::zero(bits)), prev_b_(interval::zero(bits)), ball_(interval::zero(box_bits)),
-      scratch_(interval::zero(box_bits)), max_radius_(interval::zero(bits)) {}
+      integral_nodes_(std::make_shared<const detail::integral_term_nodes>(degree)), box_(detail::error_bits),
+      prev_end_(3, interval::zero(bits)), prev_b_(interval::zero(bits)), ball_(interval::zero(detail::error_bits)),
+      scratch_(interval::zero(detail::error_bits)), max_radius_(interval::zero(bits)) {}
 
 // The problem with its torque as the one vector it is.
 template <class Torque>

@@ -51,7 +51,7 @@ class picard_residual {
   long r_scale = 0;
 
  private:
-  void midpoints(const segment_polynomial& P);
+  void grid_fallback(const segment_polynomial& P);
   double multiply(const segment_polynomial& P, int i);
   template <std::size_t L>
   double multiply_on_limbs(const segment_polynomial& P, int i);
@@ -113,7 +113,7 @@ inline void picard_residual::compute(const segment_polynomial& P) {
   mpfr_set(hl_over_2k_[1].get(), hl, MPFR_RNDN);
   for (std::size_t k = 2; k < nr_; ++k)
     mpfr_div_ui(hl_over_2k_[k].get(), hl, static_cast<unsigned long>(2 * k), MPFR_RNDN);
-  midpoints(P);
+  grid_fallback(P);
   for (int i = 0; i < 3; ++i) {
     product_error(P, i, multiply(P, i));
     integrate(P, i);
@@ -123,7 +123,7 @@ inline void picard_residual::compute(const segment_polynomial& P) {
 
 // P's coefficients on their grid (segment_polynomial::grid), as GMP's integers where they do not
 // fit on limbs.
-inline void picard_residual::midpoints(const segment_polynomial& P) {
+inline void picard_residual::grid_fallback(const segment_polynomial& P) {
   shift_ = P.grid.shift;
   if (P.grid.on_limbs) return;
   if (pq_.empty()) pq_.assign(3 * n1_, grid_integer(bits_ + 64));
