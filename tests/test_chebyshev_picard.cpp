@@ -226,3 +226,51 @@ TEST(StreamingSamples, EqualDenseOutputBitForBit) {
 }
 
 }  // namespace
+
+// The correction's stop on a predicted change (reference/detail/picard_correction.hpp,
+// correction_stop::predicted). One segment's correction equation, delta = r + hl S [f(X + delta)
+// - f(X)], with the paper's torque: X a rotation of size 50 at the nodes (hl |J| about 1.25, as
+// the paper scene's long segments), r a smooth residual of 1e-3 or 1e-16. Solved twice with the
+// same absolute floor (1e-10 |r|): to a measured change below it, and with the predicted stop.
+// Derived bound: the predicted stop leaves at most its target (2 q diff <= floor, geometric
+// contraction by q < 1/4), the measured one at most q floor <= floor / 4, so the two differ by at
+// most 1.25 floor. The predicted stop must also take fewer sweeps, or it is not exercised.
+TEST(Correction, PredictedStopStaysWithinItsTarget) {
+  using P = eulervop::euler_problem<quad>;
+  P problem;
+  problem.torque.G = {quad(1), quad(1), quad(1)};
+  problem.Omega0 = {quad(0.5), quad(0), quad(1)};
+  const std::size_t N = 41, n1 = N + 1;
+  const eulervop::detail::picard_matrices<quad> m(N, 113);
+  const double hl = 0.025;
+  for (const double amplitude : {1e-3, 1e-16}) {
+    const double floor = 1e-10 * amplitude;
+    std::array<std::array<std::vector<double>, 3>, 2> solved;
+    std::array<std::size_t, 2> sweeps{};
+    for (int k = 0; k < 2; ++k) {
+      eulervop::detail::picard_workspace<P> w(n1);
+      w.field = eulervop::detail::field_of<P>(problem);
+      for (std::size_t j = 0; j < n1; ++j) {
+        const double s = static_cast<double>(m.basis.nodes[j]);
+        w.Xd[0][j] = 30 * std::cos(2 * s);
+        w.Xd[1][j] = 30 * std::sin(2 * s);
+        w.Xd[2][j] = 40;
+        for (int i = 0; i < 3; ++i) w.r[i][j] = j == 0 ? 0.0 : amplitude * std::sin(3 * s + i);
+      }
+      eulervop::picard_stats st;
+      const auto stop = k == 0 ? eulervop::detail::correction_stop::measured : eulervop::detail::correction_stop::predicted;
+      ASSERT_TRUE(eulervop::detail::solve_correction(m, w, hl, floor, stop, st).ok());
+      solved[k] = w.delta;
+      sweeps[k] = st.double_sweeps;
+    }
+    double worst = 0, size = 0;
+    for (int i = 0; i < 3; ++i)
+      for (std::size_t j = 0; j < n1; ++j) {
+        worst = std::max(worst, std::abs(solved[1][i][j] - solved[0][i][j]));
+        size = std::max(size, std::abs(solved[0][i][j]));
+      }
+    EXPECT_LE(worst, 1.25 * floor) << "amplitude " << amplitude;
+    EXPECT_GT(size, 100 * floor) << "amplitude " << amplitude;  // the correction is not trivial
+    EXPECT_LT(sweeps[1], sweeps[0]) << "amplitude " << amplitude;
+  }
+}

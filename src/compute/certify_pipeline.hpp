@@ -7,7 +7,8 @@
 // them. So the output is the same bytes as checking and writing on one thread.
 //
 // At most `max_in_flight` segments are in flight: the integration waits when the certificate
-// falls behind, so memory does not grow with the span. The first failure (of a preparation, in
+// falls behind, so memory does not grow with the span, until a quarter of them are done (woken
+// once for those, not once per item: a wake-up costs about as much as a row). The first failure (of a preparation, in
 // segment order, or of an advance or a row) stops the pipeline and is rethrown to the caller at
 // its next call.
 #pragma once
@@ -68,7 +69,8 @@ class certify_pipeline {
   std::deque<item> items_;
   std::vector<std::unique_ptr<check>> spare_checks_;
   std::size_t segments_in_flight_ = 0;
-  bool stop_ = false, busy_ = false;
+  std::size_t resume_in_flight_;  // a waiting integration goes on at this many in flight
+  bool stop_ = false, busy_ = false, producer_waits_ = false;
   std::exception_ptr failure_;
   std::vector<std::thread> workers_;
   std::thread sequencer_;
@@ -78,7 +80,9 @@ class certify_pipeline {
 // times in it, as on the caller's thread.
 template <class Certifier>
 certify_pipeline<Certifier>::certify_pipeline(Certifier& cert, unsigned workers, std::size_t max_in_flight)
-    : cert_(cert), max_in_flight_(std::max<std::size_t>(max_in_flight, 1)) {
+    : cert_(cert),
+      max_in_flight_(std::max<std::size_t>(max_in_flight, 1)),
+      resume_in_flight_(max_in_flight_ - 1 - (max_in_flight_ - 1) / 4) {
   const unsigned digits10 = mpfr_real::thread_default_precision();
   for (unsigned w = 0; w < workers; ++w)
     workers_.emplace_back([this, digits10] {
@@ -123,7 +127,11 @@ void certify_pipeline<Certifier>::add_segment(const chebyshev_segment<T, D>& seg
   prepared result = job.get_future();
   {
     std::unique_lock<std::mutex> lock(mutex_);
-    item_done_.wait(lock, [this] { return segments_in_flight_ < max_in_flight_ || failure_ || stop_; });
+    if (segments_in_flight_ >= max_in_flight_) {
+      producer_waits_ = true;
+      item_done_.wait(lock, [this] { return segments_in_flight_ <= resume_in_flight_ || failure_ || stop_; });
+      producer_waits_ = false;
+    }
     jobs_.push_back(std::move(job));
   }
   job_ready_.notify_one();
@@ -215,14 +223,17 @@ void certify_pipeline<Certifier>::sequence() {
     } catch (...) {
       failure = std::current_exception();
     }
+    bool wake = false;
     {
       const std::lock_guard<std::mutex> lock(mutex_);
       if (std::holds_alternative<prepared>(next)) --segments_in_flight_;
       if (spare) spare_checks_.push_back(std::move(spare));
       if (failure && !failure_) failure_ = failure;
       busy_ = false;
+      // Who waits on item_done_: the integration for room (add_segment), finish() for the end.
+      wake = failure_ || items_.empty() || (producer_waits_ && segments_in_flight_ <= resume_in_flight_);
     }
-    item_done_.notify_all();
+    if (wake) item_done_.notify_all();
     if (failure) return;
   }
 }

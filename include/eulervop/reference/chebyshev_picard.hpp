@@ -319,7 +319,9 @@ class chebyshev_picard {
       const double r_log = log_of(r_max);
       if (first) {
         r_prev_log = r_log;
-        if (const outcome o = detail::solve_correction(matrices_, work_, hl_d, wide_floor(out.scale_log), st); !o.ok())
+        if (const outcome o = detail::solve_correction(matrices_, work_, hl_d, wide_floor(out.scale_log),
+                                                       detail::correction_stop::predicted, st);
+            !o.ok())
           return {o};
         detail::add_correction(work_);
         continue;
@@ -334,7 +336,9 @@ class chebyshev_picard {
                                            r_log > r_prev_log - std::log(2.0))))
         return {{.kind = outcome_kind::residual_stalled, .value = r_max, .count = pass}};
       r_prev_log = r_log;
-      if (const outcome o = detail::solve_correction(matrices_, work_, hl_d, wide_floor(out.scale_log), st); !o.ok())
+      if (const outcome o = detail::solve_correction(matrices_, work_, hl_d, wide_floor(out.scale_log),
+                                                     detail::correction_stop::measured, st);
+          !o.ok())
         return {o};
       if (settled_by_correction(r_max, out.scale_log, hl_d)) {  // Yc is not needed any more
         out.settled = true;
@@ -365,7 +369,8 @@ class chebyshev_picard {
         if (converged(r_up_log, r_prev_log, out.scale_log)) return out;
         if (r_up_log > r_prev_log - std::log(2.0)) return std::nullopt;
         r_prev_log = r_up_log;
-        if (const outcome o = detail::correct(matrices_, work_, r_up, to_d(hl), wide_floor(out.scale_log), st); !o.ok())
+        if (const outcome o = detail::correct(matrices_, work_, r_up, to_d(hl), wide_floor(out.scale_log),
+                                                     detail::correction_stop::measured, st); !o.ok())
           return solve_result{o};
         if (settled_by_correction(r_up, out.scale_log, to_d(hl))) {
           solve_result settled = out;
@@ -449,7 +454,10 @@ class chebyshev_picard {
     double r_dd = 0;
     if constexpr (in_double_double) {
       if (!std::isfinite(r_double)) return {outcome_kind::residual_non_finite};
-      if (const outcome o = detail::solve_correction(matrices_, work_, hl_d, floor_double, st); !o.ok()) return o;
+      if (const outcome o =
+              detail::solve_correction(matrices_, work_, hl_d, floor_double, detail::correction_stop::predicted, st);
+          !o.ok())
+        return o;
       detail::add_correction_double_double(work_);
       std::array<double_double, D> x0dd;
       for (std::size_t i = 0; i < D; ++i) {
@@ -461,7 +469,10 @@ class chebyshev_picard {
       }
       r_dd = detail::double_double_residual(matrices_, work_, x0dd, to_double_double(hl));
       if (!std::isfinite(r_dd)) return {outcome_kind::residual_non_finite};
-      if (const outcome o = detail::solve_correction(matrices_, work_, hl_d, floor_wide, st); !o.ok()) return o;
+      if (const outcome o =
+              detail::solve_correction(matrices_, work_, hl_d, floor_wide, detail::correction_stop::predicted, st);
+          !o.ok())
+        return o;
       detail::add_correction_double_double(work_);
       for (std::size_t i = 0; i < D; ++i)
         for (std::size_t j = 0; j < n1_; ++j) {
@@ -469,9 +480,15 @@ class chebyshev_picard {
           work_.add_double(work_.Yc[i][j], work_.Ydd_lo[i][j]);
         }
     } else {
-      if (const outcome o = detail::correct(matrices_, work_, r_double, hl_d, floor_double, st); !o.ok()) return o;
+      if (const outcome o = detail::correct(matrices_, work_, r_double, hl_d, floor_double,
+                                            detail::correction_stop::predicted, st);
+          !o.ok())
+        return o;
       r_dd = detail::double_double_residual(matrices_, work_, x0, c0, hl);
-      if (const outcome o = detail::correct(matrices_, work_, r_dd, hl_d, floor_wide, st); !o.ok()) return o;
+      if (const outcome o =
+              detail::correct(matrices_, work_, r_dd, hl_d, floor_wide, detail::correction_stop::predicted, st);
+          !o.ok())
+        return o;
     }
     if (log_of(r_dd) > log_of(r_double) - std::log(2.0)) return {outcome_kind::residual_not_decreasing};
     r_log = log_of(r_dd);

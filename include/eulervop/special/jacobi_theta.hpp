@@ -43,7 +43,7 @@
 #pragma once
 
 #include "eulervop/special/detail/sincos_double.hpp"
-#include "eulervop/special/detail/double2.hpp"
+#include "eulervop/core/double2.hpp"
 #include "eulervop/special/detail/theta_tables.hpp"
 #include "eulervop/special/elliptic.hpp"
 

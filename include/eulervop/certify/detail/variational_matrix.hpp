@@ -1,5 +1,5 @@
 // The variational matrix of a segment, Phi' = hl J(P(s)) Phi on s in [-1, 1], Phi(-1) = I
-// (docs/certified.md, "How", step 4): Picard iteration in double on 17 Lobatto nodes; Phi_num is
+// (docs/certified.md, "How", step 4): Gauss-Seidel sweeps in double on 17 Lobatto nodes; Phi_num is
 // the polynomial of its Chebyshev coefficients (exact doubles by definition). Its residual
 // R(s) = I + hl int J Phi_num - Phi_num is bounded with every rounding (bounded_chebyshev.hpp);
 // E = Phi - Phi_num solves E = R + hl int J E, so |E(1)| <= sup|R| (1 + h exp(mu h) |J|). That
@@ -48,7 +48,8 @@ class variational_matrix {
 
   chebyshev_basis<double> basis_{m1_ - 1};
   // At node l, entry q = 3 i + j: J, Phi and J Phi; phi_: entry q's coefficients k at q m1 + k.
-  std::vector<double> J_ = std::vector<double>(m1_ * 9), Phi_ = J_, F_ = J_, phi_ = J_;
+  // inverse_: (I - hl S_ll J_l)^-1 at node l, for the implicit step of iterate().
+  std::vector<double> J_ = std::vector<double>(m1_ * 9), Phi_ = J_, F_ = J_, phi_ = J_, inverse_ = J_;
   interval scratch_;
 };
 
@@ -73,32 +74,63 @@ inline void variational_matrix::jacobian_at_nodes(const segment_polynomial& P, c
   }
 }
 
+// Gauss-Seidel over the nodes, as the reference's correction (reference/detail/picard_correction.hpp):
+// node l's integral takes the newest Phi of the nodes before it, and its own term is implicit,
+// (I - c J_l) Phi_l = I + hl sum_{k != l} S_lk J_k Phi_k with c = hl S_ll. About a third of the
+// plain Picard iterations (all nodes from the previous one). Any Phi_num will do for soundness:
+// its residual is bounded afterwards (residual_sup); this only makes the bound small.
 inline void variational_matrix::iterate(const segment_polynomial& P, double hl) {
   for (std::size_t l = 0; l < m1_; ++l)
-    for (int q = 0; q < 9; ++q) Phi_[l * 9 + q] = (q % 4 == 0) ? 1.0 : 0.0;
+    for (int q = 0; q < 9; ++q) {
+      Phi_[l * 9 + q] = (q % 4 == 0) ? 1.0 : 0.0;
+      F_[l * 9 + q] = J_[l * 9 + q];
+    }
+  // (I - c J_l)^-1 by its adjugate: c |J| is about hl |J| / m1, far from singular.
+  std::vector<double>& M = inverse_;
+  for (std::size_t l = 1; l < m1_; ++l) {
+    const double c = hl * basis_.integral[l * m1_ + l];
+    double A[9];
+    for (int q = 0; q < 9; ++q) A[q] = ((q % 4 == 0) ? 1.0 : 0.0) - c * J_[l * 9 + q];
+    double* Ml = &M[l * 9];
+    Ml[0] = A[4] * A[8] - A[5] * A[7];
+    Ml[1] = A[2] * A[7] - A[1] * A[8];
+    Ml[2] = A[1] * A[5] - A[2] * A[4];
+    Ml[3] = A[5] * A[6] - A[3] * A[8];
+    Ml[4] = A[0] * A[8] - A[2] * A[6];
+    Ml[5] = A[2] * A[3] - A[0] * A[5];
+    Ml[6] = A[3] * A[7] - A[4] * A[6];
+    Ml[7] = A[1] * A[6] - A[0] * A[7];
+    Ml[8] = A[0] * A[4] - A[1] * A[3];
+    const double det = A[0] * Ml[0] + A[1] * Ml[3] + A[2] * Ml[6];
+    if (!std::isfinite(det) || det == 0) P.fail(outcome_kind::certify_non_finite);
+    for (int q = 0; q < 9; ++q) Ml[q] /= det;
+  }
   for (int it = 0; it < 200; ++it) {
-    for (std::size_t l = 0; l < m1_; ++l)
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          double acc = 0;
-          for (int k = 0; k < 3; ++k) acc += J_[l * 9 + i * 3 + k] * Phi_[l * 9 + k * 3 + j];
-          F_[l * 9 + i * 3 + j] = acc;
-        }
     double change = 0, size = 0;
-    for (std::size_t l = 0; l < m1_; ++l) {
+    for (std::size_t l = 1; l < m1_; ++l) {
       // The nine entries side by side (each still summed over k in order), so that the
       // compiler vectorizes across them.
       double acc[9] = {};
       for (std::size_t k = 0; k < m1_; ++k) {
+        if (k == l) continue;
         const double s = basis_.integral[l * m1_ + k];
         for (int q = 0; q < 9; ++q) acc[q] += s * F_[k * 9 + q];
       }
-      for (int q = 0; q < 9; ++q) {
-        const double next = ((q % 4 == 0) ? 1.0 : 0.0) + hl * acc[q];
-        change = std::max(change, std::abs(next - Phi_[l * 9 + q]));
-        size = std::max(size, std::abs(next));
-        Phi_[l * 9 + q] = next;
-      }
+      double rhs[9];
+      for (int q = 0; q < 9; ++q) rhs[q] = ((q % 4 == 0) ? 1.0 : 0.0) + hl * acc[q];
+      const double* Ml = &M[l * 9];
+      const double* Jl = &J_[l * 9];
+      double* Phil = &Phi_[l * 9];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          const double next = Ml[i * 3] * rhs[j] + Ml[i * 3 + 1] * rhs[3 + j] + Ml[i * 3 + 2] * rhs[6 + j];
+          change = std::max(change, std::abs(next - Phil[i * 3 + j]));
+          size = std::max(size, std::abs(next));
+          Phil[i * 3 + j] = next;
+        }
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          F_[l * 9 + i * 3 + j] = Jl[i * 3] * Phil[j] + Jl[i * 3 + 1] * Phil[3 + j] + Jl[i * 3 + 2] * Phil[6 + j];
     }
     if (!std::isfinite(change)) P.fail(outcome_kind::certify_non_finite);
     if (change <= 1e-10 * size) break;  // its error multiplies |e(a)|: ten digits are plenty

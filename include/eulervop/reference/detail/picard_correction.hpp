@@ -4,6 +4,7 @@
 // depend on the state).
 #pragma once
 
+#include <eulervop/core/double2.hpp>
 #include <eulervop/core/error_free.hpp>
 #include <eulervop/core/outcome.hpp>
 #include <eulervop/reference/detail/picard_matrices.hpp>
@@ -80,6 +81,29 @@ template <class P>
   for (int i = 0; i < 3; ++i) b[i] += cJb[i] + c * JJb[i];
 }
 
+// sums[i] = sum_k row[k] g[i][k], i < D, for all components in one pass over the row (it is
+// loaded once, not D times). Each sum in four partial sums, k = 0, 1, 2, 3 mod 4 (the lanes of
+// two pairs), added as (s0 + s1) + (s2 + s3): one running sum would bind the loop to the latency
+// of its additions.
+template <std::size_t D>
+[[gnu::always_inline]] inline void row_times_increments(const double* row, const std::array<const double*, D>& g,
+                                                        std::size_t n1, std::array<double, D>& sums) {
+  std::array<double2, D> lo{}, hi{};
+  std::size_t k = 0;
+  for (; k + 4 <= n1; k += 4) {
+    const double2 r0 = load2(row + k), r1 = load2(row + k + 2);
+    for (std::size_t i = 0; i < D; ++i) {
+      lo[i] += r0 * load2(g[i] + k);
+      hi[i] += r1 * load2(g[i] + k + 2);
+    }
+  }
+  for (std::size_t i = 0; i < D; ++i) {
+    double s0 = lo[i][0];
+    for (std::size_t m = k; m < n1; ++m) s0 += row[m] * g[i][m];
+    sums[i] = (s0 + lo[i][1]) + (hi[i][0] + hi[i][1]);
+  }
+}
+
 // One Gauss-Seidel sweep of delta = r + hl S g(delta), g = f(X + delta) - f(X): node by node in
 // time, each node's row of S applied to the newest g of every node (those before it already
 // swept), its own term made implicit (implicit_node_step), then its g updated. The integral is
@@ -91,23 +115,13 @@ double correction_sweep(const picard_matrices<T>& m, picard_workspace<P>& w, dou
   constexpr std::size_t D = P::dimension;
   const std::size_t n1 = w.n1;
   double diff = 0, big = dmax;
+  std::array<const double*, D> g;
+  for (std::size_t i = 0; i < D; ++i) g[i] = w.g[i].data();
   for (std::size_t j = 1; j < n1; ++j) {
     const double* row = &m.S_d[j * n1];
     std::array<double, D> step;
-    for (std::size_t i = 0; i < D; ++i) {
-      // Four partial sums: a single one would bind the loop to the latency of its additions.
-      const double* gi = w.g[i].data();
-      double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-      std::size_t k = 0;
-      for (; k + 4 <= n1; k += 4) {
-        s0 += row[k] * gi[k];
-        s1 += row[k + 1] * gi[k + 1];
-        s2 += row[k + 2] * gi[k + 2];
-        s3 += row[k + 3] * gi[k + 3];
-      }
-      for (; k < n1; ++k) s0 += row[k] * gi[k];
-      step[i] = w.r[i][j] + hl_d * ((s0 + s1) + (s2 + s3)) - w.delta[i][j];
-    }
+    row_times_increments(row, g, n1, step);
+    for (std::size_t i = 0; i < D; ++i) step[i] = w.r[i][j] + hl_d * step[i] - w.delta[i][j];
     if constexpr (!is_coupled_problem_v<P>) implicit_node_step(w, j, hl_d * row[j], step);
     for (std::size_t i = 0; i < D; ++i) {
       const double v = w.delta[i][j] + step[i];
@@ -121,14 +135,21 @@ double correction_sweep(const picard_matrices<T>& m, picard_workspace<P>& w, dou
   return diff;
 }
 
-// Sweeps from delta = r until the change is at double rounding, or below `floor`, or stagnant
-// near either; a growing change means the segment is too long. `floor` is the absolute accuracy
-// the pass needs: a correction is only as good as the residual it corrects (rounded in double
-// after the first pass) and the run's tolerance, so sweeping a 1e-32 correction to 16 digits of
-// its own buys nothing.
+// What may end the sweeps besides a change at the target: `measured`, nothing (the segment's last
+// correction: its error stays in the values and adds up over the segments, and the floor of
+// chebyshev_picard::wide_floor assumes what a measured stop leaves, about q times the target);
+// `predicted`, also a change that the rate of the last two sweeps predicts to be within the
+// target (a correction that a later residual measures and corrects).
+enum class correction_stop { measured, predicted };
+
+// Sweeps from delta = r until the change is at double rounding, or below `floor` (or, with
+// correction_stop::predicted, the next one would be), or stagnant near either; a growing change
+// means the segment is too long. `floor` is the absolute accuracy the pass needs: a correction is
+// only as good as the residual it corrects (rounded in double after the first pass) and the run's
+// tolerance, so sweeping a 1e-32 correction to 16 digits of its own buys nothing.
 template <class P, class T = typename P::value_type>
 outcome solve_correction(const picard_matrices<T>& m, picard_workspace<P>& w, double hl_d, double floor,
-                         picard_stats& st) {
+                         correction_stop stop, picard_stats& st) {
   constexpr std::size_t max_sweeps = 200;
   for (std::size_t i = 0; i < P::dimension; ++i) w.delta[i] = w.r[i];
   linearize_torque(w);
@@ -141,7 +162,14 @@ outcome solve_correction(const picard_matrices<T>& m, picard_workspace<P>& w, do
     const double diff = correction_sweep(m, w, hl_d, dmax);
     if (!std::isfinite(diff)) return {outcome_kind::correction_diverged};
     if (first_diff < 0) first_diff = diff;
-    if (diff <= std::max(4e-16 * dmax, floor)) return {};
+    const double target = std::max(4e-16 * dmax, floor);
+    if (diff <= target) return {};
+    // Contracting by q = diff / prev_diff per sweep, the next sweeps would change delta by about
+    // q diff / (1 - q) in all, under 2 q diff for q < 1/2: when that is within the target, the
+    // sweep that would only confirm it is skipped (one of the 7 to 10 a correction takes).
+    if (stop == correction_stop::predicted && sweep > 0 && diff < 0.25 * prev_diff &&
+        2 * diff * (diff / prev_diff) <= target)
+      return {};
     if (sweep > 4 && diff >= 0.7 * prev_diff) {
       if (diff <= std::max(1e-12 * dmax, floor)) return {};
       if (diff > first_diff) return {outcome_kind::correction_diverged};
@@ -174,9 +202,9 @@ void add_correction_double_double(picard_workspace<P>& w) {
 // `floor` (or double's) and adds it to Yc.
 template <class P, class T = typename P::value_type>
 outcome correct(const picard_matrices<T>& m, picard_workspace<P>& w, double r_max, double hl_d, double floor,
-                picard_stats& st) {
+                correction_stop stop, picard_stats& st) {
   if (!std::isfinite(r_max)) return {outcome_kind::residual_non_finite};
-  if (const outcome o = solve_correction(m, w, hl_d, floor, st); !o.ok()) return o;
+  if (const outcome o = solve_correction(m, w, hl_d, floor, stop, st); !o.ok()) return o;
   add_correction(w);
   return {};
 }

@@ -12,7 +12,7 @@
 // evaluation; tests/test_elliptic.cpp checks sincos_double against MPFR).
 #pragma once
 
-#include "eulervop/special/detail/double2.hpp"
+#include "eulervop/core/double2.hpp"
 #include "eulervop/special/detail/theta_tables.hpp"
 
 #include <bit>
