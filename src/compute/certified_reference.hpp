@@ -163,7 +163,11 @@ class run_certificate {
 
   const certified_maxima& maxima() const { return max_; }
   std::string method() const {
-    if (fast_) return fmt::format("mpfi bits={} interval Chebyshev residual, Lohner QR propagation", bits_);
+    if (fast_)
+      return fmt::format(
+          "mpfi bits={} Chebyshev residual by exact products on an integer grid, 3-state Lohner QR propagation "
+          "(fast path)",
+          bits_);
     return fmt::format("arb bits={} ball Chebyshev models, {}-state Lohner QR propagation (general path)", bits_,
                        general_ ? general_->problem().dimension : 0);
   }
