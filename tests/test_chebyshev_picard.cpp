@@ -258,7 +258,8 @@ TEST(Correction, PredictedStopStaysWithinItsTarget) {
         for (int i = 0; i < 3; ++i) w.r[i][j] = j == 0 ? 0.0 : amplitude * std::sin(3 * s + i);
       }
       eulervop::picard_stats st;
-      const auto stop = k == 0 ? eulervop::detail::correction_stop::measured : eulervop::detail::correction_stop::predicted;
+      using eulervop::detail::correction_stop;
+      const auto stop = k == 0 ? correction_stop::measured : correction_stop::predicted;
       ASSERT_TRUE(eulervop::detail::solve_correction(m, w, hl, floor, stop, st).ok());
       solved[k] = w.delta;
       sweeps[k] = st.double_sweeps;

@@ -8,9 +8,9 @@
 //
 // At most `max_in_flight` segments are in flight: the integration waits when the certificate
 // falls behind, so memory does not grow with the span, until a quarter of them are done (woken
-// once for those, not once per item: a wake-up costs about as much as a row). The first failure (of a preparation, in
-// segment order, or of an advance or a row) stops the pipeline and is rethrown to the caller at
-// its next call.
+// once for those, not once per item: a wake-up costs about as much as a row). The first failure
+// (of a preparation, in segment order, or of an advance or a row) stops the pipeline and is
+// rethrown to the caller at its next call.
 #pragma once
 
 #include <eulervop/core/scalar.hpp>

@@ -172,15 +172,10 @@ inline void signed_integral_term::solve(const segment_polynomial& P, const picar
     // Phi^-1 (hl J r) by the adjugate.
     double Ph[9];
     for (int q = 0; q < 9; ++q) Ph[q] = Phi_[q * n + l];
-    const double A00 = Ph[4] * Ph[8] - Ph[5] * Ph[7], A01 = Ph[2] * Ph[7] - Ph[1] * Ph[8],
-                 A02 = Ph[1] * Ph[5] - Ph[2] * Ph[4], A10 = Ph[5] * Ph[6] - Ph[3] * Ph[8],
-                 A11 = Ph[0] * Ph[8] - Ph[2] * Ph[6], A12 = Ph[2] * Ph[3] - Ph[0] * Ph[5],
-                 A20 = Ph[3] * Ph[7] - Ph[4] * Ph[6], A21 = Ph[1] * Ph[6] - Ph[0] * Ph[7],
-                 A22 = Ph[0] * Ph[4] - Ph[1] * Ph[3];
-    const double scale = hl / (Ph[0] * A00 + Ph[1] * A10 + Ph[2] * A20);
-    g_[l] = scale * (A00 * Jr[0] + A01 * Jr[1] + A02 * Jr[2]);
-    g_[n + l] = scale * (A10 * Jr[0] + A11 * Jr[1] + A12 * Jr[2]);
-    g_[2 * n + l] = scale * (A20 * Jr[0] + A21 * Jr[1] + A22 * Jr[2]);
+    double A[9];
+    const double scale = hl / adjugate_3x3(Ph, A);
+    for (int i = 0; i < 3; ++i)
+      g_[i * n + l] = scale * (A[3 * i] * Jr[0] + A[3 * i + 1] * Jr[1] + A[3 * i + 2] * Jr[2]);
   }
   // G = S g (the integrals at the nodes), then u = Phi G there (into w_), then u's coefficients.
   auto columns = [&](const std::vector<double>& A, const double* x, double* __restrict out) {

@@ -24,6 +24,20 @@
 
 namespace eulervop::detail {
 
+// adj = the adjugate of the 3x3 matrix A (both row-major), so that A^-1 = adj / det; returns det.
+inline double adjugate_3x3(const double* A, double* adj) {
+  adj[0] = A[4] * A[8] - A[5] * A[7];
+  adj[1] = A[2] * A[7] - A[1] * A[8];
+  adj[2] = A[1] * A[5] - A[2] * A[4];
+  adj[3] = A[5] * A[6] - A[3] * A[8];
+  adj[4] = A[0] * A[8] - A[2] * A[6];
+  adj[5] = A[2] * A[3] - A[0] * A[5];
+  adj[6] = A[3] * A[7] - A[4] * A[6];
+  adj[7] = A[1] * A[6] - A[0] * A[7];
+  adj[8] = A[0] * A[4] - A[1] * A[3];
+  return A[0] * adj[0] + A[1] * adj[3] + A[2] * adj[6];
+}
+
 class variational_matrix {
  public:
   variational_matrix()
@@ -86,22 +100,12 @@ inline void variational_matrix::iterate(const segment_polynomial& P, double hl) 
       F_[l * 9 + q] = J_[l * 9 + q];
     }
   // (I - c J_l)^-1 by its adjugate: c |J| is about hl |J| / m1, far from singular.
-  std::vector<double>& M = inverse_;
   for (std::size_t l = 1; l < m1_; ++l) {
     const double c = hl * basis_.integral[l * m1_ + l];
     double A[9];
     for (int q = 0; q < 9; ++q) A[q] = ((q % 4 == 0) ? 1.0 : 0.0) - c * J_[l * 9 + q];
-    double* Ml = &M[l * 9];
-    Ml[0] = A[4] * A[8] - A[5] * A[7];
-    Ml[1] = A[2] * A[7] - A[1] * A[8];
-    Ml[2] = A[1] * A[5] - A[2] * A[4];
-    Ml[3] = A[5] * A[6] - A[3] * A[8];
-    Ml[4] = A[0] * A[8] - A[2] * A[6];
-    Ml[5] = A[2] * A[3] - A[0] * A[5];
-    Ml[6] = A[3] * A[7] - A[4] * A[6];
-    Ml[7] = A[1] * A[6] - A[0] * A[7];
-    Ml[8] = A[0] * A[4] - A[1] * A[3];
-    const double det = A[0] * Ml[0] + A[1] * Ml[3] + A[2] * Ml[6];
+    double* Ml = &inverse_[l * 9];
+    const double det = adjugate_3x3(A, Ml);
     if (!std::isfinite(det) || det == 0) P.fail(outcome_kind::certify_non_finite);
     for (int q = 0; q < 9; ++q) Ml[q] /= det;
   }
@@ -118,7 +122,7 @@ inline void variational_matrix::iterate(const segment_polynomial& P, double hl) 
       }
       double rhs[9];
       for (int q = 0; q < 9; ++q) rhs[q] = ((q % 4 == 0) ? 1.0 : 0.0) + hl * acc[q];
-      const double* Ml = &M[l * 9];
+      const double* Ml = &inverse_[l * 9];
       const double* Jl = &J_[l * 9];
       double* Phil = &Phi_[l * 9];
       for (int i = 0; i < 3; ++i)
