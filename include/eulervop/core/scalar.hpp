@@ -12,6 +12,7 @@
 
 #include <boost/multiprecision/float128.hpp>
 #include <boost/multiprecision/mpfr.hpp>
+#include <boost/version.hpp>
 
 #include <charconv>
 #include <cmath>
@@ -19,6 +20,11 @@
 #include <optional>
 #include <string>
 #include <string_view>
+
+// Per-thread MPFR precision (mpfr_float::thread_default_precision) and Boost.PFR arrived after
+// 1.74, Debian 12's default Boost: tools/setup.sh unpacks 1.81's headers into .deps/ (docs/python.md,
+// "Install"), which must come before any system Boost on the include path.
+static_assert(BOOST_VERSION >= 108100, "eulervop needs Boost 1.81's headers: run tools/setup.sh (it unpacks them into .deps/)");
 
 namespace eulervop {
 
