@@ -812,3 +812,39 @@ samples = 121
 }
 
 }  // namespace
+
+// A shipped scene is taken by its name wherever a scene path goes; a name that is no scene says
+// so in one line, with the shipped ones.
+TEST(Check, AShippedSceneByItsName) {
+  temp_dir dir;
+  const run_result ref = run(dir.path(), {"reference", "sciml-rigid-body", "--samples", "11", "--out", "ref.csv"});
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+  // The reference's own rows, as a trajectory: each cell is the reference's decimal, so 0 error.
+  std::string traj = "t,y1,y2,y3\n";
+  for (const auto& row : table_rows(read_file(dir.path() / "ref.csv")))
+    traj += fmt::format("{},{},{},{}\n", row[0], row[1], row[2], row[3]);
+  write_file(dir.path() / "traj.csv", traj);
+  const run_result by_name = run(dir.path(), {"check", "sciml-rigid-body", "traj.csv", "--tol", "1e-30"});
+  EXPECT_EQ(by_name.exit_code, 0) << by_name.out << by_name.err;
+  const run_result wrong = run(dir.path(), {"check", "sciml-rigid-bod", "traj.csv", "--tol", "1e-30"});
+  expect_one_line_error(wrong, "scene sciml-rigid-bod: cannot read: no such file, nor a shipped scene (");
+  EXPECT_NE(wrong.err.find("sciml-rigid-body"), std::string::npos) << wrong.err;
+}
+
+// Thousands of rows on each segment take the Chebyshev series (segment_sampler.hpp) from the fifth
+// row of a segment on: the reference there must be the one the reference command prints at the
+// same times to the last digits, so that its own rows judge to the printing's rounding.
+TEST(Check, DenseRowsJudgeTheReferenceToItsDigits) {
+  temp_dir dir;
+  const run_result ref = run(dir.path(), {"reference", "sciml-rigid-body", "--samples", "20001", "--out", "ref.csv"});
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+  std::string traj = "t,y1,y2,y3\n";
+  for (const auto& row : table_rows(read_file(dir.path() / "ref.csv")))
+    traj += fmt::format("{},{},{},{}\n", row[0], row[1], row[2], row[3]);
+  write_file(dir.path() / "traj.csv", traj);
+  // |y| <= 2 here and each printed cell is within half a unit of its 36th digit of the quad value:
+  // 3e-36 |y| per cell, so 1e-35 bounds a row's 2-norm; any series error above that would show.
+  const run_result r = run(dir.path(), {"check", "sciml-rigid-body", "traj.csv", "--tol", "1e-35", "--format", "json"});
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_EQ(json::parse(r.out).at("rows").get<int>(), 20001);
+}

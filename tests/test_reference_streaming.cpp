@@ -36,18 +36,17 @@ using cli_test::read_file;
 using cli_test::temp_dir;
 using cli_test::write_file;
 
-// The route the program took before the rows were streamed: the dense trajectory sampled after
-// the run, the CSV built in memory.
+// The route the program took before the rows were streamed: the samples kept in memory
+// (integrate_and_sample, the same sampler), the CSV built in a string.
 template <scalar T>
 std::string in_memory_csv(const reference_options& o) {
   app::scene s = o.scene_path ? load_scene_file(*o.scene_path) : load_default_scene();
   const applied_overrides applied = apply_scene_overrides(s, o.overrides);
   const T tau_end = tau_end_of<T>(s);
   const sample_times<T> times = sample_times_of<T>(s);
-  picard_stats stats;
-  const dense_trajectory<T> dense = integrate_reference<T>(to_problem<T>(s), tau_end, applied.settings, {}, &stats);
-  std::vector<vec3<T>> Omega;
-  for (const T& tau : times.tau) Omega.push_back(dense(tau));
+  const sampled_reference<T> run = integrate_and_sample<T>(to_problem<T>(s), tau_end, times.tau, applied.settings, "");
+  const picard_stats& stats = run.stats;
+  const std::vector<vec3<T>>& Omega = run.Omega;
 
   reference_metadata m;
   m.scene_name = s.name;

@@ -20,13 +20,14 @@ dense_reference<T> integrate_dense(const euler_problem<T, Torque>& problem, cons
 // neither the span nor the samples. A non-finite sample is a numerical_failure at its tau. The
 // wall time includes `on_sample`.
 template <scalar T, class Torque>
-reference_run integrate_streaming(const euler_problem<T, Torque>& problem, const T& tau_end, const std::vector<T>& taus,
+reference_run integrate_streaming(const euler_problem<T, Torque>& problem, const T& tau_end,
+                                  const std::type_identity_t<sample_time_source<T>>& times,
                                   const picard_settings& settings, const std::string& label,
                                   const sample_function<T>& on_sample, const segment_sink<T>& after_segment) {
   reference_run out;
   out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
     integrate_reference_samples(
-        problem, tau_end, taus,
+        problem, tau_end, times,
         [&](std::size_t index, const T& tau, const vec3<T>& Om) { on_sample(index, require_finite(Om, tau)); },
         settings, progress, &out.stats, after_segment);
   });
@@ -72,32 +73,34 @@ auto split_attitude_sample(const attitude_sample_function<T>& on_sample) {
 
 template <scalar T, class Torque>
 reference_run integrate_attitude_streaming(const euler_problem<T, Torque>& problem, const body_rates<T>& rates,
-                                           const quaternion<T>& q0, const T& tau_end, const std::vector<T>& taus,
+                                           const quaternion<T>& q0, const T& tau_end,
+                                           const std::type_identity_t<sample_time_source<T>>& times,
                                            const picard_settings& settings, const std::string& label,
                                            const attitude_sample_function<T>& on_sample,
                                            const segment_sink<T, 7>& after_segment) {
   reference_run out;
   out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
-    integrate_attitude_samples(problem, rates, q0, tau_end, taus, split_attitude_sample(on_sample), settings, progress,
+    integrate_attitude_samples(problem, rates, q0, tau_end, times, split_attitude_sample(on_sample), settings, progress,
                                &out.stats, after_segment);
   });
   return out;
 }
 
 template <scalar T>
-reference_run integrate_scene_attitude(const scene& s, const T& tau_end, const std::vector<T>& taus,
+reference_run integrate_scene_attitude(const scene& s, const T& tau_end,
+                                       const std::type_identity_t<sample_time_source<T>>& times,
                                        const picard_settings& settings, const std::string& label,
                                        const attitude_sample_function<T>& on_sample,
                                        const segment_sink<T, 7>& after_segment) {
   if (!s.couples_attitude())
     return with_problem<T>(s, [&](const auto& problem) {
-      return integrate_attitude_streaming<T>(problem, body_rates_of<T>(s), attitude_of<T>(s), tau_end, taus, settings,
+      return integrate_attitude_streaming<T>(problem, body_rates_of<T>(s), attitude_of<T>(s), tau_end, times, settings,
                                              label, on_sample, after_segment);
     });
   const coupled_problem<T> problem = to_coupled_problem<T>(s);
   reference_run out;
   out.wall_seconds = run_with_progress(label, static_cast<double>(tau_end), [&](const progress_callback& progress) {
-    const coupled_stats c = integrate_coupled_samples(problem, tau_end, taus, split_attitude_sample(on_sample), settings,
+    const coupled_stats c = integrate_coupled_samples(problem, tau_end, times, split_attitude_sample(on_sample), settings,
                                                       progress, &out.stats, after_segment);
     out.norm_drift = c.norm_drift;
   });
@@ -107,7 +110,7 @@ reference_run integrate_scene_attitude(const scene& s, const T& tau_end, const s
 #define EULERVOP_REFERENCE_COMPUTE(T, G)                                                                         \
   template dense_reference<T> integrate_dense(const euler_problem<T, G>&, const T&, const picard_settings&,         \
                                               const std::string&);                                               \
-  template reference_run integrate_streaming(const euler_problem<T, G>&, const T&, const std::vector<T>&,          \
+  template reference_run integrate_streaming(const euler_problem<T, G>&, const T&, const sample_time_source<T>&,   \
                                              const picard_settings&, const std::string&, const sample_function<T>&, \
                                              const segment_sink<T>&);                                             \
   template sampled_reference<T> integrate_and_sample(const euler_problem<T, G>&, const T&, const std::vector<T>&,  \
@@ -115,11 +118,11 @@ reference_run integrate_scene_attitude(const scene& s, const T& tau_end, const s
   template reference_run integrate_at(const euler_problem<T, G>&, const T&, const std::vector<T>&,                 \
                                       const picard_settings&, const std::string&, const sample_function<T>&);     \
   template reference_run integrate_attitude_streaming(const euler_problem<T, G>&, const body_rates<T>&,          \
-                                                      const quaternion<T>&, const T&, const std::vector<T>&,      \
+                                                      const quaternion<T>&, const T&, const sample_time_source<T>&, \
                                                       const picard_settings&, const std::string&,                 \
                                                       const attitude_sample_function<T>&, const segment_sink<T, 7>&);
 #define EULERVOP_REFERENCE_COMPUTE_ALL(T)                                                                  \
-  template reference_run integrate_scene_attitude(const scene&, const T&, const std::vector<T>&,           \
+  template reference_run integrate_scene_attitude(const scene&, const T&, const sample_time_source<T>&,    \
                                                   const picard_settings&, const std::string&,             \
                                                   const attitude_sample_function<T>&,                     \
                                                   const segment_sink<T, 7>&);                             \

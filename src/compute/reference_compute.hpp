@@ -34,6 +34,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace eulervop::app {
@@ -116,10 +117,20 @@ using sample_function = std::function<void(std::size_t index, const vec3<T>& Ome
 // and keeping nothing (only the latest segment): memory beyond the caller's times grows with
 // neither the span nor the samples. A non-finite sample is a numerical_failure at its tau. The
 // wall time includes `on_sample`.
+// `times` may produce each time as it is asked for (segment_sampler.hpp): then nothing grows
+// with the samples either.
+template <scalar T, class Torque>
+reference_run integrate_streaming(const euler_problem<T, Torque>& problem, const T& tau_end,
+                                  const std::type_identity_t<sample_time_source<T>>& times,
+                                  const picard_settings& settings, const std::string& label,
+                                  const sample_function<T>& on_sample, const segment_sink<T>& after_segment = {});
+
 template <scalar T, class Torque>
 reference_run integrate_streaming(const euler_problem<T, Torque>& problem, const T& tau_end, const std::vector<T>& taus,
                                   const picard_settings& settings, const std::string& label,
-                                  const sample_function<T>& on_sample, const segment_sink<T>& after_segment = {});
+                                  const sample_function<T>& on_sample, const segment_sink<T>& after_segment = {}) {
+  return integrate_streaming<T>(problem, tau_end, times_in(taus), settings, label, on_sample, after_segment);
+}
 
 // The same, keeping the samples: memory grows with the samples, not with the span.
 template <scalar T, class Torque>
@@ -143,10 +154,21 @@ using attitude_sample_function = std::function<void(std::size_t index, const vec
 // numerical_failure at its tau.
 template <scalar T, class Torque>
 reference_run integrate_attitude_streaming(const euler_problem<T, Torque>& problem, const body_rates<T>& rates,
-                                           const quaternion<T>& q0, const T& tau_end, const std::vector<T>& taus,
+                                           const quaternion<T>& q0, const T& tau_end,
+                                           const std::type_identity_t<sample_time_source<T>>& times,
                                            const picard_settings& settings, const std::string& label,
                                            const attitude_sample_function<T>& on_sample,
                                            const segment_sink<T, 7>& after_segment = {});
+
+template <scalar T, class Torque>
+reference_run integrate_attitude_streaming(const euler_problem<T, Torque>& problem, const body_rates<T>& rates,
+                                           const quaternion<T>& q0, const T& tau_end, const std::vector<T>& taus,
+                                           const picard_settings& settings, const std::string& label,
+                                           const attitude_sample_function<T>& on_sample,
+                                           const segment_sink<T, 7>& after_segment = {}) {
+  return integrate_attitude_streaming<T>(problem, rates, q0, tau_end, times_in(taus), settings, label, on_sample,
+                                         after_segment);
+}
 
 // The rates and the attitude of a scene with one (s.has_attitude()) at `taus` (non-decreasing):
 // q beside the rates (integrate_attitude_streaming) when the torque does not read q, and the two
@@ -155,10 +177,19 @@ reference_run integrate_attitude_streaming(const euler_problem<T, Torque>& probl
 // segment of (y, q) after the samples before its start. A non-finite sample is a numerical_failure
 // at its tau.
 template <scalar T>
-reference_run integrate_scene_attitude(const scene& s, const T& tau_end, const std::vector<T>& taus,
+reference_run integrate_scene_attitude(const scene& s, const T& tau_end,
+                                       const std::type_identity_t<sample_time_source<T>>& times,
                                        const picard_settings& settings, const std::string& label,
                                        const attitude_sample_function<T>& on_sample,
                                        const segment_sink<T, 7>& after_segment = {});
+
+template <scalar T>
+reference_run integrate_scene_attitude(const scene& s, const T& tau_end, const std::vector<T>& taus,
+                                       const picard_settings& settings, const std::string& label,
+                                       const attitude_sample_function<T>& on_sample,
+                                       const segment_sink<T, 7>& after_segment = {}) {
+  return integrate_scene_attitude<T>(s, tau_end, times_in(taus), settings, label, on_sample, after_segment);
+}
 
 // The settings the integrator actually used (it derives degree and tolerance from the
 // precision when they are left at 0).

@@ -14,6 +14,7 @@
 
 namespace eulervop::app {
 
+using eulervop::scene::binary_number;
 using eulervop::scene::decimal;
 using eulervop::scene::decimal_problem;
 using eulervop::scene::decimal_product;

@@ -65,18 +65,33 @@ bool csv_rows::read_line(std::string& l) {
   return true;
 }
 
-std::optional<std::size_t> csv_rows::column(std::string_view name) const {
-  for (std::size_t c = 0; c < header_.size(); ++c)
-    if (header_[c] == name) return c;
-  return std::nullopt;
+namespace {
+// The cells of one CSV line into `cells`, trimmed, reusing their storage (a row of a large file
+// would allocate every cell anew otherwise).
+void split_into(std::string_view l, std::vector<std::string>& cells) {
+  std::size_t n = 0, begin = 0;
+  while (true) {
+    const std::size_t comma = l.find(',', begin);
+    std::string_view cell = l.substr(begin, comma == std::string_view::npos ? std::string_view::npos : comma - begin);
+    while (!cell.empty() && (cell.front() == ' ' || cell.front() == '\t')) cell.remove_prefix(1);
+    while (!cell.empty() && (cell.back() == ' ' || cell.back() == '\t' || cell.back() == '\r')) cell.remove_suffix(1);
+    if (n == cells.size()) cells.emplace_back();
+    cells[n++].assign(cell.data(), cell.size());
+    if (comma == std::string_view::npos) break;
+    begin = comma + 1;
+  }
+  cells.resize(n);
 }
 
+bool blank(std::string_view l) { return l.find_first_not_of(" \t\r") == std::string_view::npos; }
+}  // namespace
+
 bool csv_rows::next() {
-  std::string l;
+  std::string& l = line_text_;
   while (read_line(l)) {
     if (l.starts_with("#")) continue;
-    if (trimmed(l).empty()) throw input_error(fmt::format("{}: line {}: empty row", where_, line_));
-    cells_ = split_csv_cells(l);
+    if (blank(l)) throw input_error(fmt::format("{}: line {}: empty row", where_, line_));
+    split_into(l, cells_);
     if (cells_.size() < header_.size())
       throw input_error(fmt::format("{}: line {}: {} cells, the header has {}: no column {} (a truncated or malformed "
                                     "row)",

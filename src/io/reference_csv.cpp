@@ -6,6 +6,7 @@
 #include <fmt/ranges.h>
 
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
 
 namespace eulervop::app {
@@ -54,6 +55,8 @@ reference_metadata metadata_of(const csv_rows& rows) {
       m.command = *c;
     } else if (auto o2 = value("overrides")) {
       m.overrides = *o2;
+    } else if (auto tm = value("times")) {
+      m.times = *tm;
     } else if (auto me = value("method")) {
       m.method = *me;
     } else if (auto w = value("wall_seconds")) {
@@ -128,6 +131,34 @@ std::string error_unit(reference_layout layout, std::string_view figure) {
   return "Eq. 20 (no unit)";
 }
 
+std::vector<std::string> reference_columns(const reference_metadata& m, reference_layout layout) {
+  std::vector<std::string> c;
+  const auto add = [&c](std::initializer_list<const char*> names) { c.insert(c.end(), names.begin(), names.end()); };
+  const bool attitude = !m.attitude.empty();
+  // A certified file ends each row with its radii: of the state (`radius`; in the direct form the
+  // state is omega: `radius_omega`), of omega in rad/s for a physical body, and of q.
+  const bool certified = m.certified_max_error.has_value();
+  switch (layout) {
+    case reference_layout::normalized: add({"tau", "Omega1", "Omega2", "Omega3"}); break;
+    case reference_layout::physical:
+      add({"t", "omega1", "omega2", "omega3"});
+      if (attitude) add({"q0", "q1", "q2", "q3"});
+      add({"tau", "Omega1", "Omega2", "Omega3"});
+      if (certified) add({"radius", "radius_omega"});
+      break;
+    case reference_layout::direct:
+      add({"t", "omega1", "omega2", "omega3"});
+      if (attitude) add({"q0", "q1", "q2", "q3"});
+      if (certified) add({"radius_omega"});
+      break;
+    case reference_layout::coefficient: add({"t", "y1", "y2", "y3"}); break;
+  }
+  if (certified && (layout == reference_layout::normalized || layout == reference_layout::coefficient)) add({"radius"});
+  if (certified && attitude && layout != reference_layout::normalized && layout != reference_layout::coefficient)
+    add({"radius_q"});
+  return c;
+}
+
 std::string reference_csv_header(const reference_metadata& m, reference_layout layout) {
   fmt::memory_buffer out;
   auto line = [&]<class... Args>(fmt::format_string<Args...> format, Args&&... args) {
@@ -139,6 +170,7 @@ std::string reference_csv_header(const reference_metadata& m, reference_layout l
   line("# scene_source: {}", m.scene_source);
   if (!m.command.empty()) line("# command: {}", m.command);
   if (!m.overrides.empty()) line("# overrides: {}", m.overrides);
+  if (!m.times.empty()) line("# times: {}", m.times);
   line("# precision: {}", precision_text(m.precision));
   line("# method: {}", m.method);
   if (m.wall_seconds) line("# wall_seconds: {:.3f}", *m.wall_seconds);
@@ -179,22 +211,7 @@ std::string reference_csv_header(const reference_metadata& m, reference_layout l
     if (!l.empty() && l.back() == '\r') l.pop_back();
     line("# scene_text: {}", l);
   }
-  const char* q = m.attitude.empty() ? "" : ",q0,q1,q2,q3";
-  // A certified file ends each row with its radii: of the state (`radius`; in the direct form the
-  // state is omega: `radius_omega`), of omega in rad/s for a physical body, and of q.
-  const bool certified = m.certified_max_error.has_value();
-  const char* radius_q = certified && !m.attitude.empty() ? ",radius_q" : "";
-  switch (layout) {
-    case reference_layout::normalized:
-      line("tau,Omega1,Omega2,Omega3{}", certified ? ",radius" : "");
-      break;
-    case reference_layout::physical:
-      line("t,omega1,omega2,omega3{},tau,Omega1,Omega2,Omega3{}{}", q, certified ? ",radius,radius_omega" : "",
-           radius_q);
-      break;
-    case reference_layout::direct: line("t,omega1,omega2,omega3{}{}{}", q, certified ? ",radius_omega" : "", radius_q); break;
-    case reference_layout::coefficient: line("t,y1,y2,y3{}", certified ? ",radius" : ""); break;
-  }
+  line("{}", fmt::join(reference_columns(m, layout), ","));
   return fmt::to_string(out);
 }
 

@@ -34,6 +34,7 @@ struct reference_metadata {
   std::string scene_source;                      // # scene_source
   std::string command;                           // # command (none if empty)
   std::string overrides;                         // # overrides (none if empty)
+  std::string times;                             // # times: binary_times_note when the times are binary64
   eulervop::precision precision = eulervop::precision::binary128();  // # precision
   std::string method;                            // # method
   std::optional<double> wall_seconds;            // # wall_seconds
@@ -56,6 +57,11 @@ struct reference_metadata {
   eulervop::precision reading_precision() const;
 };
 
+// The "# times:" line of a run sampled at binary64 times (the Python module's): `check` then
+// matches a trajectory's time to a sample exactly, not to a decimal within 1e-12.
+inline constexpr const char* binary_times_note =
+    "binary64 (each sample time is a binary64 number, printed to the digits that give it back)";
+
 // The "# attitude:" line: the convention of the q columns, and the precision [initial] q was
 // normalized in.
 std::string attitude_convention(const eulervop::precision& p);
@@ -71,6 +77,9 @@ enum class reference_layout { normalized, physical, direct, coefficient };
 
 // The layout of the scene's reference file: the one place that decides it.
 reference_layout reference_layout_of(const scene& s);
+
+// The columns of a reference file of this metadata (certified: radii; an attitude: q0..q3).
+std::vector<std::string> reference_columns(const reference_metadata& m, reference_layout layout);
 
 // The metadata block and the column header of a reference file, each line ending in '\n'.
 std::string reference_csv_header(const reference_metadata& m, reference_layout layout);

@@ -38,6 +38,7 @@ bool is_plain_decimal(std::string_view s) {
 
 bool names_non_finite(std::string_view s) {
   if (!s.empty() && (s[0] == '+' || s[0] == '-')) s.remove_prefix(1);
+  if (s.empty() || !std::isalpha(static_cast<unsigned char>(s[0]))) return false;  // a number, most often
   std::string lower;
   for (char c : s) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return lower == "nan" || lower == "inf" || lower == "infinity";
@@ -76,6 +77,14 @@ decimal decimal_from_double(double x) {
   char buf[64];
   auto [end, ec] = std::to_chars(buf, buf + sizeof buf, x);
   return {std::string(buf, end), x};
+}
+
+decimal binary_number(double x, bool with_text) {
+  decimal d;
+  if (with_text) d = decimal_from_double(x);
+  d.value = x;
+  d.binary = true;
+  return d;
 }
 
 decimal decimal_from_integer(long long x) { return {std::to_string(x), static_cast<double>(x)}; }

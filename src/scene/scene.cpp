@@ -13,7 +13,9 @@
 #include <cmath>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace eulervop::scene {
@@ -252,8 +254,37 @@ scene parse_scene(std::string_view toml_text, std::string origin) {
   return detail::scene_reader(toml_text, std::move(origin)).read();
 }
 
-scene load_scene_file(const std::filesystem::path& path) {
+std::map<std::string, std::filesystem::path> shipped_scenes() {
+  namespace fs = std::filesystem;
+  std::map<std::string, fs::path> out;
+  for (const char* root : {EULERVOP_SOURCE_SCENES_DIR, EULERVOP_INSTALLED_SCENES_DIR}) {
+    std::error_code ec;
+    if (!fs::is_directory(root, ec)) continue;
+    for (fs::recursive_directory_iterator it(root, ec), end; !ec && it != end; it.increment(ec))
+      if (it->path().extension() == ".toml") out.emplace(it->path().stem().string(), it->path());
+    if (!out.empty()) break;  // the source tree's, else the installed ones
+  }
+  return out;
+}
+
+namespace {
+// A path that names no file: a shipped scene's name, or an input_error that says what exists.
+std::filesystem::path shipped_or_missing(const std::filesystem::path& path) {
+  const std::map<std::string, std::filesystem::path> shipped = shipped_scenes();
+  const bool bare = !path.has_parent_path() && !path.has_extension();
+  if (bare) {
+    if (const auto it = shipped.find(path.string()); it != shipped.end()) return it->second;
+  }
+  std::string names;
+  for (const auto& [name, file] : shipped) names += (names.empty() ? "" : ", ") + name;
+  throw input_error(fmt::format("scene {}: cannot read: no such file{}", path.string(),
+                                bare && !names.empty() ? fmt::format(", nor a shipped scene ({})", names) : ""));
+}
+}  // namespace
+
+scene load_scene_file(const std::filesystem::path& given) {
   std::error_code ec;
+  const std::filesystem::path path = std::filesystem::exists(given, ec) ? given : shipped_or_missing(given);
   if (std::filesystem::is_directory(path, ec))
     throw input_error(fmt::format("scene {}: cannot read: is a directory", path.string()));
   std::ifstream in(path, std::ios::binary);

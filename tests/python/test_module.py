@@ -3,6 +3,7 @@ dictionary, errors as Python exceptions, two references at once, Ctrl-C."""
 import csv
 import json
 from decimal import Decimal
+from fractions import Fraction
 import os
 import signal
 import subprocess
@@ -22,6 +23,12 @@ def cli_csv(binary, *args):
     return rows[0], rows[1:]
 
 
+def exact_times(times):
+    """--times with each float64's exact decimal (Decimal(float) is exact): the CLI then samples
+    at the very binary numbers a Reference holds."""
+    return ["--times", ",".join(str(Decimal(float(x))) for x in times)]
+
+
 @pytest.mark.parametrize("scene,extra", [
     ("paper-fig1", ["--samples", "11"]),
     ("spacecraft-attitude", ["--samples", "7"]),
@@ -29,9 +36,12 @@ def cli_csv(binary, *args):
 ])
 def test_reference_values_are_the_cli_cells(binary, scene, extra):
     path = eulervop.problems()[scene]
-    header, rows = cli_csv(binary, path, *extra)
     samples = int(extra[1]) if extra else None
     ref = eulervop.reference(eulervop.Scene.load(path), samples=samples)
+    # The scene's grid rounded to float64: each time the double nearest the CLI's decimal one.
+    _, decimal_rows = cli_csv(binary, path, *extra)
+    assert [float(r[0]) for r in decimal_rows] == list(ref.t)
+    header, rows = cli_csv(binary, path, *exact_times(ref.t))
     assert ref.all_columns == header
     assert ref.decimal == rows
     assert ref.t.dtype == np.float64 and ref.t.shape == (len(rows),)
@@ -46,8 +56,8 @@ def test_reference_values_are_the_cli_cells(binary, scene, extra):
 
 def test_a_torque_of_the_attitude_is_the_cli_coupled_run(binary):
     path = eulervop.problems()["gravity-gradient-tumble"]
-    header, rows = cli_csv(binary, path, "--samples", "7")
     ref = eulervop.reference(path, samples=7)
+    header, rows = cli_csv(binary, path, *exact_times(ref.t))
     assert ref.decimal == rows
     assert ref.columns[:7] == ["omega1", "omega2", "omega3", "q0", "q1", "q2", "q3"]
     assert ref.meta["coupled"].startswith("the torque reads the attitude")
@@ -60,12 +70,15 @@ def test_a_torque_of_the_attitude_is_the_cli_coupled_run(binary):
 
 def test_certify_gives_the_radius_of_q(binary):
     path = eulervop.problems()["pd-slew"]
-    header, rows = cli_csv(binary, path, "--samples", "7", "--certify")
     ref = eulervop.reference(path, samples=7, certify=True)
+    header, rows = cli_csv(binary, path, *exact_times(ref.t), "--certify")
     assert ref.decimal == rows
     assert ref.radius_q is not None and ref.radius_q.shape == (7,)
     assert ref.radius_omega is not None and ref.radius.shape == (7,)
-    assert float(ref.meta["certified_max_error_q"]) == ref.radius_q.max()
+    # Each radius is its decimal rounded up to float64, so that it still bounds: the largest is
+    # the double at or just above the header's figure.
+    largest, text = ref.radius_q.max(), ref.meta["certified_max_error_q"]
+    assert Fraction(float(largest)) >= Fraction(text) > Fraction(float(np.nextafter(largest, 0)))
     assert ref.radius_q.max() < 1e-29
 
 

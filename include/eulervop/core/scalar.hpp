@@ -14,6 +14,7 @@
 #include <boost/multiprecision/mpfr.hpp>
 #include <boost/version.hpp>
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -48,6 +49,78 @@ class mpfr_precision_scope {
  private:
   unsigned saved_;
 };
+
+// Decimal text to quad, correctly rounded. A decimal of at most 34 significant digits whose
+// exponent, after moving the point behind the last digit, lies in [-48, 48] is M 10^E with M and
+// 10^|E| both exact in binary128 (M < 10^34 < 2^113, 10^48 = 2^48 5^48 with 5^48 < 2^113): one
+// correctly rounded product or quotient gives the correctly rounded value (Clinger's fast path,
+// "How to read floating point numbers accurately", PLDI 1990). That covers every number a
+// trajectory file holds, at a small part of strtoflt128's cost; other texts take Boost's way.
+inline std::optional<quad> quad_fast_path(std::string_view text) {
+  std::size_t i = 0;
+  const bool negative = !text.empty() && text[0] == '-';
+  if (negative || (!text.empty() && text[0] == '+')) ++i;
+  unsigned __int128 m = 0;
+  int digits = 0, exponent = 0;
+  bool any = false, point = false;
+  for (; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '.' && !point) {
+      point = true;
+    } else if (c >= '0' && c <= '9') {
+      any = true;
+      if (m == 0 && c == '0') {  // leading zeros carry no digit
+        if (point) --exponent;
+        continue;
+      }
+      if (++digits > 34) return std::nullopt;
+      m = m * 10 + static_cast<unsigned>(c - '0');
+      if (point) --exponent;
+    } else {
+      break;
+    }
+  }
+  if (!any) return std::nullopt;
+  if (i < text.size()) {
+    if (text[i] != 'e' && text[i] != 'E') return std::nullopt;
+    int e = 0;
+    const char* first = text.data() + i + 1;
+    if (first < text.data() + text.size() && *first == '+') ++first;
+    const auto [end, ec] = std::from_chars(first, text.data() + text.size(), e);
+    if (ec != std::errc{} || end != text.data() + text.size()) return std::nullopt;
+    if (e > 100000 || e < -100000) return std::nullopt;
+    exponent += e;
+  }
+  __float128 x = static_cast<__float128>(m);  // exact: m < 10^34 < 2^113
+  if (m != 0) {
+    if (exponent < -48 || exponent > 48) return std::nullopt;
+    static const std::array<__float128, 49> powers = [] {
+      std::array<__float128, 49> p{};
+      p[0] = 1;
+      for (std::size_t k = 1; k < p.size(); ++k) p[k] = p[k - 1] * 10;  // exact: 10^48 = 2^48 5^48
+      return p;
+    }();
+    x = exponent < 0 ? x / powers[static_cast<std::size_t>(-exponent)] : x * powers[static_cast<std::size_t>(exponent)];
+  }
+  return quad(negative ? -x : x);
+}
+
+inline std::optional<quad> wide_from_text(std::string_view text, scalar_tag<quad>) {
+  if (auto v = quad_fast_path(text)) return v;
+  try {
+    return quad(std::string(text));
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+inline std::optional<mpfr_real> wide_from_text(std::string_view text, scalar_tag<mpfr_real>) {
+  try {
+    return mpfr_real(std::string(text));
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
 
 // pi in quad: libquadmath's M_PIq, a __float128 literal of 37 significant digits, within 1e-37 of
 // pi, far below half an ulp of binary128 at pi (2e-34), so it rounds as pi itself does

@@ -72,6 +72,11 @@ std::string to_text(const T& x) {
   }
 }
 
+// The tag that selects a scalar type's own functions: pi, and the parsing of the wide types
+// (core/scalar.hpp).
+template <class T>
+struct scalar_tag {};
+
 // Parses a decimal number into T, correctly rounded. nullopt when the text is not a number.
 template <scalar T>
 std::optional<T> from_text(std::string_view text) {
@@ -81,11 +86,7 @@ std::optional<T> from_text(std::string_view text) {
     if (ec != std::errc{} || end != text.data() + text.size()) return std::nullopt;
     return v;
   } else {
-    try {
-      return T(std::string(text));
-    } catch (const std::exception&) {
-      return std::nullopt;
-    }
+    return wide_from_text(text, scalar_tag<T>{});  // core/scalar.hpp
   }
 }
 
@@ -101,9 +102,6 @@ To convert(const From& x) {
   }
 }
 
-// The tag that selects a scalar type's own pi (core/scalar.hpp for the wide types).
-template <class T>
-struct scalar_tag {};
 
 inline double pi_of(scalar_tag<double>) { return std::numbers::pi_v<double>; }
 

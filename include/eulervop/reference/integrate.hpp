@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <type_traits>
 #include <vector>
 
 namespace eulervop {
@@ -34,12 +35,14 @@ dense_trajectory<T> integrate_reference(const euler_problem<T, Torque>& problem,
 // at the same times. `after_segment`, if set, sees each segment after the samples before its
 // start were emitted, so a segment's samples come between it and the next one. Throws
 // numerical_failure.
+// `times` may also be a source that produces each time as it is asked for (segment_sampler.hpp).
 template <scalar T, class Torque>
-void integrate_reference_samples(const euler_problem<T, Torque>& problem, const T& tau_end, const std::vector<T>& taus,
+void integrate_reference_samples(const euler_problem<T, Torque>& problem, const T& tau_end,
+                                 const std::type_identity_t<sample_time_source<T>>& times,
                                  const typename segment_sampler<T>::emit_function& emit,
                                  const picard_settings& settings = {}, const progress_callback& progress = {},
                                  picard_stats* stats = nullptr, const segment_sink<T>& after_segment = {}) {
-  segment_sampler<T> sampler(taus, emit);
+  segment_sampler<T> sampler(times, emit);
   chebyshev_picard<euler_problem<T, Torque>> integrator(settings);
   integrator.run_segments(
       problem, tau_end,
@@ -51,6 +54,14 @@ void integrate_reference_samples(const euler_problem<T, Torque>& problem, const 
   sampler.finish();
 }
 
+template <scalar T, class Torque>
+void integrate_reference_samples(const euler_problem<T, Torque>& problem, const T& tau_end, const std::vector<T>& taus,
+                                 const typename segment_sampler<T>::emit_function& emit,
+                                 const picard_settings& settings = {}, const progress_callback& progress = {},
+                                 picard_stats* stats = nullptr, const segment_sink<T>& after_segment = {}) {
+  integrate_reference_samples(problem, tau_end, times_in(taus), emit, settings, progress, stats, after_segment);
+}
+
 // The attitude beside the rates (attitude_cascade.hpp), in constant memory: emit(index, tau, v)
 // receives each sample with v = (y1, y2, y3, q0, q1, q2, q3), y the state as above and q the
 // attitude (body to inertial) from q0 at problem.tau0. `rates` maps the state to the body rates
@@ -58,13 +69,13 @@ void integrate_reference_samples(const euler_problem<T, Torque>& problem, const 
 // each combined segment as integrate_reference_samples's does. Throws numerical_failure.
 template <scalar T, class Torque>
 attitude_stats integrate_attitude_samples(const euler_problem<T, Torque>& problem, const body_rates<T>& rates,
-                                          const quaternion<T>& q0, const T& tau_end, const std::vector<T>& taus,
+                                          const quaternion<T>& q0, const T& tau_end, const std::type_identity_t<sample_time_source<T>>& times,
                                           const typename segment_sampler<T, 7>::emit_function& emit,
                                           const picard_settings& settings = {}, const progress_callback& progress = {},
                                           picard_stats* stats = nullptr,
                                           const segment_sink<T, 7>& after_segment = {}) {
   attitude_cascade<T> cascade(q0, rates, settings);
-  segment_sampler<T, 7> sampler(taus, emit);
+  segment_sampler<T, 7> sampler(times, emit);
   chebyshev_picard<euler_problem<T, Torque>> integrator(settings);
   const segment_check<T> check = [&](const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
     return cascade.try_segment(seg, nodes);
@@ -79,6 +90,17 @@ attitude_stats integrate_attitude_samples(const euler_problem<T, Torque>& proble
       progress, stats, check);
   sampler.finish();
   return cascade.stats();
+}
+
+template <scalar T, class Torque>
+attitude_stats integrate_attitude_samples(const euler_problem<T, Torque>& problem, const body_rates<T>& rates,
+                                          const quaternion<T>& q0, const T& tau_end, const std::vector<T>& taus,
+                                          const typename segment_sampler<T, 7>::emit_function& emit,
+                                          const picard_settings& settings = {}, const progress_callback& progress = {},
+                                          picard_stats* stats = nullptr,
+                                          const segment_sink<T, 7>& after_segment = {}) {
+  return integrate_attitude_samples(problem, rates, q0, tau_end, times_in(taus), emit, settings, progress, stats,
+                                    after_segment);
 }
 
 // The same, keeping every segment: the dense (y, q) on the whole span.
@@ -131,13 +153,14 @@ void fold_norm_drift(const chebyshev_segment<T, 7>& seg, double& drift) {
 // emit(index, tau, v) receives each sample with v = (y1, y2, y3, q0, q1, q2, q3), as
 // integrate_attitude_samples gives them, and `after_segment` each segment. Throws numerical_failure.
 template <scalar T>
-coupled_stats integrate_coupled_samples(const coupled_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
+coupled_stats integrate_coupled_samples(const coupled_problem<T>& problem, const T& tau_end,
+                                        const std::type_identity_t<sample_time_source<T>>& times,
                                         const typename segment_sampler<T, 7>::emit_function& emit,
                                         const picard_settings& settings = {}, const progress_callback& progress = {},
                                         picard_stats* stats = nullptr,
                                         const segment_sink<T, 7>& after_segment = {}) {
   coupled_stats out;
-  segment_sampler<T, 7> sampler(taus, emit);
+  segment_sampler<T, 7> sampler(times, emit);
   chebyshev_picard<coupled_problem<T>> integrator(settings);
   integrator.run_segments(
       problem, tau_end,
@@ -149,6 +172,15 @@ coupled_stats integrate_coupled_samples(const coupled_problem<T>& problem, const
       progress, stats);
   sampler.finish();
   return out;
+}
+
+template <scalar T>
+coupled_stats integrate_coupled_samples(const coupled_problem<T>& problem, const T& tau_end, const std::vector<T>& taus,
+                                        const typename segment_sampler<T, 7>::emit_function& emit,
+                                        const picard_settings& settings = {}, const progress_callback& progress = {},
+                                        picard_stats* stats = nullptr,
+                                        const segment_sink<T, 7>& after_segment = {}) {
+  return integrate_coupled_samples(problem, tau_end, times_in(taus), emit, settings, progress, stats, after_segment);
 }
 
 // The same, keeping every segment: the dense (y, q) on the whole span.
@@ -178,14 +210,16 @@ dense_trajectory<T, 7> integrate_coupled(const coupled_problem<T>& problem, cons
   EXTERN template dense_trajectory<T> integrate_reference(const euler_problem<T, G<T>>&, const T&,              \
                                                           const picard_settings&, const progress_callback&,    \
                                                           picard_stats*);                                      \
-  EXTERN template void integrate_reference_samples(const euler_problem<T, G<T>>&, const T&, const std::vector<T>&, \
+  EXTERN template void integrate_reference_samples(const euler_problem<T, G<T>>&, const T&,                     \
+                                                   const sample_time_source<T>&,                                \
                                                    const typename segment_sampler<T>::emit_function&,          \
                                                    const picard_settings&, const progress_callback&,           \
                                                    picard_stats*, const segment_sink<T>&);
 // ... and with the attitude beside them:
 #define EULERVOP_REFERENCE_ATTITUDE_CELL(EXTERN, T, G)                                                           \
   EXTERN template attitude_stats integrate_attitude_samples(                                                     \
-      const euler_problem<T, G<T>>&, const body_rates<T>&, const quaternion<T>&, const T&, const std::vector<T>&, \
+      const euler_problem<T, G<T>>&, const body_rates<T>&, const quaternion<T>&, const T&,                      \
+      const sample_time_source<T>&,                                                                              \
       const typename segment_sampler<T, 7>::emit_function&, const picard_settings&, const progress_callback&,     \
       picard_stats*, const segment_sink<T, 7>&);                                                                 \
   EXTERN template dense_trajectory<T, 7> integrate_attitude(const euler_problem<T, G<T>>&, const body_rates<T>&, \
@@ -194,7 +228,8 @@ dense_trajectory<T, 7> integrate_coupled(const coupled_problem<T>& problem, cons
 // ... and the coupled problem of one scalar:
 #define EULERVOP_REFERENCE_COUPLED_CELL(EXTERN, T)                                                               \
   EXTERN template coupled_stats integrate_coupled_samples(                                                       \
-      const coupled_problem<T>&, const T&, const std::vector<T>&, const typename segment_sampler<T, 7>::emit_function&, \
+      const coupled_problem<T>&, const T&, const sample_time_source<T>&,                                         \
+      const typename segment_sampler<T, 7>::emit_function&,                                                      \
       const picard_settings&, const progress_callback&, picard_stats*, const segment_sink<T, 7>&);               \
   EXTERN template dense_trajectory<T, 7> integrate_coupled(const coupled_problem<T>&, const T&,                 \
                                                            const picard_settings&, picard_stats*, coupled_stats*);

@@ -22,11 +22,15 @@ struct decimal {
   // A constant formula instead of a decimal ("2/3", "cos(1.1)", where a scene allows one): then
   // `text` is the formula as written, `value` its double, and to_scalar evaluates it in T.
   std::shared_ptr<const expression> formula;
+  // A binary64 number as a program holds it (a NumPy array's entry): the number is `value`
+  // exactly, and `text` only shows it (its shortest round-trip form, or empty).
+  bool binary = false;
 
   // The number in T, correctly rounded from the decimal text (at T's current precision); a
-  // formula evaluated in T.
+  // formula evaluated in T; a binary number converted exactly.
   template <scalar T>
   T to_scalar() const {
+    if (binary) return T(value);
     if (formula) return compiled_expression<T>(*formula)(T(0), vec3<T>{T(0), T(0), T(0)});
     auto v = eulervop::from_text<T>(text);
     if (!v) throw std::logic_error("decimal text does not convert: " + text);
@@ -50,6 +54,9 @@ decimal_parse_result parse_decimal(std::string_view text, bool allow_underscores
 
 // The shortest decimal that round-trips to x (used when the source text is not available).
 decimal decimal_from_double(double x);
+
+// x itself (decimal::binary), shown by its shortest round-trip text when `with_text`.
+decimal binary_number(double x, bool with_text = true);
 
 // The exact decimal of an integer.
 decimal decimal_from_integer(long long x);

@@ -19,6 +19,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -141,8 +142,14 @@ struct scene_limits {
 // Parses and validates a scene. `origin` names it in messages ("scene <origin>: ...").
 scene parse_scene(std::string_view toml_text, std::string origin);
 
-// Reads and parses a scene file; an unreadable path is an input_error naming it.
+// Reads and parses a scene file; an unreadable path is an input_error naming it. A bare name
+// that is no file but a shipped scene's ("sciml-rigid-body") reads that scene.
 scene load_scene_file(const std::filesystem::path& path);
+
+// The shipped scenes, by name (the file's stem, "sciml-rigid-body") to their files: those of the
+// source tree this library was built from (data/scenes/), else the installed ones
+// (share/eulervop/scenes/). Empty when neither is there.
+std::map<std::string, std::filesystem::path> shipped_scenes();
 
 // The paper's scene embedded in the binary (data/scenes/paper-fig1.toml).
 scene load_default_scene();

@@ -3,16 +3,16 @@
 #include "commands/check/trajectory_columns.hpp"
 #include "compute/reference_compute.hpp"
 #include "compute/with_scalar.hpp"
-#include "io/csv_rows.hpp"
+#include "io/table_rows.hpp"
 
 #include <eulervop/model/physical_scaling.hpp>
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cstdlib>
-#include <fstream>
+#include <memory>
 #include <optional>
-#include <vector>
 
 namespace eulervop::app {
 
@@ -27,7 +27,7 @@ compared_variables<T> variables_of(const scene& s, const trajectory_columns& col
 
 // The trajectory's columns, which the scene must be able to compare: physical times need a
 // physical scene, and a body in the direct form has no tau or Omega.
-trajectory_columns scene_columns(const check_job& job, const csv_rows& rows) {
+trajectory_columns scene_columns(const check_job& job, const table_rows& rows) {
   const scene& s = job.scn;
   const trajectory_columns cols =
       find_columns(job, rows, {std::string(s.time_name()), s.is_physical() ? "omega" : std::string(s.state_name())});
@@ -50,28 +50,76 @@ trajectory_columns scene_columns(const check_job& job, const csv_rows& rows) {
   return cols;
 }
 
-// Pass 1: the columns, and every row validated with its time in tau (the values are not held).
-template <scalar T>
-struct trajectory_times {
+// Pass 1: the columns, and every row validated; of the times only the last one is kept, so the
+// memory does not grow with the rows.
+struct trajectory_scan {
   trajectory_columns cols;
-  std::vector<T> tau;
+  std::size_t rows = 0;
+  decimal last_time;
 };
 
-template <scalar T>
-trajectory_times<T> read_times(const check_job& job) {
-  std::ifstream in = open_input_file("trajectory", job.trajectory_path);
-  csv_rows rows(in, "trajectory " + job.trajectory_path);
-  trajectory_times<T> out{scene_columns(job, rows), {}};
-  const compared_variables<T> vars = variables_of<T>(job.scn, out.cols);
-  row_reader reader{rows, out.cols};
-  while (rows.next()) {
-    out.tau.push_back(vars.tau_of(reader.time().template to_scalar<T>()));
+trajectory_scan scan_trajectory(const check_job& job) {
+  const std::unique_ptr<table_rows> rows = job.open_trajectory();
+  trajectory_scan out{scene_columns(job, *rows), 0, {}};
+  row_reader reader{*rows, out.cols};
+  while (rows->next()) {
+    out.last_time = reader.time();
     reader.values();
     if (out.cols.q) reader.attitude();
+    ++out.rows;
   }
-  if (out.tau.empty()) throw input_error(fmt::format("{}: no data rows", rows.where()));
+  if (!out.rows) throw input_error(fmt::format("{}: no data rows", rows->where()));
   return out;
 }
+
+// Pass 2: the rows read again, one at a time as the integration asks for the next sample time
+// (segment_sampler.hpp), each compared when the reference there is known.
+template <scalar T>
+class trajectory_stream {
+ public:
+  trajectory_stream(const check_job& job, const trajectory_scan& scan, const compared_variables<T>& vars,
+                    const T& tau_end)
+      : rows_(job.open_trajectory()), reader_{*rows_, scan.cols}, scan_(scan), vars_(vars), tau_end_(tau_end) {}
+
+  // The sample time source: the next row's time in tau.
+  sample_time_source<T> times() {
+    return [this](T& tau) {
+      if (!rows_->next()) {
+        if (read_ != scan_.rows) throw changed();
+        return false;
+      }
+      time_ = reader_.time();
+      values_ = reader_.values();
+      if (scan_.cols.q) q_ = reader_.attitude();
+      tau_ = vars_.tau_of(time_.template to_scalar<T>());
+      if (++read_ > scan_.rows || tau_ > tau_end_) throw changed();
+      tau = tau_;
+      return true;
+    };
+  }
+
+  const table_rows& rows() const { return *rows_; }
+  const decimal& time() const { return time_; }
+  const T& tau() const { return tau_; }  // the time in the integrator's variables
+  vec3<T> values() const { return vec3_of<T>(values_); }
+  quaternion<T> attitude() const { return quaternion_of<T>(q_); }
+
+ private:
+  input_error changed() const {
+    return input_error(fmt::format("{}: the file changed while it was read", rows_->where()));
+  }
+
+  std::unique_ptr<table_rows> rows_;
+  row_reader reader_;
+  const trajectory_scan& scan_;
+  const compared_variables<T>& vars_;
+  T tau_end_;
+  std::size_t read_ = 0;
+  decimal time_;
+  T tau_;
+  std::array<decimal, 3> values_;
+  std::array<decimal, 4> q_;
+};
 
 // `end`: the last row's time, as the file states it (`time_name` = end).
 void describe_scene_reference(const check_job& job, const std::string& time_name, const std::string& end,
@@ -92,21 +140,40 @@ void describe_scene_reference(const check_job& job, const std::string& time_name
                       {"segments", ref.stats.segments}};
 }
 
-// Pass 2, during the integration: each row is read again as the reference at its time arrives.
-// Pass 1 checked that the times increase, and their conversion to tau in T is monotone, so the
-// reference is evaluated as its segments are accepted and none is kept (integrate_at would fall
-// back to the dense output otherwise). A trajectory with q0..q3 has the scene's attitude
-// integrated beside the rates (integrate_attitude_streaming); one without, the rates alone, as
-// for a scene without an attitude.
+// The scene's reference at the times `times` gives, each handed to compare(y, q): q the attitude
+// (null unless `attitude`).
+template <scalar T, class Compare>
+reference_run integrate_against(const check_job& job, const T& tau_end, const sample_time_source<T>& times,
+                                bool attitude, const Compare& compare) {
+  if (job.scn.couples_attitude())
+    return integrate_scene_attitude<T>(job.scn, tau_end, times, job.settings, "reference",
+                                       [&](std::size_t, const vec3<T>& y, const quaternion<T>& q) {
+                                         compare(y, attitude ? &q : nullptr);
+                                       });
+  return with_problem<T>(job.scn, [&](const auto& problem) {
+    if (attitude)
+      return integrate_attitude_streaming<T>(problem, body_rates_of<T>(job.scn), attitude_of<T>(job.scn), tau_end,
+                                             times, job.settings, "reference",
+                                             [&](std::size_t, const vec3<T>& y, const quaternion<T>& q) {
+                                               compare(y, &q);
+                                             });
+    return integrate_streaming<T>(problem, tau_end, times, job.settings, "reference",
+                                  [&](std::size_t, const vec3<T>& y) { compare(y, nullptr); });
+  });
+}
+
+// The integration, with the rows pulled as its samples: the rates alone, or with the scene's
+// attitude integrated beside them (integrate_attitude_streaming) when the trajectory has q0..q3,
+// or the rates and q as one problem for a torque of the attitude. The sampler asks for a row only
+// after it has compared the one before, so the stream holds one row at a time.
 template <scalar T>
 check_result check_in(const check_job& job) {
-  const trajectory_times<T> pass1 = read_times<T>(job);
-  const trajectory_columns& cols = pass1.cols;
-  const std::vector<T>& taus = pass1.tau;
-  T tau_end = taus.back();
+  const trajectory_scan scan = scan_trajectory(job);
+  const trajectory_columns& cols = scan.cols;
+  const compared_variables<T> vars = variables_of<T>(job.scn, cols);
+  T tau_end = vars.tau_of(scan.last_time.template to_scalar<T>());
   if (!(tau_end > 0)) tau_end = T(1);  // a trajectory at tau = 0 only
   errors_writer out(job.errors_out);    // an unwritable path fails before the integration
-  const compared_variables<T> vars = variables_of<T>(job.scn, cols);
 
   check_result r;
   r.time_name = cols.time_name;
@@ -115,48 +182,22 @@ check_result check_in(const check_job& job) {
   r.t.attitude = cols.q.has_value();
   r.scene = scene_terms_of(job.scn, cols);
   out.header(cols.time_name, false, r.t.attitude);
-  std::ifstream in = open_input_file("trajectory", job.trajectory_path);
-  csv_rows rows(in, "trajectory " + job.trajectory_path);
+  trajectory_stream<T> rows(job, scan, vars, tau_end);
   if (cols.q)
-    for (int k = 0; k < 4; ++k) r.q_columns[k] = rows.header()[(*cols.q)[k]];
-  row_reader reader{rows, cols};
-  const auto changed = [&] { return input_error(fmt::format("{}: the file changed while it was read", rows.where())); };
-  // Row i of the trajectory against the reference there (q_ref: its attitude, if checked), with
-  // the equations `motion` for the direction of motion, if they are the rates' own.
-  const auto compare = [&](std::size_t i, const vec3<T>& Omega_ref, const quaternion<T>* q_ref, const auto* motion) {
-    if (!rows.next()) throw changed();
-    const decimal time = reader.time();
-    if (vars.tau_of(time.template to_scalar<T>()) != taus[i]) throw changed();
-    const row_states<T> states = vars.states(Omega_ref, vec3_of<T>(reader.values()));
+    for (int k = 0; k < 4; ++k) r.q_columns[k] = rows.rows().header()[(*cols.q)[k]];
+  // The current row against the reference there (q_ref: its attitude, if checked), with the
+  // equations for the direction of motion, if they are the rates' own.
+  const std::optional<motion_function> motion = motion_of(job.scn);
+  const auto compare = [&](const vec3<T>& Omega_ref, const quaternion<T>* q_ref) {
+    const row_states<T> states = vars.states(Omega_ref, rows.values());
     std::optional<attitude_pair<T>> q;
-    if (q_ref) q = attitude_pair<T>{*q_ref, quaternion_of<T>(reader.attitude())};
-    record<T>(job, r.t, out, rows.line(), time, states, vars, motion, taus[i], std::nullopt, q ? &*q : nullptr);
+    if (q_ref) q = attitude_pair<T>{*q_ref, rows.attitude()};
+    record<T>(job, r.t, out, rows.rows().line(), rows.time(), states, vars, motion ? &*motion : nullptr, rows.tau(),
+              std::nullopt, q ? &*q : nullptr);
   };
-  // A torque of the attitude: the rates' direction of motion needs q, so the split along and
-  // across it is left out.
-  const auto* no_motion = static_cast<const euler_problem<T>*>(nullptr);
-  const reference_run ref =
-      job.scn.couples_attitude()
-          ? integrate_scene_attitude<T>(job.scn, tau_end, taus, job.settings, "reference",
-                                        [&](std::size_t i, const vec3<T>& y, const quaternion<T>& q) {
-                                          compare(i, y, cols.q ? &q : nullptr, no_motion);
-                                        })
-          : with_problem<T>(job.scn, [&](const auto& problem) {
-              // The direction of motion is evaluated on a copy: the integrator's own evaluates the torque.
-              const auto motion = problem;
-              if (cols.q)
-                return integrate_attitude_streaming<T>(
-                    problem, body_rates_of<T>(job.scn), attitude_of<T>(job.scn), tau_end, taus, job.settings,
-                    "reference",
-                    [&](std::size_t i, const vec3<T>& y, const quaternion<T>& q) { compare(i, y, &q, &motion); });
-              return integrate_at<T>(problem, tau_end, taus, job.settings, "reference",
-                                     [&](std::size_t i, const vec3<T>& Omega_ref) {
-                                       compare(i, Omega_ref, nullptr, &motion);
-                                     });
-            });
-  if (rows.next()) throw changed();
+  const reference_run ref = integrate_against(job, tau_end, rows.times(), cols.q.has_value(), compare);
   out.commit();
-  describe_scene_reference(job, cols.time_name, r.t.last_time, static_cast<double>(tau_end), ref, r);
+  describe_scene_reference(job, cols.time_name, scan.last_time.text, static_cast<double>(tau_end), ref, r);
   return r;
 }
 

@@ -10,13 +10,14 @@
 
 namespace eulervop::app {
 
-namespace {
-
-// A scene (.toml) or a reference CSV? By extension, else by the first non-blank line.
-bool looks_like_scene(const std::string& path) {
+bool names_scene(const std::string& path) {
   const std::string ext = std::filesystem::path(path).extension().string();
   if (ext == ".toml") return true;
   if (ext == ".csv") return false;
+  // No such file, and a bare name: a shipped scene's (load_scene_file says so if it is none).
+  const std::filesystem::path p(path);
+  std::error_code ec;
+  if (!std::filesystem::exists(p, ec) && !p.has_parent_path() && !p.has_extension()) return true;
   std::ifstream in = open_input_file("reference", path);
   for (std::string l; std::getline(in, l);) {
     const std::string t = trimmed(l);
@@ -26,12 +27,7 @@ bool looks_like_scene(const std::string& path) {
   return true;
 }
 
-}  // namespace
-
-check_job check_job_of(const check_options& o) {
-  check_job job;
-  job.trajectory_path = o.trajectory;
-  job.reference_path = o.reference;
+void apply_check_flags(check_job& job, const check_options& o) {
   job.columns = flag_columns(o.columns);
   job.tol = non_negative_flag("--tol", o.tol);
   job.rel_tol = non_negative_flag("--rel-tol", o.rel_tol);
@@ -48,15 +44,27 @@ check_job check_job_of(const check_options& o) {
   job.json = flag_json_format(o.format);
   if (o.errors_out && o.errors_out->empty()) throw input_error("--errors-out: empty path");
   job.errors_out = o.errors_out;
+}
 
-  job.from_scene = looks_like_scene(o.reference);
-  if (job.from_scene) {
-    job.scn = load_scene(o.reference);
-    scene_override_flags flags;
-    flags.precision = o.precision;
-    const applied_overrides applied = apply_scene_overrides(job.scn, flags);
-    job.precision = applied.precision;
-    job.settings = applied.settings;
+void check_against(check_job& job, scene s, const std::optional<std::string>& precision) {
+  job.from_scene = true;
+  job.scn = std::move(s);
+  scene_override_flags flags;
+  flags.precision = precision;
+  const applied_overrides applied = apply_scene_overrides(job.scn, flags);
+  job.precision = applied.precision;
+  job.settings = applied.settings;
+}
+
+check_job check_job_of(const check_options& o) {
+  check_job job;
+  const std::string path = o.trajectory;
+  job.open_trajectory = [path] { return std::make_unique<csv_file_rows>("trajectory", path); };
+  job.trajectory_name = path;
+  job.reference_path = o.reference;
+  apply_check_flags(job, o);
+  if (names_scene(o.reference)) {
+    check_against(job, load_scene(o.reference), o.precision);
   } else if (o.precision) {
     throw input_error(fmt::format("--precision {}: not used with a reference file (its own precision is used)",
                                   *o.precision));

@@ -196,7 +196,7 @@ void add_first_row_json(const check_result& r, json& j) {
 json check_json(const check_job& job, const check_result& r) {
   const tally& t = r.t;
   json j;
-  j["trajectory"] = job.trajectory_path;
+  j["trajectory"] = job.trajectory_name;
   j["reference"] = r.reference_json;
   j["time_column"] = r.time_name;
   add_terms_json(r, j);
@@ -311,7 +311,7 @@ std::string check_table(const check_job& job, const check_result& r) {
   const tally& t = r.t;
   const compared_terms& terms = r.terms;
   text_buffer out;
-  out.put("trajectory: {} ({} rows, {} from {} to {})\n", job.trajectory_path, t.rows, r.time_name,
+  out.put("trajectory: {} ({} rows, {} from {} to {})\n", job.trajectory_name, t.rows, r.time_name,
           time_figure(t.first_time, terms), time_figure(t.last_time, terms));
   out.put("reference: {}\n", r.reference_text);
   put_first_row(job, r, out);

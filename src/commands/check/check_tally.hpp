@@ -22,6 +22,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -128,48 +129,51 @@ struct check_result {
 };
 
 // The oracle metrics of one row (tally's second half), in the compared variables but for Eq. 7,
-// which is stated in the normalized ones. `problem`: the equations, for the reference's direction
-// of motion at `tau` (its time in the integrator's variables), when known.
-template <scalar T, class P>
+// which is stated in the normalized ones. Each difference is taken in T and rounded to double
+// once; the rest is figures of a few digits, computed in double. `motion`: the equations, for the
+// reference's direction of motion at `tau` (its time in the integrator's variables), if known.
+template <scalar T>
 void record_metrics(const check_job& job, tally& t, std::size_t line, const decimal& time, const row_states<T>& s,
-                    const compared_variables<T>& vars, const P* problem, const T& tau) {
-  using std::abs;
-  using std::sqrt;
+                    const compared_variables<T>& vars, const motion_function* motion, const T& tau) {
   const vec3<T>& ref = s.reference;
-  vec3<T> d;
+  std::array<double, 3> d, y;
   for (int i = 0; i < 3; ++i) {
-    d[i] = s.trajectory[i] - ref[i];
-    const double err = static_cast<double>(abs(d[i]));
+    d[i] = static_cast<double>(T(s.trajectory[i] - ref[i]));
+    y[i] = static_cast<double>(ref[i]);
+    const double err = std::abs(d[i]), size = std::abs(y[i]);
     t.max_component[i] = std::max(t.max_component[i], err);
-    const double y = static_cast<double>(abs(ref[i]));
-    if (y > 0 && err / y > t.max_relative) {
-      t.max_relative = err / y;
+    if (size > 0 && err / size > t.max_relative) {
+      t.max_relative = err / size;
       t.scd_component = i;
-      t.scd_reference = y;
+      t.scd_reference = size;
       t.scd_time = time.text;
       t.scd_line = line;
     }
-    t.max_mixed = std::max(t.max_mixed, err / (job.scd_atol / job.scd_rtol + y));
+    t.max_mixed = std::max(t.max_mixed, err / (job.scd_atol / job.scd_rtol + size));
   }
+  // c1^2 and c2^2 of the trajectory minus the reference's: Om_i^2 - Ref_i^2 = (Om_i - Ref_i)(Om_i + Ref_i),
+  // the difference from T, so that a tiny drift keeps its digits.
   const vec3<T>& Om = s.trajectory_Omega;
   const vec3<T>& Ref = s.reference_Omega;
-  const T c1 = (Om[0] * Om[0] + Om[1] * Om[1]) - (Ref[0] * Ref[0] + Ref[1] * Ref[1]);
-  const T c2 = (Om[1] * Om[1] + Om[2] * Om[2]) - (Ref[1] * Ref[1] + Ref[2] * Ref[2]);
-  t.c1_drift_last = static_cast<double>(c1);
-  t.c2_drift_last = static_cast<double>(c2);
+  std::array<double, 3> square;
+  for (int i = 0; i < 3; ++i)
+    square[i] = static_cast<double>(T(Om[i] - Ref[i])) * (static_cast<double>(Om[i]) + static_cast<double>(Ref[i]));
+  t.c1_drift_last = square[0] + square[1];
+  t.c2_drift_last = square[1] + square[2];
   t.c1_drift_max = std::max(t.c1_drift_max, std::abs(t.c1_drift_last));
   t.c2_drift_max = std::max(t.c2_drift_max, std::abs(t.c2_drift_last));
-  if (!problem) return;
-  vec3<T> v_Omega;
-  problem->rhs(tau, Ref, v_Omega);
-  const vec3<T> v = vars.direction(v_Omega);
-  const T speed = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (!motion) return;
+  vec3<double> v_Omega;
+  (*motion)(static_cast<double>(tau), {static_cast<double>(Ref[0]), static_cast<double>(Ref[1]),
+                                       static_cast<double>(Ref[2])}, v_Omega);
+  const vec3<double> v = vars.direction(v_Omega);
+  const double speed = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   if (!(speed > 0)) return;  // at rest: no direction of motion (the row is left out of the split)
   t.has_direction = true;
-  const T along = (d[0] * v[0] + d[1] * v[1] + d[2] * v[2]) / speed;
-  const T across2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - along * along;
-  t.max_along = std::max(t.max_along, static_cast<double>(abs(along)));
-  t.max_across = std::max(t.max_across, static_cast<double>(across2 > 0 ? sqrt(across2) : T(0)));
+  const double along = (d[0] * v[0] + d[1] * v[1] + d[2] * v[2]) / speed;
+  const double across2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - along * along;
+  t.max_along = std::max(t.max_along, std::abs(along));
+  t.max_across = std::max(t.max_across, across2 > 0 ? std::sqrt(across2) : 0.0);
 }
 
 // The attitude error of one row (tally's last part); with `text`, also the text --errors-out
@@ -268,18 +272,18 @@ void record_normalized(tally& t, const decimal& time, const row_states<T>& s) {
 
 // `radius`: the reference row's certified radius (of the compared state), if it has one. `tau`:
 // the row's time in the integrator's variables (for a torque of time, the direction of motion
-// depends on it). `attitude`: the row's attitude and the reference's, for a trajectory with q0..q3.
+// depends on it); `motion`: the equations for that direction, or null. `attitude`: the row's attitude and the reference's, for a trajectory with q0..q3.
 // The error is the two-norm of Eq. 20 taken in the compared variables.
-template <scalar T, class P>
+template <scalar T>
 void record(const check_job& job, tally& t, errors_writer& out, std::size_t line, const decimal& time,
-            const row_states<T>& s, const compared_variables<T>& vars, const P* problem, const T& tau,
+            const row_states<T>& s, const compared_variables<T>& vars, const motion_function* motion, const T& tau,
             const std::optional<decimal>& radius = std::nullopt, const attitude_pair<T>* attitude = nullptr) {
   const vec3<T>& ref = s.reference;
   const double e = static_cast<double>(eq20_error(ref, s.trajectory));
   if (!std::isfinite(e)) throw numerical_failure({outcome_kind::error_non_finite, time.value});
   std::string attitude_text;
   if (attitude) record_attitude(job, t, line, time, *attitude, out.writing() ? &attitude_text : nullptr);
-  record_metrics(job, t, line, time, s, vars, problem, tau);
+  record_metrics(job, t, line, time, s, vars, motion, tau);
   if (vars.physical()) record_normalized(t, time, s);
   const double r = radius ? radius->value : 0.0;
   if (radius) t.max_radius = std::max(t.max_radius, r);

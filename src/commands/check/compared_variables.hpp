@@ -52,8 +52,12 @@ class compared_variables {
     return {reference, trajectory, reference_Omega, scale_->Omega_of_omega(trajectory)};
   }
   // A direction of motion in the integrator's variables, in the compared ones (the change of
-  // variables is linear: Eq. 3 and the axes' order).
-  vec3<T> direction(const vec3<T>& v_Omega) const { return physical() ? scale_->omega_of_Omega(v_Omega) : v_Omega; }
+  // variables is linear: Eq. 3 and the axes' order); a direction needs no more than double.
+  vec3<double> direction(const vec3<double>& v_Omega) const {
+    if (!physical()) return v_Omega;
+    const vec3<T> w = scale_->omega_of_Omega(vec3<T>{T(v_Omega[0]), T(v_Omega[1]), T(v_Omega[2])});
+    return {static_cast<double>(w[0]), static_cast<double>(w[1]), static_cast<double>(w[2])};
+  }
 
  private:
   std::optional<physical_scaling<T>> scale_;

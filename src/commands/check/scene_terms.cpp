@@ -88,4 +88,11 @@ scene_terms unknown_scene_terms(integrated_form form) {
   return terms;
 }
 
+std::optional<motion_function> motion_of(const scene& s) {
+  if (s.couples_attitude()) return std::nullopt;
+  return with_problem<double>(s, [](const auto& problem) {
+    return motion_function([problem](double tau, const vec3<double>& y, vec3<double>& dy) { problem.rhs(tau, y, dy); });
+  });
+}
+
 }  // namespace eulervop::app

@@ -7,6 +7,9 @@
 #include "commands/check/trajectory_columns.hpp"
 #include "compute/scene_library.hpp"
 
+#include <eulervop/core/vec3.hpp>
+
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -41,5 +44,12 @@ scene_terms unknown_scene_terms(integrated_form form);
 
 // How scene `s` is integrated.
 integrated_form integrated_form_of(const scene& s);
+
+// The rates' own equations, for the reference's direction of motion at a row (check_tally.hpp):
+// the right-hand side in double, which is all a direction needs.
+using motion_function = std::function<void(double tau, const vec3<double>& y, vec3<double>& dy)>;
+
+// Scene `s`'s; none for a torque of the attitude, whose rates need q.
+std::optional<motion_function> motion_of(const scene& s);
 
 }  // namespace eulervop::app

@@ -27,7 +27,7 @@ std::string column_label(const check_job& job, const std::string& canonical) {
 }
 
 // q0..q3: all four, or none (and none renamed by --columns).
-std::optional<std::array<std::size_t, 4>> find_attitude(const check_job& job, const csv_rows& rows,
+std::optional<std::array<std::size_t, 4>> find_attitude(const check_job& job, const table_rows& rows,
                                                         const std::string& where) {
   std::array<std::optional<std::size_t>, 4> found;
   std::optional<int> present;  // the first of q0..q3 the header has
@@ -56,7 +56,7 @@ std::optional<std::array<std::size_t, 4>> find_attitude(const check_job& job, co
 // columns (the time, if `time` is not given, then the state) to the names of `expected` (the
 // state `state`, whose time is then `time`). A user's file with its own names ("time,w1,w2,w3")
 // is told the flag, not only the name that is missing.
-std::string columns_hint(const csv_rows& rows, const expected_names& expected, std::optional<std::size_t> time,
+std::string columns_hint(const table_rows& rows, const expected_names& expected, std::optional<std::size_t> time,
                          const std::string& state) {
   const std::vector<std::string>& header = rows.header();
   constexpr std::size_t shown = 8;
@@ -87,7 +87,7 @@ bool any_renamed(const check_job& job) {
 
 }  // namespace
 
-trajectory_columns find_columns(const check_job& job, const csv_rows& rows, const expected_names& expected) {
+trajectory_columns find_columns(const check_job& job, const table_rows& rows, const expected_names& expected) {
   trajectory_columns c;
   const std::string where = fmt::format("{}: line {}", rows.where(), rows.line());
   // With --columns given, the message names what it mapped; without, it names the flag.
@@ -120,7 +120,7 @@ trajectory_columns find_columns(const check_job& job, const csv_rows& rows, cons
   return c;
 }
 
-void require_attitude_match(const check_job& job, const trajectory_columns& cols, const csv_rows& rows,
+void require_attitude_match(const check_job& job, const trajectory_columns& cols, const table_rows& rows,
                             bool reference_has_attitude, const std::string& reference, const std::string& why) {
   if (cols.q && !reference_has_attitude)
     throw input_error(fmt::format("{}: line {}: columns q0..q3: {} has no attitude ({})", rows.where(), rows.line(),

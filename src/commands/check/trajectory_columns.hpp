@@ -6,7 +6,7 @@
 #include "commands/check/check_job.hpp"
 #include "commands/check/compared_variables.hpp"
 #include "compute/scene_library.hpp"
-#include "io/csv_rows.hpp"
+#include "io/table_rows.hpp"
 
 #include <eulervop/core/quaternion.hpp>
 #include <eulervop/core/vec3.hpp>
@@ -37,13 +37,13 @@ struct expected_names {
 
 // The columns of the header of `rows`; input_error naming the missing one otherwise, with the
 // header's own names and the --columns that maps them to `expected`.
-trajectory_columns find_columns(const check_job& job, const csv_rows& rows, const expected_names& expected);
+trajectory_columns find_columns(const check_job& job, const table_rows& rows, const expected_names& expected);
 
 // The trajectory has q0..q3 but the reference no attitude: input_error "<where>: line <header>:
 // columns q0..q3: <reference> has no attitude (<why>)". Without q0..q3, --attitude-tol is bad
 // input too (there is nothing to hold to it), and so is a bar on the rates without
 // --attitude-tol or --ignore-attitude when there are q0..q3 (no silent pass).
-void require_attitude_match(const check_job& job, const trajectory_columns& cols, const csv_rows& rows,
+void require_attitude_match(const check_job& job, const trajectory_columns& cols, const table_rows& rows,
                             bool reference_has_attitude, const std::string& reference, const std::string& why);
 
 // The names and units of the compared variables (compared_variables.hpp) of a trajectory with
@@ -53,7 +53,7 @@ compared_terms terms_of(const trajectory_columns& cols, bool physical_scene, boo
 
 // A trajectory row: its time and state, checked (numbers, time >= 0 and increasing).
 struct row_reader {
-  csv_rows& rows;
+  table_rows& rows;
   const trajectory_columns& cols;
   std::optional<decimal> previous;
   std::size_t previous_line = 0;

@@ -18,17 +18,15 @@ void add_scene_template_flags(CLI::App& sub, scene_template_options& o) {
   add_text_flag(sub, {"--out", "FILE", "Write the scene to FILE (default: standard output)"}, o.out);
 }
 
+std::string_view scene_template_text(const std::string& form) {
+  if (form == "normalized") return normalized_scene_template;
+  if (form == "physical") return physical_scene_template;
+  if (form == "coefficient") return coefficient_scene_template;
+  throw input_error(fmt::format("form `{}`: unknown (expected normalized, physical or coefficient)", form));
+}
+
 int run_scene_template(const scene_template_options& o, std::ostream& standard_output) {
-  const std::string form = o.form.value_or("physical");
-  std::string_view text;
-  if (form == "normalized")
-    text = normalized_scene_template;
-  else if (form == "physical")
-    text = physical_scene_template;
-  else if (form == "coefficient")
-    text = coefficient_scene_template;
-  else
-    throw input_error(fmt::format("form `{}`: unknown (expected normalized, physical or coefficient)", form));
+  const std::string_view text = scene_template_text(o.form.value_or("physical"));
   if (!o.out) {
     standard_output << text << std::flush;
     return exit_success;

@@ -8,6 +8,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <string_view>
 
 namespace eulervop::app {
 
@@ -17,6 +18,9 @@ struct scene_template_options {
 };
 
 void add_scene_template_flags(CLI::App& sub, scene_template_options& options);
+
+// The annotated scene of a form; input_error for an unknown form.
+std::string_view scene_template_text(const std::string& form);
 
 // input_error for an unknown form.
 int run_scene_template(const scene_template_options& options, std::ostream& standard_output);

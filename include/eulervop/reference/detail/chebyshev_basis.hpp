@@ -13,6 +13,36 @@
 
 namespace eulervop::detail {
 
+// The (N+1)x(N+1) row-major matrix taking values at the Lobatto nodes s_j = -cos(j pi / N) to the
+// Chebyshev coefficients a_k of their interpolant (discrete Chebyshev transform on Lobatto nodes):
+// a_k = (2/N) sum_j'' F_j T_k(s_j), the end terms j = 0, N halved, and a_0, a_N halved, with
+// T_k(s_j) = T_k(cos(pi - j pi/N)) = (-1)^k cos(k j pi / N). The angle k*j is reduced modulo 2N
+// first so that cos is evaluated on [0, 2 pi) in T, and the 2N cosines are tabulated (a cosine per
+// entry cost several milliseconds at start-up in quad).
+template <scalar T>
+std::vector<T> lobatto_cosines(std::size_t N) {
+  using std::cos;
+  const T pi = boost::math::constants::pi<T>();
+  std::vector<T> cosines(2 * N);
+  for (std::size_t m = 0; m < 2 * N; ++m) cosines[m] = cos(pi * T(m) / T(N));
+  return cosines;
+}
+
+template <scalar T>
+std::vector<T> lobatto_to_chebyshev(std::size_t N, const std::vector<T>& cosines) {
+  const std::size_t n1 = N + 1;
+  std::vector<T> a(n1 * n1, T(0));
+  for (std::size_t k = 0; k < n1; ++k)
+    for (std::size_t j = 0; j < n1; ++j) {
+      T w = T(2) / T(N);
+      if (j == 0 || j == N) w /= 2;
+      if (k == 0 || k == N) w /= 2;
+      const T& c = cosines[(k * j) % (2 * N)];
+      a[k * n1 + j] = w * ((k % 2) ? T(-c) : c);
+    }
+  return a;
+}
+
 // Degree-N basis on s in [-1, 1] with nodes s_j = -cos(j pi / N), j = 0..N, so that node 0 is the
 // segment start and node N its end.
 //
@@ -39,25 +69,12 @@ struct chebyshev_basis {
     const T pi = boost::math::constants::pi<T>();
     nodes.resize(n1);
     for (std::size_t j = 0; j < n1; ++j) nodes[j] = -cos(pi * T(j) / T(N));
-    // T_k(s_j) with s_j = cos(pi - j pi/N): T_k(s_j) = (-1)^k cos(k j pi / N). The angle k*j is
-    // reduced modulo 2N first so that cos is evaluated on [0, 2 pi) in T, and the 2N cosines are
-    // tabulated (a cosine per entry cost several milliseconds at start-up in quad).
-    std::vector<T> cosines(2 * N);
-    for (std::size_t m = 0; m < 2 * N; ++m) cosines[m] = cos(pi * T(m) / T(N));
+    const std::vector<T> cosines = lobatto_cosines<T>(N);
     auto Tk = [&](std::size_t k, std::size_t j) {
       const T& c = cosines[(k * j) % (2 * N)];
       return (k % 2) ? T(-c) : c;
     };
-    // Values -> coefficients (discrete Chebyshev transform on Lobatto nodes):
-    // a_k = (2/N) sum_j'' F_j T_k(s_j), the end terms j = 0, N halved, and a_0, a_N halved.
-    coeffs.assign(n1 * n1, T(0));
-    for (std::size_t k = 0; k < n1; ++k)
-      for (std::size_t j = 0; j < n1; ++j) {
-        T w = T(2) / T(N);
-        if (j == 0 || j == N) w /= 2;
-        if (k == 0 || k == N) w /= 2;
-        coeffs[k * n1 + j] = w * Tk(k, j);
-      }
+    coeffs = lobatto_to_chebyshev<T>(N, cosines);
     // Integration of a Chebyshev series sum a_k T_k (full coefficients):
     //   b_1 = a_0 - a_2/2, b_k = (a_{k-1} - a_{k+1}) / (2k) for k >= 2 (a_{N+1} = a_{N+2} = 0),
     //   b_0 = -sum_{k>=1} (-1)^k b_k so that the integral vanishes at s = -1.
