@@ -28,7 +28,9 @@
 namespace eulervop::app {
 
 namespace reference_flags {
-const flag_def verify{"--verify", "", "Recompute one precision up and report # estimated_max_error"};
+const flag_def verify{"--verify", "",
+                      "Recompute one precision up and report # estimated_max_error (a body's also in rad/s: "
+                      "# estimated_max_error_omega)"};
 const flag_def certify{"--certify", "",
                        "Prove a bound on every row's distance to the exact solution: a radius column and "
                        "# certified_max_error (docs/certified.md)"};
@@ -242,6 +244,7 @@ reference_metadata run_in(const reference_job& job, scratch_file& rows_out) {
     const verify_result check =
         verify<T>(job.scn, tau_end, times.tau, kept, job.precision, attitude ? &kept_q : nullptr);
     m.estimated_max_error = check.max_error;
+    m.estimated_max_error_omega = check.max_error_omega;
     m.estimated_max_attitude_error = check.max_attitude_error;
     m.verify_precision = check.precision;
     m.verify_method = check.method;
