@@ -299,32 +299,48 @@ TEST(CheckHints, OneNumberFormatInTheTable) {
 }
 
 // 4. The reference's estimated error (--verify) is the normalized Eq. 20 figure for a physical
-// scene: labelled so in the table and the JSON, beside errors in rad/s.
+// scene: labelled so in the table and the JSON, and its rad/s figure (# estimated_max_error_omega)
+// beside it, in the table where the errors are in rad/s.
 TEST(CheckHints, TheReferencesEstimatedErrorCarriesItsUnit) {
   temp_dir dir;
   const auto rows = write_reference(dir.path(), {"--verify"});
   ASSERT_EQ(rows.size(), 61u);
-  ASSERT_NE(read_file(dir.path() / "ref.csv").find("# estimated_max_error: "), std::string::npos);
+  const std::string file = read_file(dir.path() / "ref.csv");
+  ASSERT_NE(file.find("# estimated_max_error: "), std::string::npos);
+  const std::size_t at = file.find("# estimated_max_error_omega: ");
+  ASSERT_NE(at, std::string::npos) << file;
+  const double omega_estimate = std::stod(file.substr(at + 29));
   write_file(dir.path() / "rates.csv", trajectory_of(rows, "t,omega1,omega2,omega3", [](std::size_t, const auto& c) {
                return join({c[0], c[1], c[2], c[3]});
              }));
   const run_result r = run(dir.path(), {"check", "ref.csv", "rates.csv"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_TRUE(std::regex_search(line_starting(r.out, "reference: "),
-                                std::regex(R"(estimated max error \d\.\d{3}e-\d\d \(normalized, Eq\. 20\)\)$)")))
+  EXPECT_TRUE(std::regex_search(
+      line_starting(r.out, "reference: "),
+      std::regex(R"(estimated max error \d\.\d{3}e-\d\d \(normalized, Eq\. 20\), \d\.\d{3}e-\d\d rad/s\)$)")))
       << r.out;
   const json j = json::parse(run(dir.path(), {"check", "ref.csv", "rates.csv", "--format", "json"}).out);
   EXPECT_EQ(j.at("error_unit"), "rad/s");
   EXPECT_GT(j.at("reference").at("estimated_max_error").get<double>(), 0);
   // The words of the reference's own `# error_units:` line.
   EXPECT_EQ(j.at("reference").at("estimated_max_error_unit"), "normalized Omega (Eq. 20, no unit)");
-  EXPECT_NE(read_file(dir.path() / "ref.csv").find("estimated_max_error = normalized Omega (Eq. 20, no unit)"),
-            std::string::npos);
+  EXPECT_NE(file.find("estimated_max_error = normalized Omega (Eq. 20, no unit)"), std::string::npos);
+  EXPECT_NE(file.find("estimated_max_error_omega = rad/s"), std::string::npos);
+  EXPECT_EQ(j.at("reference").at("estimated_max_error_omega").get<double>(), omega_estimate);
+  EXPECT_EQ(j.at("reference").at("estimated_max_error_omega_unit"), "rad/s");
+  // Compared in tau and Omega: the table keeps the normalized figure alone.
+  write_file(dir.path() / "normalized.csv",
+             trajectory_of(rows, "tau,Omega1,Omega2,Omega3",
+                           [](std::size_t, const auto& c) { return join({c[8], c[9], c[10], c[11]}); }));
+  const run_result n = run(dir.path(), {"check", "ref.csv", "normalized.csv"});
+  ASSERT_EQ(n.exit_code, 0) << n.err;
+  EXPECT_TRUE(line_starting(n.out, "reference: ").ends_with("(normalized, Eq. 20))")) << n.out;
   // Without --verify: no figure, and no unit.
   ASSERT_EQ(run(dir.path(), {"reference", "gg.toml", "--out", "plain.csv"}).exit_code, 0);
   const json p = json::parse(run(dir.path(), {"check", "plain.csv", "rates.csv", "--format", "json"}).out);
-  EXPECT_TRUE(p.at("reference").at("estimated_max_error").is_null());
-  EXPECT_TRUE(p.at("reference").at("estimated_max_error_unit").is_null());
+  for (const char* key : {"estimated_max_error", "estimated_max_error_unit", "estimated_max_error_omega",
+                          "estimated_max_error_omega_unit"})
+    EXPECT_TRUE(p.at("reference").at(key).is_null()) << key;
 }
 
 }  // namespace

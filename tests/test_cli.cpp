@@ -392,6 +392,11 @@ TEST(Reference, CertifyTakesPiecesAndFormulasOfTheTime) {
   const run_result c = run(dir.path(), {"reference", "scene.toml", "--certify", "--out", "ref.csv"});
   ASSERT_EQ(c.exit_code, 0) << c.err;
   EXPECT_NE(read_file(dir.path() / "ref.csv").find("\nt,y1,y2,y3,radius\n"), std::string::npos);
+  // y has no unit, and the radius's line says so as the other forms' do.
+  EXPECT_NE(read_file(dir.path() / "ref.csv")
+                .find("\n# error_units: certified_max_error = |y - y*|_2 (no unit); each row's radius columns "
+                      "likewise\n"),
+            std::string::npos);
   write_file(dir.path() / "scene.toml", piece_scene);
   const run_result r = run(dir.path(), {"reference", "scene.toml", "--certify", "--out", "ref.csv"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -416,6 +421,15 @@ TEST(Check, CoefficientFormTrajectoryByTAndY) {
   EXPECT_NE(ok.out.find("coefficient form"), std::string::npos) << ok.out;
   write_file(dir.path() / "omega.csv", with(traj, "t,y1,y2,y3", "t,omega1,omega2,omega3"));
   expect_one_line_error(run(dir.path(), {"check", "scene.toml", "omega.csv"}), "y1..3");
+  // Against a verified file: its estimate in y, in the words of its `# error_units:` line, and no
+  // figure in rad/s (y is no body's rates).
+  ASSERT_EQ(run(dir.path(), {"reference", "scene.toml", "--verify", "--out", "verified.csv"}).exit_code, 0);
+  EXPECT_NE(read_file(dir.path() / "verified.csv").find("\n# error_units: estimated_max_error = |y - y*|_2 (no unit)\n"),
+            std::string::npos);
+  const run_result j = run(dir.path(), {"check", "verified.csv", "traj.csv", "--format", "json"});
+  ASSERT_EQ(j.exit_code, 0) << j.err;
+  EXPECT_NE(j.out.find("\"estimated_max_error_unit\": \"|y - y*|_2 (no unit)\""), std::string::npos) << j.out;
+  EXPECT_NE(j.out.find("\"estimated_max_error_omega\": null"), std::string::npos) << j.out;
 }
 
 // An attitude scene: the q columns after the rates, the convention in the metadata, |q| = 1 on

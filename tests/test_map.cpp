@@ -157,6 +157,16 @@ TEST_P(BadMap, ExitsTwoWithOneLineAndNoFiles) {
 INSTANTIATE_TEST_SUITE_P(Table, BadMap, ::testing::ValuesIn(bad_maps()),
                          [](const ::testing::TestParamInfo<bad_map>& info) { return test_name_of(info.param.label); });
 
+// The coefficient form takes euler alone, and a map compares euler with VOP: refused in one line
+// naming the scene and why, before anything is written.
+TEST(Map, RefusesASceneWhereOnlyEulerRuns) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"map", source_dir + "/data/scenes/problems/sciml-rigid-body.toml", "--no-plot",
+                                        "--out-dir", "out"});
+  expect_one_line_error(r, "scene `sciml-rigid-body`: the paper's VOP does not apply to the coefficient form");
+  EXPECT_FALSE(fs::exists(dir.path() / "out"));
+}
+
 TEST(Map, UnknownCommandListsMap) {
   temp_dir dir;
   const run_result r = run(dir.path(), {"mapp"});

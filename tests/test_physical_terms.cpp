@@ -2,7 +2,8 @@
 // body with rate damping. `report` speaks t in s and the rates' error in rad/s (its normalized
 // figures beside, named so), every error figure of a reference and of a batch manifest carries
 // its unit, numbers may be constant formulas in every numeric key, and a quaternion rounded to six
-// digits is normalized with a note. `sweep` and `map` give the attitude error beside the rates'.
+// digits is normalized with a note, and --verify estimates the rates in rad/s too. `sweep` and
+// `map` give the attitude error beside the rates'.
 //
 // Truths: the rates' error in rad/s is |sqrt(A) (Omega - Omega*)|_2 (Eq. 2, omega = P^T sqrt(A)
 // Omega), so at each sample it lies between min_i sqrt(|A_i|) and max_i sqrt(|A_i|) times the
@@ -146,8 +147,8 @@ TEST(PhysicalTerms, EveryFigureCarriesItsUnit) {
   ASSERT_NE(at, std::string::npos) << text;
   const std::string units = text.substr(at, text.find('\n', at + 1) - at);
   for (const char* figure :
-       {"estimated_max_error = normalized Omega (Eq. 20, no unit)", "estimated_max_attitude_error = rad",
-        "certified_max_error_omega = rad/s", "certified_max_error_q = |q - q*|_2"})
+       {"estimated_max_error = normalized Omega (Eq. 20, no unit)", "estimated_max_error_omega = rad/s",
+        "estimated_max_attitude_error = rad", "certified_max_error_omega = rad/s", "certified_max_error_q = |q - q*|_2"})
     EXPECT_NE(units.find(figure), std::string::npos) << figure << " in " << units;
 
   const run_result b = run(dir.path(), {"batch", "s.toml", "--verify", "--out-dir", "b"});
@@ -156,7 +157,46 @@ TEST(PhysicalTerms, EveryFigureCarriesItsUnit) {
   const auto& figures = m["scenes"][0]["figures"];
   EXPECT_EQ(figures["estimated_max_error"]["unit"], "normalized Omega (Eq. 20, no unit)");
   EXPECT_EQ(figures["estimated_max_attitude_error"]["unit"], "rad (rotation angle)");
+  EXPECT_EQ(figures["estimated_max_error_omega"]["unit"], "rad/s");
   EXPECT_GT(figures["estimated_max_error"]["value"].get<double>(), 0.0);
+}
+
+// The value of the header line `# key: value`.
+double header_value(const std::string& text, const std::string& key) {
+  const std::size_t at = text.find("\n# " + key + ": ");
+  EXPECT_NE(at, std::string::npos) << key << " in:\n" << text;
+  return at == std::string::npos ? 0.0 : std::stod(text.substr(at + key.size() + 5));
+}
+
+// --verify's estimate in rad/s is that of the same comparison: the row of its largest normalized
+// difference holds between min and max sqrt(|A_i|) times it in rad/s, and no row exceeds max
+// sqrt(|A_i|) times the largest. Each figure is printed to three digits (0.5% either way), and
+// the rows' own rounding to quad (1e-34 of |omega|) is far below these 1e-32.
+TEST(PhysicalTerms, VerifyEstimatesTheRatesInRadPerSecond) {
+  temp_dir dir;
+  write_file(dir.path() / "s.toml", gravity_damped("0.00113", "[1.0, 0.0, 0.0, 0.0]", "t_end = 600.0\nsamples = 61\n"));
+  const run_result r = run(dir.path(), {"reference", "s.toml", "--verify", "--out", "ref.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string text = read_file(dir.path() / "ref.csv");
+  const double normalized = header_value(text, "estimated_max_error");
+  const double rates = header_value(text, "estimated_max_error_omega");
+  const scaling_by_hand by_hand;
+  const double lo = *std::min_element(by_hand.sqrt_A, by_hand.sqrt_A + 3);
+  const double hi = *std::max_element(by_hand.sqrt_A, by_hand.sqrt_A + 3);
+  ASSERT_GT(normalized, 0.0);
+  EXPECT_GE(rates * 1.005, lo * normalized / 1.005) << rates << " vs " << normalized;
+  EXPECT_LE(rates / 1.005, hi * normalized * 1.005) << rates << " vs " << normalized;
+
+  // The direct form's state is omega: the two figures are one. Other forms have no rates.
+  write_file(dir.path() / "axi.toml", "name = \"axi\"\n[body]\ninertia = [100.0, 100.0, 200.0]\n"
+                                      "[initial]\nomega = [0.02, 0.1, 0.05]\n[span]\nt_end = 60.0\nsamples = 7\n");
+  ASSERT_EQ(run(dir.path(), {"reference", "axi.toml", "--verify", "--out", "axi.csv"}).exit_code, 0);
+  const std::string axi = read_file(dir.path() / "axi.csv");
+  EXPECT_EQ(header_value(axi, "estimated_max_error_omega"), header_value(axi, "estimated_max_error"));
+  const run_result paper = run(dir.path(), {"reference", "--tau-end", "2", "--samples", "5", "--verify"});
+  ASSERT_EQ(paper.exit_code, 0) << paper.err;
+  EXPECT_EQ(paper.out.find("estimated_max_error_omega"), std::string::npos) << paper.out;
+  EXPECT_NE(paper.out.find("\n# error_units: estimated_max_error = Eq. 20 (no unit)\n"), std::string::npos);
 }
 
 // Every numeric key takes a constant formula: t_end and mean_motion here. The run equals the one

@@ -46,6 +46,50 @@ TEST(ReferenceCsv, MetadataRoundTrips) {
   EXPECT_FALSE(m.wall_seconds);  // not written: a file without timings reads back without them
 }
 
+// A body's estimate in rad/s reads back as written, and a negative one is refused like the others.
+TEST(ReferenceCsv, EstimateInRadPerSecondRoundTrips) {
+  reference_metadata m = sample_metadata();
+  m.estimated_max_error_omega = decimal{"4.56e-71", 4.56e-71};
+  reference_csv_writer w(m, reference_layout::physical);
+  std::istringstream in(w.text());
+  const reference_csv_reader r(in, "test");
+  ASSERT_TRUE(r.metadata().estimated_max_error_omega);
+  EXPECT_EQ(r.metadata().estimated_max_error_omega->text, "4.56e-71");
+  EXPECT_EQ(r.metadata().estimated_max_error_omega->value, 4.56e-71);
+  EXPECT_EQ(r.metadata().estimated_max_error->text, "1.23e-70");  // the key is not read as its prefix
+  std::istringstream bad("# estimated_max_error_omega: -1e-30\ntau,Omega1,Omega2,Omega3\n");
+  EXPECT_THROW(reference_csv_reader(bad, "reference x.csv"), input_error);
+}
+
+// The line of "# error_units:" in a header, or "" if there is none.
+std::string error_units_line(const std::string& header) {
+  const std::size_t at = header.find("# error_units: ");
+  return at == std::string::npos ? "" : header.substr(at, header.find('\n', at) - at);
+}
+
+// Every form's figures name their unit, or say they have none; the radius columns are mentioned
+// only where there are some.
+TEST(ReferenceCsv, EveryFormNamesItsErrorUnits) {
+  reference_metadata m = sample_metadata();
+  EXPECT_EQ(error_units_line(reference_csv_header(m, reference_layout::normalized)),
+            "# error_units: estimated_max_error = Eq. 20 (no unit)");
+  EXPECT_EQ(error_units_line(reference_csv_header(m, reference_layout::coefficient)),
+            "# error_units: estimated_max_error = |y - y*|_2 (no unit)");
+  m.certified_max_error = decimal{"2.00e-70", 2e-70};
+  EXPECT_EQ(error_units_line(reference_csv_header(m, reference_layout::coefficient)),
+            "# error_units: estimated_max_error = |y - y*|_2 (no unit); certified_max_error = |y - y*|_2 (no unit); "
+            "each row's radius columns likewise");
+  m.estimated_max_error_omega = m.certified_max_error_omega = decimal{"3.00e-70", 3e-70};
+  EXPECT_EQ(error_units_line(reference_csv_header(m, reference_layout::physical)),
+            "# error_units: estimated_max_error = normalized Omega (Eq. 20, no unit); estimated_max_error_omega = "
+            "rad/s; certified_max_error = normalized Omega (Eq. 20, no unit); certified_max_error_omega = rad/s; "
+            "each row's radius columns likewise");
+  m.estimated_max_error.reset();
+  m.estimated_max_error_omega.reset();
+  m.certified_max_error.reset();
+  EXPECT_EQ(error_units_line(reference_csv_header(m, reference_layout::normalized)), "");  // no figure, no line
+}
+
 TEST(ReferenceCsv, DoubleFilesAreReadInQuad) {
   reference_metadata m = sample_metadata();
   m.precision = eulervop::precision::binary64();

@@ -58,6 +58,7 @@ std::string in_memory_csv(const reference_options& o) {
   if (o.verify) {
     const verify_result check = verify<T>(s, tau_end, times.tau, Omega, applied.precision);
     m.estimated_max_error = check.max_error;
+    m.estimated_max_error_omega = check.max_error_omega;
     m.verify_precision = check.precision;
     m.verify_method = check.method;
   }

@@ -1,6 +1,7 @@
 // `eulervop sweep` (docs/sweep.md): the grid in sweep.csv and its columns, identical error
 // columns with --jobs 1 and --jobs 2, the observed order of rk4, divergence without NaN,
-// cheapest.csv and summary.json, and bad flags.
+// cheapest.csv and summary.json, the formulations and the time of a scene in the coefficient
+// form or in physical units, and bad flags.
 #include "cli_test_support.hpp"
 
 #include <eulervop/runs/comparison_run.hpp>
@@ -227,6 +228,66 @@ TEST(Sweep, DivergedRunIsMarkedWithoutNaN) {
     const json& e = level.at("by_formulation").at("euler");
     if (!e.is_null()) EXPECT_EQ(e.at("step"), "K/25");
   }
+}
+
+// ---- the scene's own forms and time ----------------------------------------------------------------
+
+const std::string sciml_scene = source_dir + "/data/scenes/problems/sciml-rigid-body.toml";
+
+// The coefficient form takes euler alone: chosen by default and said so, in t (the scene's time,
+// which has no unit), never in tau.
+TEST(Sweep, CoefficientFormRunsEulerAloneInItsOwnTime) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"sweep", sciml_scene, "--tols", "1e-6,1e-9", "--methods", "dop853", "--repeat",
+                                        "1", "--no-plot", "--out-dir", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("1 formulation(s) x 1 method(s) on 0 step(s) and 2 tolerance(s) = 2 runs, to t = 10\n"),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.out.find("tau"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\nnote: the paper's VOP does not apply to the coefficient form"), std::string::npos) << r.out;
+  const csv_table t = read_csv(dir.path() / "out" / "sweep.csv");
+  ASSERT_EQ(t.rows.size(), 2u);
+  for (const auto& row : t.rows) EXPECT_EQ(row.at("formulation"), "euler");
+  const json summary = json::parse(read_file(dir.path() / "out" / "summary.json"));
+  EXPECT_EQ(summary.at("time"), json({{"name", "t"}, {"unit", nullptr}, {"end", 10.0}}));  // the scene's t_end
+  EXPECT_TRUE(summary.at("note").get<std::string>().ends_with("so only euler runs"));
+}
+
+// A formulation the scene cannot take, asked for, is refused in one line naming the flag, before
+// anything is computed or written.
+TEST(Sweep, RefusesVopForTheCoefficientForm) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"sweep", sciml_scene, "--tols", "1e-6", "--formulations", "euler,vop-theta",
+                                        "--no-plot", "--out-dir", "out"});
+  expect_one_line_error(r, "--formulations euler,vop-theta: formulation vop-theta cannot run on scene "
+                           "`sciml-rigid-body`: the paper's VOP does not apply to the coefficient form");
+  EXPECT_FALSE(fs::exists(dir.path() / "out"));
+}
+
+// A physical body in the normalized form: the span, the steps and the times in s, tau beside the
+// span (the runs integrate in it). t_end = 600 s is the scene's; h in s times dtau/dt (the
+// reference's tau_end over the span in s) gives back the step rule's h in tau.
+TEST(Sweep, PhysicalSceneSpeaksSeconds) {
+  temp_dir dir;
+  const run_result r =
+      run(dir.path(), {"sweep", source_dir + "/data/scenes/spacecraft-physical.toml", "--t-end", "600", "--steps",
+                       "K/25", "--tols", "1e-6", "--methods", "rk4,dop853", "--formulations", "euler,vop", "--repeat",
+                       "1", "--no-plot", "--out-dir", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("runs, to t = 600 s (tau = "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" h (s) "), std::string::npos) << r.out;
+  const json summary = json::parse(read_file(dir.path() / "out" / "summary.json"));
+  EXPECT_EQ(summary.at("time").at("unit"), "s");
+  EXPECT_NEAR(summary.at("time").at("end").get<double>(), 600.0, 1e-12 * 600);
+  EXPECT_TRUE(summary.at("note").is_null());
+  const double rate = summary.at("reference").at("tau_end").get<double>() / 600.0;
+  const json& step = summary.at("steps").at(0);
+  const std::string rule = step.at("rule");  // "h = K(k0)/(25 c2) = H with ..."
+  const double h_tau = std::stod(rule.substr(rule.find(" = ", 4) + 3));
+  EXPECT_NEAR(step.at("h").get<double>() * rate, h_tau, 1e-12 * h_tau);
+  const csv_table t = read_csv(dir.path() / "out" / "sweep.csv");
+  EXPECT_EQ(std::stod(row_of(t, "euler", "rk4", "K/25").at("h")), step.at("h").get<double>());
 }
 
 // ---- bad input ------------------------------------------------------------------------------------

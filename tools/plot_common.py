@@ -24,6 +24,16 @@ def setup(script: str, what: str):
     return sys.argv[1], plt
 
 
+def span_text(summary: dict, tau_end: float) -> str:
+    """'t = 600 s', 't = 100' or 'tau = 136': the span's end in the scene's own time, as the
+    summary's "time" states it (a summary without it is in tau)."""
+    time = summary.get("time")
+    if not time:
+        return f"tau = {tau_end:.6g}"
+    unit = f" {time['unit']}" if time.get("unit") else ""
+    return f"{time['name']} = {time['end']:.6g}{unit}"
+
+
 def save(fig, out_dir: str, stem: str) -> None:
     """Writes stem.png and stem.svg in out_dir, each to a temporary name first and then renamed,
     so that a reader never sees half a figure."""

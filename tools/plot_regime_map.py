@@ -66,7 +66,7 @@ def main() -> int:
     ax.set_ylabel("max Eq. 20 error over the span <=")
     bar = fig.colorbar(image, ax=ax, fraction=0.04, pad=0.02)
     bar.set_label(r"$\log_2$ (Euler time / VOP time): > 0 where VOP pays")
-    ax.set_title(f"Where VOP pays: scene {s['scene']}, to tau = {s['tau_end']:.6g}, runs in double\n"
+    ax.set_title(f"Where VOP pays: scene {s['scene']}, to {plot_common.span_text(s, s['tau_end'])}, runs in double\n"
                  f"cheapest of fixed steps and tolerances, all methods; reference {s['precision']}\n"
                  f"{s['timing']}", fontsize=9)
     fig.tight_layout()

@@ -27,7 +27,7 @@ def main() -> int:
     if os.path.exists(summary):
         with open(summary) as f:
             s = json.load(f)
-        title += (f": scene {s.get('scene', '')}, to tau = {s['reference']['tau_end']:.6g}"
+        title += (f": scene {s.get('scene', '')}, to {plot_common.span_text(s, s['reference']['tau_end'])}"
                   f"\nreference {s['reference']['precision']}; time = min of {s.get('repeat', '?')} run(s)"
                   + (f", --jobs {s['jobs']} (parallel)" if s.get("jobs", 1) > 1 else ""))
 

@@ -4,6 +4,7 @@
 #include "compute/formulation_probe.hpp"
 #include "compute/ladders.hpp"
 #include "compute/scene_library.hpp"
+#include "compute/scene_time.hpp"
 
 #include <eulervop/rk/tableaux.hpp>
 
@@ -25,10 +26,13 @@ wp_grid grid_of(const scene& s, std::size_t samples, const grid_flags& f, const 
   g.samples = samples;
   const bool steps = f.steps || !f.tols;
   const bool tols = f.tols || !f.steps;
+  // The formulations first: one the scene does not take is refused before its ladders are read.
+  const std::vector<formulation> every(all_formulations.begin(), all_formulations.end());
+  g.forms = chosen_formulations(f.formulations, {}, formulations_for(s, every));
+  if (f.formulations) require_formulations_apply(g.forms, s, "--formulations " + *f.formulations);
   if (steps) g.steps = step_ladder(s, flag_list("--steps", f.steps.value_or(d.steps)), "--steps", !f.steps, samples);
   if (tols) g.tols = tol_ladder("--tols", f.tols.value_or(default_tol_ladder));
   g.max_step = max_step_of(s, f.max_step);
-  g.forms = chosen_formulations(f.formulations, {}, {all_formulations.begin(), all_formulations.end()});
   g.methods = chosen_methods(f.methods, {}, {rk::all_methods.begin(), rk::all_methods.end()}, steps, tols);
   g.make_cases();
   probe_formulations(g.forms, s,
@@ -49,6 +53,13 @@ std::string timing_text(const wp_run_options& o) {
   return fmt::format("each time is the minimum of {} run(s); --jobs {}: the timings were taken in parallel and are "
                      "less pure than with --jobs 1",
                      o.repeat, o.jobs);
+}
+
+nlohmann::ordered_json scene_time_json(const scene& s, double tau_end) {
+  const scene_clock clock = clock_of(s);
+  return {{"name", clock.unit.name},
+          {"unit", clock.unit.unit.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(clock.unit.unit)},
+          {"end", tau_end * clock.per_tau}};
 }
 
 scene work_precision_scene(const std::optional<std::string>& path, const scene_override_flags& flags, wp_job& job) {

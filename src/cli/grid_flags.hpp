@@ -11,6 +11,8 @@
 #include <eulervop/core/precision.hpp>
 #include <eulervop/reference/settings.hpp>
 
+#include <nlohmann/json.hpp>
+
 #include <cstddef>
 #include <filesystem>
 #include <optional>
@@ -35,10 +37,11 @@ struct grid_flag_defaults {
   int repeat = 1;
 };
 
-// The grid of `s` the flags ask for: both ladders unless only one is given, every formulation and
+// The grid of `s` the flags ask for: both ladders unless only one is given, every formulation the
+// scene takes (euler alone for the coefficient and direct forms, formulation_probe.hpp) and every
 // method unless listed (the scene's [run] lists choose the runs of `report`, not a grid's), the
 // cases made and the formulations probed at the first step. input_error naming the flag and its
-// value otherwise.
+// value otherwise, and for a listed formulation the scene does not take.
 wp_grid grid_of(const scene& s, std::size_t samples, const grid_flags& flags, const grid_flag_defaults& defaults);
 
 // --repeat and --jobs (input_error naming the flag and its value).
@@ -62,5 +65,10 @@ scene work_precision_scene(const std::optional<std::string>& path, const scene_o
 
 // "each time is the minimum of 3 run(s), one case at a time", for the summary and the figure.
 std::string timing_text(const wp_run_options& o);
+
+// The time the outputs of a grid of scene `s` speak, for summary.json: {"name": "t", "unit": "s",
+// "end": the span's end in it} (unit null for tau and the coefficient form's t), the unit of their
+// `h` and `diverged_at` too (compute/scene_time.hpp).
+nlohmann::ordered_json scene_time_json(const scene& s, double tau_end);
 
 }  // namespace eulervop::app

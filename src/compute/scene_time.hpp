@@ -7,6 +7,8 @@
 
 #include <eulervop/core/numerical_failure.hpp>
 
+#include <string>
+#include <string_view>
 #include <utility>
 
 namespace eulervop::app {
@@ -14,6 +16,12 @@ namespace eulervop::app {
 // t in seconds for a physical scene (tau / (dtau/dt) of Eq. 4, or tau itself in the direct form),
 // t for the coefficient form, tau for a normalized scene.
 scene_clock clock_of(const scene& s);
+
+// A time of scene `s`, given in tau, in the scene's own words, to six significant digits:
+// "tau = 136" (a normalized scene), "t = 100" (the coefficient form), "t = 50 s" (a body in the
+// direct form, whose time is t), "t = 600 s (tau = 173.205)" (a body in the normalized form, whose
+// runs integrate in tau). `equals` is " = ", or "=" inside a table's cell.
+std::string scene_time_text(const scene& s, double tau, std::string_view equals = " = ");
 
 // Runs `run` with the scene's clock set for the progress display, and states a numerical failure
 // in the scene's time first ("at t=X s (tau=Y)").

@@ -4,9 +4,11 @@
 #include "compute/with_scalar.hpp"
 
 #include <eulervop/model/error_measure.hpp>
+#include <eulervop/model/physical_scaling.hpp>
 
 #include <fmt/format.h>
 
+#include <optional>
 #include <stdexcept>
 #include <type_traits>
 
@@ -38,18 +40,30 @@ std::string three_digits(const T& x) {
 }
 
 template <scalar Hi, scalar Lo>
+vec3<Hi> widen3(const vec3<Lo>& v) {
+  return {widen<Hi>(v[0]), widen<Hi>(v[1]), widen<Hi>(v[2])};
+}
+
+// `omega`, if given, holds the omega the narrow rows print (a physical scene in the normalized
+// form): the wide Omega is mapped by Eq. 2 in the wide type, from the scene's decimals, and the
+// largest difference in rad/s is kept too.
+template <scalar Hi, scalar Lo>
 verify_result verify_in(const scene& s, const Lo& tau_end, const std::vector<Lo>& taus,
                         const std::vector<vec3<Lo>>& Omega, const eulervop::precision& wide,
-                        const std::vector<quaternion<Lo>>* attitude) {
+                        const std::vector<quaternion<Lo>>* attitude, const std::vector<vec3<Lo>>* omega) {
   std::vector<Hi> wide_taus;
   wide_taus.reserve(taus.size());
   for (const Lo& t : taus) wide_taus.push_back(widen<Hi>(t));
+  std::optional<physical_scaling<Hi>> scale;
+  if (omega) scale.emplace(scaling_of<Hi>(s));
   // Compared as they come: the wide samples are not kept.
-  Hi worst = 0, worst_angle = 0;
+  Hi worst = 0, worst_angle = 0, worst_omega = 0;
   const auto compare = [&](std::size_t i, const vec3<Hi>& ref) {
-    const vec3<Hi> narrow = {widen<Hi>(Omega[i][0]), widen<Hi>(Omega[i][1]), widen<Hi>(Omega[i][2])};
-    const Hi err = eq20_error(ref, narrow);
+    const Hi err = eq20_error(ref, widen3<Hi>(Omega[i]));
     if (err > worst) worst = err;
+    if (!scale) return;
+    const Hi err_omega = eq20_error(scale->omega_of_Omega(ref), widen3<Hi>((*omega)[i]));
+    if (err_omega > worst_omega) worst_omega = err_omega;
   };
   const reference_run run =
       attitude ? integrate_scene_attitude<Hi>(s, widen<Hi>(tau_end), wide_taus, picard_settings{}, "verify",
@@ -65,8 +79,9 @@ verify_result verify_in(const scene& s, const Lo& tau_end, const std::vector<Lo>
                    return integrate_streaming<Hi>(problem, widen<Hi>(tau_end), wide_taus, picard_settings{}, "verify",
                                                   compare);
                  });
-  verify_result out{decimal{three_digits(worst), static_cast<double>(worst)}, std::nullopt, wide,
+  verify_result out{decimal{three_digits(worst), static_cast<double>(worst)}, std::nullopt, std::nullopt, wide,
                     method_text(picard_settings{}, run.stats), run.wall_seconds};
+  if (scale) out.max_error_omega = decimal{three_digits(worst_omega), static_cast<double>(worst_omega)};
   if (attitude) out.max_attitude_error = decimal{three_digits(worst_angle), static_cast<double>(worst_angle)};
   return out;
 }
@@ -84,13 +99,24 @@ verify_result verify(const scene& s, const Lo& tau_end, const std::vector<Lo>& t
       std::is_same_v<Lo, double>
           ? eulervop::precision::binary128()
           : eulervop::precision::mpfr((std::is_same_v<Lo, quad> ? 113u : narrow.bits) + extra_bits);
-  return with_scalar(wide, [&](auto zero) -> verify_result {
+  // The omega a physical scene's rows print, mapped here in the narrow precision as the rows
+  // were (the wide scope below would map an MPFR Omega at the wide precision).
+  std::vector<vec3<Lo>> omega;
+  const bool direct = uses_direct_form(s);
+  if (s.is_physical() && !direct) {
+    const physical_scaling<Lo> scale = scaling_of<Lo>(s);
+    omega.reserve(Omega.size());
+    for (const vec3<Lo>& y : Omega) omega.push_back(scale.omega_of_Omega(y));
+  }
+  verify_result out = with_scalar(wide, [&](auto zero) -> verify_result {
     using Hi = decltype(zero);
     if constexpr (std::is_same_v<Hi, double> || (std::is_same_v<Hi, quad> && !std::is_same_v<Lo, double>))
       throw std::logic_error("verify: the precision is not wider");
     else
-      return verify_in<Hi>(s, tau_end, taus, Omega, wide, attitude);
+      return verify_in<Hi>(s, tau_end, taus, Omega, wide, attitude, s.is_physical() && !direct ? &omega : nullptr);
   });
+  if (s.is_physical() && direct) out.max_error_omega = out.max_error;  // the state is omega
+  return out;
 }
 
 template verify_result verify<double>(const scene&, const double&, const std::vector<double>&,

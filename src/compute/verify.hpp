@@ -1,5 +1,6 @@
 // --verify: the samples of a reference recomputed one precision up, and the largest Eq. 20
-// difference (docs/reference.md). Compiled once, in verify.cpp, for double, quad and MPFR.
+// difference (docs/reference.md), for a body also in rad/s. Compiled once, in verify.cpp, for
+// double, quad and MPFR.
 #pragma once
 
 #include "compute/scene_library.hpp"
@@ -21,6 +22,10 @@ namespace eulervop::app {
 // measures the narrow run's error at the rows it prints, input rounding included.
 struct verify_result {
   decimal max_error;  // three significant digits, as the metadata prints it
+  // A body's largest |omega - omega*|_2 in rad/s: of the omega its rows print (Eq. 2 of the
+  // narrow Omega, in the narrow type) for a physical scene in the normalized form; max_error
+  // itself in the direct form, whose state is omega. None for the other scenes.
+  std::optional<decimal> max_error_omega;
   std::optional<decimal> max_attitude_error;  // radians, when the attitude was verified too
   eulervop::precision precision;
   std::string method;

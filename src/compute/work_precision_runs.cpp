@@ -151,6 +151,9 @@ dense_reference<T> grid_reference(const wp_grid& g, const picard_settings& setti
     const T last = tau_of_step<T>(st.choice.n_steps, st.choice.h);
     if (last > tau_end) tau_end = last;
   }
+  // The adaptive runs end at the span's end in double, which for a physical scene (t_end times
+  // dtau/dt of Eq. 4, rounded) may lie past its value in T.
+  if (!g.tols.empty() && T(tau_end_of<double>(g.scn)) > tau_end) tau_end = T(tau_end_of<double>(g.scn));
   dense_reference<T> ref = with_problem<T>(
       g.scn, [&](const auto& problem) { return integrate_dense<T>(problem, tau_end, settings, ""); });
   out.reference_seconds = ref.wall_seconds;

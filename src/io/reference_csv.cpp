@@ -47,6 +47,8 @@ reference_metadata metadata_of(const csv_rows& rows) {
       m.precision = parse_precision(*v, rows.where(), line);
     } else if (auto e = value("estimated_max_error")) {
       m.estimated_max_error = non_negative("estimated_max_error", *e);
+    } else if (auto eo = value("estimated_max_error_omega")) {
+      m.estimated_max_error_omega = non_negative("estimated_max_error_omega", *eo);
     } else if (auto n = value("scene")) {
       m.scene_name = *n;
     } else if (auto o = value("scene_source")) {
@@ -94,6 +96,24 @@ reference_metadata metadata_of(const csv_rows& rows) {
   return m;
 }
 
+// The value of the "# error_units:" line: every figure's unit, named. A body's come in several
+// (the normalized state, rad/s, rad), and the normalized and coefficient forms' have none, which
+// the line says too.
+std::string error_units_of(const reference_metadata& m, reference_layout layout) {
+  std::vector<std::string> figures;
+  const auto add = [&](bool present, std::string_view name) {
+    if (present) figures.push_back(fmt::format("{} = {}", name, error_unit(layout, name)));
+  };
+  add(m.estimated_max_error.has_value(), "estimated_max_error");
+  add(m.estimated_max_error_omega.has_value(), "estimated_max_error_omega");
+  add(m.estimated_max_attitude_error.has_value(), "estimated_max_attitude_error");
+  add(m.certified_max_error.has_value() && layout != reference_layout::direct, "certified_max_error");
+  add(m.certified_max_error_omega.has_value(), "certified_max_error_omega");
+  add(m.certified_max_error_q.has_value(), "certified_max_error_q");
+  return fmt::format("{}{}", fmt::join(figures, "; "),
+                     m.certified_max_error ? "; each row's radius columns likewise" : "");
+}
+
 }  // namespace
 
 eulervop::precision reference_metadata::reading_precision() const {
@@ -125,7 +145,7 @@ std::string error_unit(reference_layout layout, std::string_view figure) {
   switch (layout) {
     case reference_layout::direct: return "rad/s";  // the state is omega itself
     case reference_layout::physical: return "normalized Omega (Eq. 20, no unit)";
-    case reference_layout::coefficient: return "|y - y*|_2";
+    case reference_layout::coefficient: return "|y - y*|_2 (no unit)";
     case reference_layout::normalized: break;
   }
   return "Eq. 20 (no unit)";
@@ -176,6 +196,7 @@ std::string reference_csv_header(const reference_metadata& m, reference_layout l
   if (m.wall_seconds) line("# wall_seconds: {:.3f}", *m.wall_seconds);
   if (m.estimated_max_error) {
     line("# estimated_max_error: {}", m.estimated_max_error->text);
+    if (m.estimated_max_error_omega) line("# estimated_max_error_omega: {}", m.estimated_max_error_omega->text);
     if (m.estimated_max_attitude_error)
       line("# estimated_max_attitude_error: {}", m.estimated_max_attitude_error->text);
     if (m.verify_precision) line("# verify_precision: {}", precision_text(*m.verify_precision));
@@ -188,20 +209,7 @@ std::string reference_csv_header(const reference_metadata& m, reference_layout l
     if (m.certified_max_error_q) line("# certified_max_error_q: {}", m.certified_max_error_q->text);
     line("# certify_method: {}", m.certify_method);
   }
-  // A body's figures are in different units (the normalized state, rad/s, rad): each is named.
-  if ((m.estimated_max_error || m.certified_max_error) &&
-      (layout == reference_layout::physical || layout == reference_layout::direct)) {
-    std::vector<std::string> figures;
-    const auto add = [&](bool present, std::string_view name) {
-      if (present) figures.push_back(fmt::format("{} = {}", name, error_unit(layout, name)));
-    };
-    add(m.estimated_max_error.has_value(), "estimated_max_error");
-    add(m.estimated_max_attitude_error.has_value(), "estimated_max_attitude_error");
-    add(m.certified_max_error.has_value() && layout == reference_layout::physical, "certified_max_error");
-    add(m.certified_max_error_omega.has_value(), "certified_max_error_omega");
-    add(m.certified_max_error_q.has_value(), "certified_max_error_q");
-    line("# error_units: {}; each row's radius columns likewise", fmt::join(figures, "; "));
-  }
+  if (m.estimated_max_error || m.certified_max_error) line("# error_units: {}", error_units_of(m, layout));
   for (const std::string& note : m.notes) line("# note: {}", note);
   if (!m.attitude.empty()) line("# attitude: {}", m.attitude);
   if (!m.coupled.empty()) line("# coupled: {}", m.coupled);

@@ -39,6 +39,7 @@ struct reference_metadata {
   std::string method;                            // # method
   std::optional<double> wall_seconds;            // # wall_seconds
   std::optional<decimal> estimated_max_error;    // # estimated_max_error (--verify)
+  std::optional<decimal> estimated_max_error_omega;  // # estimated_max_error_omega (a body's, rad/s)
   std::optional<eulervop::precision> verify_precision;  // # verify_precision (with --verify)
   std::string verify_method;                     // # verify_method (with --verify)
   std::optional<double> wall_seconds_verify;     // # wall_seconds_verify
@@ -85,7 +86,8 @@ std::vector<std::string> reference_columns(const reference_metadata& m, referenc
 std::string reference_csv_header(const reference_metadata& m, reference_layout layout);
 
 // The unit of each error figure a reference of this layout carries (its estimates, radii and
-// their header lines), by name: "rad/s", "rad", or what the normalized figure measures.
+// their header lines), by name: "rad/s", "rad", or what a figure without a unit measures (the
+// normalized Eq. 20, the coefficient form's |y - y*|_2).
 std::string error_unit(reference_layout layout, std::string_view figure);
 
 // Formats the rows of a reference file and hands them to `sink` in chunks of about 64 KiB, so a

@@ -29,6 +29,7 @@ nlohmann::ordered_json figures_of(const batch_settings& s, const scene_task& t) 
       if (x) out[name] = {{"value", x->value}, {"unit", error_unit(layout, name)}};
     };
     add("estimated_max_error", m.estimated_max_error);
+    add("estimated_max_error_omega", m.estimated_max_error_omega);
     add("estimated_max_attitude_error", m.estimated_max_attitude_error);
     add("certified_max_error", m.certified_max_error);
     add("certified_max_error_omega", m.certified_max_error_omega);

@@ -147,14 +147,19 @@ physical_scaling<T> scaling_of_reference(const reference_table<T>& ref) {
 }
 
 // The estimated error of `# estimated_max_error` (--verify) is of the integrator's variables, the
-// normalized ones of Eq. 4 for a physical scene, not the compared ones: it carries its unit.
+// normalized ones of Eq. 4 for a physical scene, not the compared ones: it carries its unit. A
+// body's file also has it in rad/s (`# estimated_max_error_omega`), which the table adds beside
+// errors in rad/s where the first figure is not already that one (the direct form's).
 void describe_reference_file(const check_job& job, const reference_metadata& meta, check_result& r) {
   const auto& error = meta.estimated_max_error;
+  const auto& omega = meta.estimated_max_error_omega;
   const std::string& unit = r.scene.estimated_error_unit;
+  const bool omega_apart = omega && r.terms.state_unit == "rad/s" && unit != "rad/s";
   r.reference_text = fmt::format("{} (scene {}, {}, {})", job.held ? job.reference_path : "file " + job.reference_path,
                                  meta.scene_name.empty() ? "?" : meta.scene_name, meta.precision.name(),
-                                 error ? fmt::format("estimated max error {:.3e} {}", error->value,
-                                                     r.scene.estimated_error_label)
+                                 error ? fmt::format("estimated max error {:.3e} {}{}", error->value,
+                                                     r.scene.estimated_error_label,
+                                                     omega_apart ? fmt::format(", {:.3e} rad/s", omega->value) : "")
                                        : std::string("no estimated max error: made without --verify"));
   r.reference_json = {
       {"source", job.held ? "memory" : "file"},
@@ -162,7 +167,9 @@ void describe_reference_file(const check_job& job, const reference_metadata& met
       {"scene", meta.scene_name.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(meta.scene_name)},
       {"precision", meta.precision.name()},
       {"estimated_max_error", number_or_null(error ? std::optional<double>(error->value) : std::nullopt)},
-      {"estimated_max_error_unit", error ? nlohmann::ordered_json(unit) : nlohmann::ordered_json(nullptr)}};
+      {"estimated_max_error_unit", error ? nlohmann::ordered_json(unit) : nlohmann::ordered_json(nullptr)},
+      {"estimated_max_error_omega", number_or_null(omega ? std::optional<double>(omega->value) : std::nullopt)},
+      {"estimated_max_error_omega_unit", omega ? nlohmann::ordered_json("rad/s") : nlohmann::ordered_json(nullptr)}};
 }
 
 // The reference's form, from its columns, for a file that does not give its scene.

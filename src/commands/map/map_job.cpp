@@ -2,6 +2,7 @@
 
 #include "cli/flags.hpp"
 #include "cli/scene_overrides.hpp"
+#include "compute/formulation_probe.hpp"
 #include "io/output_dir.hpp"
 
 #include <fmt/format.h>
@@ -54,6 +55,10 @@ map_job map_job_of(const map_options& o) {
   if (!base.has_torque_law() && (!base.torque ||
       std::all_of(base.torque->begin(), base.torque->end(), [](const decimal& g) { return g.value == 0; })))
     throw input_error(fmt::format("scene `{}` has no torque to scale (give a scene with [torque] G or M)", base.name));
+  if (const std::string why = euler_only_reason(base); !why.empty())
+    throw input_error(fmt::format("scene `{}`: {}, so only euler runs on it, and the map compares euler with vop or "
+                                  "vop-theta",
+                                  base.name, why));
   job.run = run_options_of(o.grid, map_grid_defaults, "map");
   job.run.stop_below = *std::min_element(job.levels.begin(), job.levels.end());
 

@@ -2,6 +2,7 @@
 
 #include "compute/cheapest_configurations.hpp"
 #include "compute/run_names.hpp"
+#include "compute/scene_time.hpp"
 #include "io/output_cells.hpp"
 #include "io/text_buffer.hpp"
 #include "io/text_table.hpp"
@@ -157,7 +158,7 @@ std::string map_runs_csv(const map_job& job, const std::vector<wp_outcome>& outc
       if (c.adaptive)
         out.put(",,{},", g.tols[c.rung].value);
       else
-        out.put("{},{},,", g.steps[c.rung].text, g.steps[c.rung].choice.h);
+        out.put("{},{},,", g.steps[c.rung].text, g.steps[c.rung].choice.h * clock_of(g.scn).per_tau);
       if (r.skipped) {
         out.put(",,,,,,,{}true\n", attitude ? ",," : "");
         continue;
@@ -178,6 +179,7 @@ nlohmann::ordered_json map_summary_json(const map_job& job, const std::vector<wp
   j["scene"] = job.scene_name;
   j["overrides"] = job.overrides;
   j["tau_end"] = tau_end_of<double>(first.scn);
+  j["time"] = scene_time_json(first.scn, tau_end_of<double>(first.scn));
   j["precision"] = job.precision.name();
   j["levels"] = job.levels;
   json steps = json::array(), tols = json::array();
@@ -204,8 +206,9 @@ std::string map_table(const map_job& job, const std::vector<wp_outcome>& outcome
   std::vector<std::string> scales;
   for (const decimal& d : job.scales) scales.push_back(d.text);
   text_buffer out;
-  out.put("scene {}{}: torque scaled by {}, to tau = {:.6g}\n", job.scene_name,
-          job.overrides.empty() ? "" : " (" + job.overrides + ")", joined(scales), tau_end_of<double>(first.scn));
+  out.put("scene {}{}: torque scaled by {}, to {}\n", job.scene_name,
+          job.overrides.empty() ? "" : " (" + job.overrides + ")", joined(scales),
+          scene_time_text(first.scn, tau_end_of<double>(first.scn)));
   out.put("runs per scale: {} formulation(s) x {} method(s) on {} step(s) and {} tolerance(s), each ladder stopped "
           "once it reaches {}; maximum step {}\n",
           first.forms.size(), first.methods.size(), first.steps.size(), first.tols.size(),

@@ -19,7 +19,9 @@
 namespace eulervop::app {
 
 namespace reference_flags {
-const flag_def verify{"--verify", "", "Recompute one precision up and report # estimated_max_error"};
+const flag_def verify{"--verify", "",
+                      "Recompute one precision up and report # estimated_max_error (a body's also in rad/s: "
+                      "# estimated_max_error_omega)"};
 const flag_def certify{"--certify", "",
                        "Prove a bound on every row's distance to the exact solution: a radius column and "
                        "# certified_max_error (docs/certified.md)"};

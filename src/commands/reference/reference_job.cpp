@@ -279,6 +279,7 @@ reference_metadata run_in(const reference_job& job, reference_row_sink& sink) {
     const verify_result check =
         verify<T>(job.scn, tau_end, times.tau, kept, job.precision, attitude ? &kept_q : nullptr);
     m.estimated_max_error = check.max_error;
+    m.estimated_max_error_omega = check.max_error_omega;
     m.estimated_max_attitude_error = check.max_attitude_error;
     m.verify_precision = check.precision;
     m.verify_method = check.method;

@@ -68,15 +68,12 @@ void use_error_samples(scene& s) {
 }
 
 // A body in the direct form runs euler alone (the paper's VOP does not apply), which the table and
-// the summary note; empty otherwise.
+// the summary note, with the names its outputs give t and the state; empty otherwise.
 std::string direct_form_note(const scene& s) {
-  if (!uses_direct_form(s)) return "";
-  if (s.is_coefficient_form())
-    return "the paper's VOP does not apply to the coefficient form (its elements live in the normalized Eq. 5), so "
-           "only euler runs: tau is t and Omega is y";
-  return fmt::format("the paper's VOP does not apply to this body (two moments are equal or within {} of each other), "
-                     "so only euler runs, on Eq. 1 itself: tau is t in s and Omega is omega in rad/s",
-                     direct_form_gap);
+  const std::string why = euler_only_reason(s);
+  if (why.empty()) return "";
+  if (s.is_coefficient_form()) return why + ", so only euler runs: tau is t and Omega is y";
+  return why + ", so only euler runs, on Eq. 1 itself: tau is t in s and Omega is omega in rad/s";
 }
 
 report_job make_job(const report_options& o) {
@@ -101,10 +98,9 @@ report_job make_job(const report_options& o) {
   }
   const bool adaptive = job.adaptive();
   job.note = direct_form_note(s);
-  const std::vector<formulation> forms =
-      chosen_formulations(o.formulations, s.formulations,
-                          uses_direct_form(s) ? std::vector{formulation::euler}
-                                              : std::vector{formulation::euler, formulation::vop});
+  const std::vector<formulation> forms = chosen_formulations(
+      o.formulations, s.formulations, formulations_for(s, {formulation::euler, formulation::vop}));
+  require_formulations_apply(forms, s, o.formulations ? "--formulations " + *o.formulations : "[run] formulations");
   const std::vector<rk::method> methods =
       chosen_methods(o.methods, adaptive ? std::vector<std::string>{} : s.methods,
                      adaptive ? default_adaptive_methods : default_fixed_methods, !adaptive, adaptive);

@@ -24,6 +24,7 @@ inline constexpr std::array<double, 5> sweep_error_levels = {1e-4, 1e-6, 1e-8, 1
 
 struct sweep_job : wp_job {
   wp_grid grid;
+  std::string note;  // why only euler runs (the coefficient and direct forms), or empty
 };
 
 sweep_job sweep_job_of(const sweep_options& options);

@@ -1,6 +1,7 @@
 #include "commands/sweep/sweep_output.hpp"
 
 #include "compute/run_names.hpp"
+#include "compute/scene_time.hpp"
 #include "io/output_cells.hpp"
 #include "io/text_buffer.hpp"
 #include "io/text_table.hpp"
@@ -14,6 +15,13 @@ namespace eulervop::app {
 namespace {
 
 using json = nlohmann::ordered_json;
+
+// A step or a time of the runs (in tau) in the scene's own time: seconds for a physical body in
+// the normalized form (as its --steps are given), the same number otherwise.
+double in_scene_time(const wp_grid& g, double tau) { return tau * clock_of(g.scn).per_tau; }
+std::optional<double> in_scene_time(const wp_grid& g, const std::optional<double>& tau) {
+  return tau ? std::optional<double>(in_scene_time(g, *tau)) : std::nullopt;
+}
 
 // "vop, 2.60x faster than euler, 1.10x faster than vop-theta" (and which reach nothing).
 std::string verdict(const wp_grid& g, const wp_outcome& o, const level_choice& lc) {
@@ -42,7 +50,7 @@ json steps_json(const wp_grid& g) {
   json steps = json::array();
   for (const ladder_step& st : g.steps)
     steps.push_back({{"step", st.text},
-                     {"h", st.choice.h},
+                     {"h", in_scene_time(g, st.choice.h)},
                      {"steps", st.choice.n_steps},
                      {"sample_every", st.sample_every},
                      {"rule", st.choice.rule}});
@@ -58,7 +66,7 @@ json runs_json(const wp_grid& g, const wp_outcome& o) {
     runs.push_back({{"formulation", std::string(formulation_name(c.form))},
                     {"method", std::string(rk::method_name(c.method))},
                     {"step", c.adaptive ? null : json(g.steps[c.rung].text)},
-                    {"h", c.adaptive ? null : json(g.steps[c.rung].choice.h)},
+                    {"h", c.adaptive ? null : json(in_scene_time(g, g.steps[c.rung].choice.h))},
                     {"tol", c.adaptive ? json(g.tols[c.rung].value) : null},
                     {"steps", r.run.steps},
                     {"accepted", c.adaptive ? json(r.run.steps) : null},
@@ -68,7 +76,7 @@ json runs_json(const wp_grid& g, const wp_outcome& o) {
                     {"max_error", number_or_null(r.max_error)},
                     {"final_error", number_or_null(r.final_error)},
                     {"diverged", r.run.diverged()},
-                    {"diverged_at", r.run.diverged() ? number_or_null(r.run.diverged_at()) : null},
+                    {"diverged_at", r.run.diverged() ? number_or_null(in_scene_time(g, r.run.diverged_at())) : null},
                     {"why", r.run.diverged() ? json(describe(r.run.status)) : null}});
     if (g.scn.has_attitude()) {  // after final_error, as report has it (radians)
       json entry;
@@ -115,7 +123,8 @@ json cheapest_json(const wp_grid& g, const wp_outcome& o, const std::vector<leve
 
 // The grid's runs, one row each.
 std::string runs_table(const wp_grid& g, const wp_outcome& o) {
-  std::vector<std::vector<std::string>> rows = {{"formulation", "method", "step", "h", "steps", "rejected", "rhs evals",
+  const std::string h = clock_of(g.scn).unit.unit.empty() ? "h" : "h (" + clock_of(g.scn).unit.unit + ")";
+  std::vector<std::vector<std::string>> rows = {{"formulation", "method", "step", h, "steps", "rejected", "rhs evals",
                                                  "seconds", "max error", "final error", ""}};
   const bool attitude = g.scn.has_attitude();
   if (attitude) rows[0].insert(rows[0].end() - 1, {"max att err", "final att err"});
@@ -125,11 +134,12 @@ std::string runs_table(const wp_grid& g, const wp_outcome& o) {
     const wp_result& r = o.results[i];
     rows.push_back(
         {std::string(formulation_name(c.form)), std::string(rk::method_name(c.method)), g.rung_text(c),
-         c.adaptive ? std::string("-") : fmt::format("{:.6g}", g.steps[c.rung].choice.h),
+         c.adaptive ? std::string("-") : fmt::format("{:.6g}", in_scene_time(g, g.steps[c.rung].choice.h)),
          fmt::format("{}", r.run.steps), c.adaptive ? fmt::format("{}", r.run.rejected) : std::string("-"),
          fmt::format("{}", r.run.rhs_evals), fmt::format("{:.3e}", r.seconds), sci(r.max_error), sci(r.final_error),
-         r.run.diverged() ? fmt::format("DIVERGED at tau={} ({})",
-                                        r.run.diverged_at() ? fmt::format("{:.6g}", *r.run.diverged_at()) : "?",
+         r.run.diverged() ? fmt::format("DIVERGED at {} ({})",
+                                        r.run.diverged_at() ? scene_time_text(g.scn, *r.run.diverged_at(), "=")
+                                                            : clock_of(g.scn).unit.name + "=?",
                                         describe(r.run.status))
                           : ""});
     if (attitude) rows.back().insert(rows.back().end() - 1, {sci(r.max_attitude_error), sci(r.final_attitude_error)});
@@ -175,11 +185,11 @@ std::string sweep_csv(const wp_grid& g, const wp_outcome& o) {
     if (c.adaptive)
       out.put(",,{},{},{},{},", g.tols[c.rung].value, r.run.steps, r.run.steps, r.run.rejected);
     else
-      out.put("{},{},,{},,,", g.steps[c.rung].text, g.steps[c.rung].choice.h, r.run.steps);
+      out.put("{},{},,{},,,", g.steps[c.rung].text, in_scene_time(g, g.steps[c.rung].choice.h), r.run.steps);
     out.put("{},{:.6g},{},{},", r.run.rhs_evals, r.seconds, csv_number(r.max_error), csv_number(r.final_error));
     if (attitude) out.put("{},{},", csv_number(r.max_attitude_error), csv_number(r.final_attitude_error));
     out.put("{},{}\n", r.run.diverged() ? "true" : "false",
-            r.run.diverged() ? csv_number(r.run.diverged_at()) : std::string());
+            r.run.diverged() ? csv_number(in_scene_time(g, r.run.diverged_at())) : std::string());
   }
   return out.text();
 }
@@ -202,7 +212,7 @@ std::string cheapest_csv(const wp_grid& g, const wp_outcome& o, const std::vecto
       if (c.adaptive)
         out.put(",,{}", g.tols[c.rung].value);
       else
-        out.put("{},{},", g.steps[c.rung].text, g.steps[c.rung].choice.h);
+        out.put("{},{},", g.steps[c.rung].text, in_scene_time(g, g.steps[c.rung].choice.h));
       out.put(",{:.6g},{},{},{:.4g}\n", o.results[i].seconds, *o.results[i].max_error, o.results[i].run.rhs_evals,
               factor(o, lc, i));
     }
@@ -216,6 +226,8 @@ nlohmann::ordered_json sweep_summary_json(const sweep_job& job, const wp_outcome
   json j;
   j["scene"] = g.scn.name;
   j["overrides"] = job.overrides;
+  j["time"] = scene_time_json(g.scn, o.reference_tau_end);
+  j["note"] = job.note.empty() ? json(nullptr) : json(job.note);
   j["reference"] = {{"precision", job.precision.name()},
                     {"tau_end", o.reference_tau_end},
                     {"seconds", o.reference_seconds},
@@ -229,7 +241,7 @@ nlohmann::ordered_json sweep_summary_json(const sweep_job& job, const wp_outcome
   json tols = json::array();
   for (const ladder_tol& t : g.tols) tols.push_back(t.value);
   j["tols"] = tols;
-  j["max_step"] = {{"h", g.max_step.h}, {"rule", g.max_step.rule}};
+  j["max_step"] = {{"h", in_scene_time(g, g.max_step.h)}, {"rule", g.max_step.rule}};
   j["runs"] = runs_json(g, o);
   j["cheapest"] = cheapest_json(g, o, levels);
   return j;
@@ -239,9 +251,10 @@ std::string sweep_table(const sweep_job& job, const wp_outcome& o, const std::ve
                         double wall_seconds) {
   const wp_grid& g = job.grid;
   text_buffer out;
-  out.put("scene {}{}: {} formulation(s) x {} method(s) on {} step(s) and {} tolerance(s) = {} runs, to tau = {:.6g}\n",
+  out.put("scene {}{}: {} formulation(s) x {} method(s) on {} step(s) and {} tolerance(s) = {} runs, to {}\n",
           g.scn.name, job.overrides.empty() ? "" : " (" + job.overrides + ")", g.forms.size(), g.methods.size(),
-          g.steps.size(), g.tols.size(), g.cases.size(), o.reference_tau_end);
+          g.steps.size(), g.tols.size(), g.cases.size(), scene_time_text(g.scn, o.reference_tau_end));
+  if (!job.note.empty()) out.put("note: {}\n", job.note);
   out.put("reference: {} ({:.1f} s, {} segments); errors (Eq. 20) at about {} samples per run\n", job.precision.name(),
           o.reference_seconds, o.reference_segments, g.samples);
   if (!g.tols.empty()) out.put("adaptive runs: atol = rtol = tol, maximum step {}\n", g.max_step.rule);
