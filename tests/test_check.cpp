@@ -813,17 +813,23 @@ samples = 121
 
 }  // namespace
 
+// The SciML rigid body's reference at `samples` times, its rows written again as a trajectory
+// (traj.csv: t, y1..3 as the reference printed them).
+void write_reference_as_trajectory(const fs::path& dir, const std::string& samples) {
+  const run_result ref = run(dir, {"reference", "sciml-rigid-body", "--samples", samples, "--out", "ref.csv"});
+  ASSERT_EQ(ref.exit_code, 0) << ref.err;
+  std::string traj = "t,y1,y2,y3\n";
+  for (const auto& row : table_rows(read_file(dir / "ref.csv")))
+    traj += fmt::format("{},{},{},{}\n", row[0], row[1], row[2], row[3]);
+  write_file(dir / "traj.csv", traj);
+}
+
 // A shipped scene is taken by its name wherever a scene path goes; a name that is no scene says
 // so in one line, with the shipped ones.
 TEST(Check, AShippedSceneByItsName) {
   temp_dir dir;
-  const run_result ref = run(dir.path(), {"reference", "sciml-rigid-body", "--samples", "11", "--out", "ref.csv"});
-  ASSERT_EQ(ref.exit_code, 0) << ref.err;
   // The reference's own rows, as a trajectory: each cell is the reference's decimal, so 0 error.
-  std::string traj = "t,y1,y2,y3\n";
-  for (const auto& row : table_rows(read_file(dir.path() / "ref.csv")))
-    traj += fmt::format("{},{},{},{}\n", row[0], row[1], row[2], row[3]);
-  write_file(dir.path() / "traj.csv", traj);
+  write_reference_as_trajectory(dir.path(), "11");
   const run_result by_name = run(dir.path(), {"check", "sciml-rigid-body", "traj.csv", "--tol", "1e-30"});
   EXPECT_EQ(by_name.exit_code, 0) << by_name.out << by_name.err;
   const run_result wrong = run(dir.path(), {"check", "sciml-rigid-bod", "traj.csv", "--tol", "1e-30"});
@@ -836,12 +842,7 @@ TEST(Check, AShippedSceneByItsName) {
 // same times to the last digits, so that its own rows judge to the printing's rounding.
 TEST(Check, DenseRowsJudgeTheReferenceToItsDigits) {
   temp_dir dir;
-  const run_result ref = run(dir.path(), {"reference", "sciml-rigid-body", "--samples", "20001", "--out", "ref.csv"});
-  ASSERT_EQ(ref.exit_code, 0) << ref.err;
-  std::string traj = "t,y1,y2,y3\n";
-  for (const auto& row : table_rows(read_file(dir.path() / "ref.csv")))
-    traj += fmt::format("{},{},{},{}\n", row[0], row[1], row[2], row[3]);
-  write_file(dir.path() / "traj.csv", traj);
+  write_reference_as_trajectory(dir.path(), "20001");
   // |y| <= 2 here and each printed cell is within half a unit of its 36th digit of the quad value:
   // 3e-36 |y| per cell, so 1e-35 bounds a row's 2-norm; any series error above that would show.
   const run_result r = run(dir.path(), {"check", "sciml-rigid-body", "traj.csv", "--tol", "1e-35", "--format", "json"});

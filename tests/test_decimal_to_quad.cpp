@@ -1,7 +1,9 @@
-// Decimal text to quad: the fast path of core/scalar.hpp (one correctly rounded operation on exact
-// operands) against libquadmath's strtoflt128 (through Boost's float128 string constructor), an
-// independent correctly rounded conversion, on random decimals of every length and exponent the
-// fast path takes, and on the texts it must hand over.
+// Decimal text to quad and back. Reading: the fast path of core/scalar.hpp (one correctly rounded
+// operation on exact operands) against libquadmath's strtoflt128 (through Boost's float128 string
+// constructor), an independent correctly rounded conversion, on random decimals of every length
+// and exponent the fast path takes, and on the texts it must hand over. Writing: quad_text (exact
+// integer arithmetic) against libquadmath's quadmath_snprintf (through Boost's str()), byte for
+// byte, on random bit patterns of every magnitude, subnormals included.
 #include <eulervop/core/scalar.hpp>
 
 #include <gtest/gtest.h>
@@ -67,6 +69,28 @@ TEST(DecimalToQuad, OtherTextsTakeTheGeneralWay) {
   EXPECT_FALSE(eulervop::from_text<quad>("1e").has_value());
   EXPECT_TRUE(same_bits(*eulervop::from_text<quad>("-0"), quad("-0")));
   EXPECT_TRUE(same_bits(*eulervop::from_text<quad>("0.000"), quad(0)));
+}
+
+TEST(QuadToDecimal, EqualsQuadmathSnprintf) {
+  std::mt19937_64 random(11);
+  for (int n = 0; n < 200000; ++n) {
+    const unsigned __int128 bits = (static_cast<unsigned __int128>(random()) << 64) | random();
+    __float128 v;
+    std::memcpy(&v, &bits, sizeof v);
+    const quad x(v);
+    if (!isfinite(x)) continue;
+    const unsigned digits = n % 10 == 0 ? static_cast<unsigned>(random() % 40) : 36;
+    ASSERT_EQ(eulervop::quad_text(x, digits), x.str(digits, std::ios_base::scientific)) << "digits " << digits;
+  }
+  // Values of the magnitudes a reference holds, and ties: 0.5 ulp of the last digit kept.
+  for (const char* text : {"1", "0.1", "-2.5", "9.9999999999999999999999999999999999999", "1e-300", "123456789e20",
+                           "0.00000000000000000000000000000000000015"}) {
+    const quad x(text);
+    for (unsigned digits : {0u, 1u, 3u, 35u, 36u})
+      EXPECT_EQ(eulervop::quad_text(x, digits), x.str(digits, std::ios_base::scientific)) << text << " " << digits;
+  }
+  for (const quad& x : {quad(0), quad(-0.0), std::numeric_limits<quad>::infinity()})
+    EXPECT_EQ(eulervop::to_text(x), x.str(36, std::ios_base::scientific));
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 // the rates as one problem of 7 states.
 #pragma once
 
+#include "compute/certified_row.hpp"
 #include "compute/certify_pipeline.hpp"
 #include "compute/scene_library.hpp"
 
@@ -103,25 +104,6 @@ inline std::string upper_text(const ball& x) {
   return out;
 }
 
-// A row's cells as printed: the integrator's state (Omega, omega in the direct form, or y), and
-// for a physical body in the normalized form omega in rad/s (listed axes), and q with an attitude.
-struct certified_cells {
-  std::array<std::string, 3> state;
-  std::optional<std::array<std::string, 3>> omega;
-  std::optional<std::array<std::string, 4>> q;
-};
-
-// The radii of a row: of the state (the `radius` column, or `radius_omega` in the direct form), of
-// omega in rad/s (`radius_omega`, a physical body in the normalized form) and of q (`radius_q`).
-struct certified_radii {
-  std::string state;
-  std::optional<std::string> omega, q;
-};
-
-// The largest radius of each column so far.
-struct certified_maxima {
-  std::string state, omega, q;
-};
 
 // The certificate of one streamed run: created at the first segment (which tells the degree).
 // With `workers` > 0 it runs on threads (certify_pipeline.hpp); rows then go through row().

@@ -13,17 +13,19 @@
 
 namespace eulervop::app {
 
+// The index of the column named `name` in `header` (the first one, if repeated).
+inline std::optional<std::size_t> column_in(const std::vector<std::string>& header, std::string_view name) {
+  for (std::size_t c = 0; c < header.size(); ++c)
+    if (header[c] == name) return c;
+  return std::nullopt;
+}
+
 class table_rows {
  public:
   virtual ~table_rows() = default;
   virtual const std::vector<std::string>& header() const = 0;
   // The index of the column named `name` (the first one, if repeated).
-  std::optional<std::size_t> column(std::string_view name) const {
-    const std::vector<std::string>& h = header();
-    for (std::size_t c = 0; c < h.size(); ++c)
-      if (h[c] == name) return c;
-    return std::nullopt;
-  }
+  std::optional<std::size_t> column(std::string_view name) const { return column_in(header(), name); }
   // Advances to the next row; false after the last one.
   virtual bool next() = 0;
   // The current row's line (1-based; the header is line 1 of a file without '#' lines).

@@ -236,14 +236,7 @@ py_check_result check(const py::object& against, const py::object& t, const py::
                     number_keyword("--scd-rtol", "scd_rtol", scd_rtol),
                     plain_keyword("--columns", "columns")};
   app::check_job job;
-  const auto in_terms = [&](auto&& f) {
-    try {
-      return f();
-    } catch (const app::input_error& e) {
-      throw app::input_error(terms(e.what()));
-    }
-  };
-  const against_info a = in_terms([&] {
+  const against_info a = in_python_terms(terms, [&] {
     app::apply_check_flags(job, o);
     return set_against(job, against, precision);
   });
@@ -251,7 +244,7 @@ py_check_result check(const py::object& against, const py::object& t, const py::
   trajectory_arrays arrays;
   if (trajectory_path && y.is_none()) {  // a trajectory file, read as the CLI reads it
     const std::string p = *trajectory_path;
-    in_terms([&] { return app::open_input_file("trajectory", p); });
+    in_python_terms(terms, [&] { return app::open_input_file("trajectory", p); });
     job.open_trajectory = [p] { return std::make_unique<app::csv_file_rows>("trajectory", p); };
     job.trajectory_name = p;
   } else {

@@ -66,7 +66,11 @@ struct python_terms {
   std::string row_message(std::size_t line, std::string rest) const;
 };
 
-// Runs `run` with the GIL released; an input_error it throws is rethrown in the caller's terms.
+// Runs `run`; an input_error it throws is rethrown in the caller's terms.
+template <class Run>
+auto in_python_terms(const python_terms& terms, Run&& run) -> decltype(run());
+
+// The same with the GIL released, for the library's long work.
 template <class Run>
 auto run_in_python_terms(const python_terms& terms, Run&& run) -> decltype(run());
 
@@ -77,13 +81,20 @@ auto run_in_python_terms(const python_terms& terms, Run&& run) -> decltype(run()
 namespace eulervop::python {
 
 template <class Run>
-auto run_in_python_terms(const python_terms& terms, Run&& run) -> decltype(run()) {
+auto in_python_terms(const python_terms& terms, Run&& run) -> decltype(run()) {
   try {
-    const py::gil_scoped_release nogil;
     return run();
   } catch (const eulervop::scene::input_error& e) {
     throw eulervop::scene::input_error(terms(e.what()));
   }
+}
+
+template <class Run>
+auto run_in_python_terms(const python_terms& terms, Run&& run) -> decltype(run()) {
+  return in_python_terms(terms, [&] {
+    const py::gil_scoped_release nogil;
+    return run();
+  });
 }
 
 }  // namespace eulervop::python

@@ -7,6 +7,7 @@
 //   - MPFR at run-time precision  "mpfr:BITS" boost::multiprecision::mpfr_float
 #pragma once
 
+#include <eulervop/core/detail/quad_text.hpp>
 #include <eulervop/core/precision.hpp>
 #include <eulervop/core/scalar_traits.hpp>
 
@@ -120,6 +121,20 @@ inline std::optional<mpfr_real> wide_from_text(std::string_view text, scalar_tag
   } catch (const std::exception&) {
     return std::nullopt;
   }
+}
+
+// x in scientific notation with `digits` digits after the point, correctly rounded (ties to even),
+// as printf's %.*e (libquadmath's quadmath_snprintf, which Boost's str() calls) writes it, but by
+// exact integer arithmetic: x = m 2^e, so the digits are round(m 2^e 10^(digits - E)) for the
+// decimal exponent E, one GMP product or quotient of integers of a few hundred bits. libquadmath
+// spends several microseconds a number here, which a million-row reference felt
+// (tests/test_decimal_to_quad.cpp holds the two equal on random numbers of every magnitude).
+inline std::string quad_text(const quad& x, unsigned digits) { return detail::quad_text_exact(x, digits); }
+
+inline std::string wide_to_text(const quad& x, unsigned digits, scalar_tag<quad>) { return quad_text(x, digits); }
+
+inline std::string wide_to_text(const mpfr_real& x, unsigned digits, scalar_tag<mpfr_real>) {
+  return x.str(static_cast<std::streamsize>(digits), std::ios_base::scientific);
 }
 
 // pi in quad: libquadmath's M_PIq, a __float128 literal of 37 significant digits, within 1e-37 of

@@ -59,6 +59,11 @@ unsigned output_digits() {
   return static_cast<unsigned>(std::ceil(significand_bits<T>() * 0.30102999566398120)) + 1;
 }
 
+// The tag that selects a scalar type's own functions: pi, and the text of the wide types
+// (core/scalar.hpp).
+template <class T>
+struct scalar_tag {};
+
 // Full-precision scientific text of x, round-trip exact.
 template <scalar T>
 std::string to_text(const T& x) {
@@ -68,14 +73,9 @@ std::string to_text(const T& x) {
     auto [end, ec] = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::scientific, digits - 1);
     return std::string(buf, end);
   } else {
-    return x.str(static_cast<std::streamsize>(digits), std::ios_base::scientific);
+    return wide_to_text(x, digits, scalar_tag<T>{});  // core/scalar.hpp
   }
 }
-
-// The tag that selects a scalar type's own functions: pi, and the parsing of the wide types
-// (core/scalar.hpp).
-template <class T>
-struct scalar_tag {};
 
 // Parses a decimal number into T, correctly rounded. nullopt when the text is not a number.
 template <scalar T>

@@ -5,6 +5,9 @@
 
 #include "compute/scene_library.hpp"
 #include "io/reference_csv.hpp"
+#include "io/table_rows.hpp"
+
+#include <fmt/format.h>
 
 #include <eulervop/core/scalar_traits.hpp>
 #include <eulervop/core/vec3.hpp>
@@ -34,12 +37,7 @@ class reference_table {
   // A cell in T.
   virtual T value(std::size_t c) const = 0;
 
-  std::optional<std::size_t> column(std::string_view name) const {
-    const std::vector<std::string>& h = header();
-    for (std::size_t c = 0; c < h.size(); ++c)
-      if (h[c] == name) return c;
-    return std::nullopt;
-  }
+  std::optional<std::size_t> column(std::string_view name) const { return column_in(header(), name); }
   // The column named `name`; input_error ("the header has no column `name`{why}") if absent.
   std::size_t required(const std::string& name, std::string_view why = "") const;
   vec3<T> values(const std::array<std::size_t, 3>& c) const { return {value(c[0]), value(c[1]), value(c[2])}; }

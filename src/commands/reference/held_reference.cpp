@@ -1,5 +1,6 @@
 #include "commands/reference/held_reference.hpp"
 
+#include "compute/scene_library.hpp"
 #include "compute/with_scalar.hpp"
 
 #include <fmt/format.h>

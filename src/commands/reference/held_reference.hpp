@@ -5,7 +5,7 @@
 #pragma once
 
 #include "commands/reference/reference_job.hpp"
-#include "compute/certified_reference.hpp"
+#include "compute/certified_row.hpp"
 #include "io/reference_csv.hpp"
 
 #include <eulervop/core/quaternion.hpp>

@@ -14,6 +14,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 namespace eulervop::app {
@@ -54,8 +55,8 @@ class csv_row_sink final : public reference_row_sink {
   void row(const T& tau, const T* t, const vec3<T>& y, const quaternion<T>* q) {
     if (job_.certify) return;  // written by certified()
     if (job_.layout == reference_layout::physical) {
-      if (!scale_) scale_ = std::make_shared<physical_scaling<T>>(scaling_of<T>(job_.scn));
-      const auto& scale = *std::static_pointer_cast<physical_scaling<T>>(scale_);
+      if (!std::holds_alternative<physical_scaling<T>>(scale_)) scale_ = scaling_of<T>(job_.scn);
+      const auto& scale = std::get<physical_scaling<T>>(scale_);
       if (q) rows_.row(tau, y, *t, scale.omega_of_Omega(y), *q);
       else rows_.row(tau, y, *t, scale.omega_of_Omega(y));
     } else if (q) {
@@ -67,7 +68,8 @@ class csv_row_sink final : public reference_row_sink {
 
   const reference_job& job_;
   reference_csv_row_writer rows_;
-  std::shared_ptr<void> scale_;  // physical_scaling<T> of the run's T
+  // A physical scene's scaling, in the run's type.
+  std::variant<std::monostate, physical_scaling<double>, physical_scaling<quad>, physical_scaling<mpfr_real>> scale_;
 };
 
 }  // namespace

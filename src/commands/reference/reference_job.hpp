@@ -5,6 +5,7 @@
 #pragma once
 
 #include "commands/reference/reference_command.hpp"
+#include "compute/certified_row.hpp"
 #include "compute/scene_library.hpp"
 #include "io/reference_csv.hpp"
 
@@ -18,8 +19,6 @@
 #include <vector>
 
 namespace eulervop::app {
-
-struct certified_radii;
 
 // Everything a run needs, validated.
 struct reference_job {
