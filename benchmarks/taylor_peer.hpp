@@ -157,7 +157,7 @@ jet<T> time_jet(const expression& e, const T& t0, std::size_t n) {
               f[k] = (a[k] - s / T(k)) / a[0];
             }
             break;
-          default:  // sqrt
+          case expression_op::sqrt:
             f[0] = sqrt(a[0]);
             for (std::size_t k = 1; k < n; ++k) {
               T s(0);
@@ -165,6 +165,8 @@ jet<T> time_jet(const expression& e, const T& t0, std::size_t n) {
               f[k] = (a[k] - s) / (T(2) * f[0]);
             }
             break;
+          default:  // tanh, atan, sinh, cosh: not in the peer, whose problems do not use them
+            throw std::invalid_argument("taylor peer: no series for a function of `" + e.text + "`");
         }
         stack.back() = std::move(f);
         break;

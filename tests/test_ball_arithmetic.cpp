@@ -301,14 +301,24 @@ TEST(ChebyshevComposition, HoldsEveryFunctionOfEveryModel) {
       case elementary::exp: return exp(x);
       case elementary::log: return log(x);
       case elementary::sqrt: return sqrt(x);
+      case elementary::tanh: return tanh(x);
+      case elementary::atan: return atan(x);
+      case elementary::sinh: return sinh(x);
+      case elementary::cosh: return cosh(x);
       default: return 1 / x;
     }
   };
   for (const elementary f : {elementary::sin, elementary::cos, elementary::exp, elementary::log, elementary::sqrt,
-                             elementary::inverse})
+                             elementary::tanh, elementary::atan, elementary::sinh, elementary::cosh, elementary::inverse})
     for (int trial = 0; trial < 6; ++trial) {
       const bool exact = trial < 3;
       chebyshev_model u = random_model(rng, 2 + static_cast<slong>(rng() % 30), 0.35, exact ? 0 : 90, exact ? 0 : 1e-20);
+      if (f == elementary::tanh || f == elementary::atan) {
+        // u's variation a quarter of the others' (sum |c_k| (1.5^k + 1.5^-k) / 2 <= 0.6 < 1): the
+        // ellipse rho = 1.5 then avoids the poles and cuts at |Im| >= 1 wherever c_0 lies, so the
+        // target below is reachable. (PolesAndBranchCutsAreAvoided tests the ranges near them.)
+        for (slong k = 1; k < u.length(); ++k) arb_mul_2exp_si(u.coeff(k), u.coeff(k), -2);
+      }
       if (f == elementary::log || f == elementary::sqrt || f == elementary::inverse) {
         // Shift u to [1/2, ...) or, for 1/x, alternately below -1/2.
         mag_value m;
@@ -331,7 +341,8 @@ TEST(ChebyshevComposition, HoldsEveryFunctionOfEveryModel) {
         // The target for the entire functions; near a singularity (log, sqrt, 1/x of a u whose
         // variation is comparable to its distance from 0) the ellipse is small and 256 points give
         // less, still 2^-100.
-        const bool entire = f == elementary::sin || f == elementary::cos || f == elementary::exp;
+        const bool entire = f == elementary::sin || f == elementary::cos || f == elementary::exp ||
+                            f == elementary::sinh || f == elementary::cosh;
         mag_value target;
         arb_get_mag(target.m, fr.get());
         mag_mul_2exp_si(target.m, target.m, entire ? -230 : -100);
@@ -355,13 +366,93 @@ TEST(ChebyshevComposition, HoldsEveryFunctionOfEveryModel) {
   EXPECT_THROW(eulervop::detail::compose(out, elementary::inverse, u, 300, 240), std::domain_error);
 }
 
+// tanh's poles i (pi/2 + k pi) and atan's branch points +-i with their cuts up and down the
+// imaginary axis: a complex ball that may meet one is refused, one that avoids them is not, and
+// the values returned hold the closed forms (MPFR at 1000 bits):
+//   tanh(x + iy) = (sinh 2x + i sin 2y) / (cosh 2x + cos 2y),
+//   atan(x + iy) = (atan2(x, 1 + y) + atan2(x, 1 - y)) / 2 + i log(((1 + y)^2 + x^2) / ((1 - y)^2 + x^2)) / 4
+// (the principal branch, from atan z = (i/2) (log(1 - iz) - log(1 + iz))). A model whose every
+// ellipse meets a pole or a cut becomes the function's range as a constant and a remainder, which
+// still holds the function; one whose ellipses avoid them meets the target.
+TEST(ChebyshevComposition, PolesAndBranchCutsAreAvoided) {
+  using eulervop::detail::elementary;
+  const eulervop::mpfr_precision_scope scope(truth_bits);
+  struct complex_case {
+    elementary f;
+    double x, rx, y, ry;
+    bool analytic;
+  };
+  acb_t z, out;
+  acb_init(z);
+  acb_init(out);
+  for (const complex_case& c : {complex_case{elementary::tanh, 0, 0.01, 1.5708, 0.01, false},  // at i pi/2
+                                complex_case{elementary::tanh, 0, 0.5, 0, 1.6, false},         // holds i pi/2
+                                complex_case{elementary::tanh, 0, 0.5, 0, 1.5, true},
+                                complex_case{elementary::tanh, 0.5, 0.2, 1.5708, 0.5, true},   // off the axis
+                                complex_case{elementary::atan, 0, 0.01, 1, 0.01, false},       // at i
+                                complex_case{elementary::atan, 0, 0.01, -2, 0.01, false},      // on the cut
+                                complex_case{elementary::atan, 0, 0.5, 0, 0.9, true},
+                                complex_case{elementary::atan, 0.2, 0.1, 0, 5, true},          // off the axis
+                                complex_case{elementary::sinh, 0, 3, 0, 3, true},
+                                complex_case{elementary::cosh, 0, 3, 0, 3, true}}) {
+    arb_set_d(acb_realref(z), c.x);  // the ball c.x +- c.rx + i (c.y +- c.ry)
+    mag_set_d(arb_radref(acb_realref(z)), c.rx);
+    arb_set_d(acb_imagref(z), c.y);
+    mag_set_d(arb_radref(acb_imagref(z)), c.ry);
+    const bool analytic = eulervop::detail::elementary_on_complex(c.f, z, out, 300);
+    EXPECT_EQ(analytic, c.analytic) << "f " << static_cast<int>(c.f) << " at " << c.x << " + " << c.y << "i";
+    if (!analytic || c.f == elementary::sinh || c.f == elementary::cosh) continue;
+    // The closed form at a point of the ball: its centre shifted by (rx, ry) / 2.
+    const mpfr_real x = mpfr_real(c.x) + mpfr_real(c.rx) / 2, y = mpfr_real(c.y) + mpfr_real(c.ry) / 2;
+    mpfr_real re, im;
+    if (c.f == elementary::tanh) {
+      const mpfr_real d = cosh(2 * x) + cos(2 * y);
+      re = sinh(2 * x) / d;
+      im = sin(2 * y) / d;
+    } else {
+      re = (atan2(x, 1 + y) + atan2(x, 1 - y)) / 2;
+      im = log(((1 + y) * (1 + y) + x * x) / ((1 - y) * (1 - y) + x * x)) / 4;
+    }
+    ball r, i;
+    arb_set(r.get(), acb_realref(out));
+    arb_set(i.get(), acb_imagref(out));
+    EXPECT_TRUE(holds(r, re) && holds(i, im)) << "f " << static_cast<int>(c.f) << " at " << x << " + " << y << "i";
+  }
+  acb_clear(z);
+  acb_clear(out);
+  // u = c1 s over [-1, 1].
+  std::mt19937_64 rng(23);
+  for (const elementary f : {elementary::tanh, elementary::atan})
+    for (const double c1 : {40.0, 0.5}) {
+      chebyshev_model u(2), out_model;
+      arb_zero(u.coeff(0));
+      arb_set_d(u.coeff(1), c1);
+      eulervop::detail::compose(out_model, f, u, 300, 240);
+      if (c1 > 1) {
+        EXPECT_EQ(out_model.length(), 1) << "f " << static_cast<int>(f) << ": no ellipse avoids the singularities";
+      } else {
+        EXPECT_GT(out_model.length(), 8) << "f " << static_cast<int>(f);
+        EXPECT_LE(mag_cmp_2exp_si(out_model.remainder(), -200), 0) << "f " << static_cast<int>(f);
+      }
+      for (const mpfr_real& sp : points(rng)) {
+        ball v;
+        eulervop::detail::evaluate(v, out_model, point(sp), truth_bits);
+        const mpfr_real arg = c1 * sp;
+        EXPECT_TRUE(holds(v, f == elementary::tanh ? mpfr_real(tanh(arg)) : mpfr_real(atan(arg))))
+            << "f " << static_cast<int>(f) << " c1 " << c1 << " s " << sp;
+      }
+    }
+}
+
 // The field along a segment's polynomial and its Jacobian (certification_problem.hpp, in the
 // series algebra with forward derivatives) hold the problem's own right-hand side and Jacobian
 // (model/coupled_problem.hpp, euler_problem.hpp with expression_torque.hpp: the reference's
 // equations, written separately), evaluated at 1000 bits at points of the polynomial: for a PD law
 // on a body listed out of order (7 states, normalized with a permutation), rate damping (3), an
 // axisymmetric body with an attitude (the direct form, 7 states as a cascade), functions of the
-// time and the rates (3), and the gravity gradient with a formula of q (7).
+// time and the rates (3: sin cos exp log sqrt, then tanh atan sinh cosh of arguments that vary
+// by less than 1 over P, so that their ellipses avoid the poles and cuts and the models are
+// tight), and the gravity gradient with a formula of q (7).
 struct field_case {
   const char* label;
   const char* scene;
@@ -485,6 +576,17 @@ samples = 3
 inertia = [150.0, 200.0, 100.0]
 [torque]
 M = ["0.01*sin(t)^2 - 0.5*exp(-omega1^2)", "0.02*cos(2*t)*omega2/(2 + omega3^2)", "sqrt(1 + omega1^2) + log(2 + omega2^2)"]
+[initial]
+omega = [0.1, 0.05, 0.02]
+[span]
+t_end = 10.0
+samples = 3
+)toml"},
+                      field_case{"saturation", R"toml(name = "saturation"
+[body]
+inertia = [150.0, 200.0, 100.0]
+[torque]
+M = ["-0.5*tanh(omega1/8) + 0.01*atan(t - 1)", "0.02*sinh(omega2/4)*cosh(t/4)", "-0.3*atan(omega3/8) + cosh(omega1/4)/50"]
 [initial]
 omega = [0.1, 0.05, 0.02]
 [span]

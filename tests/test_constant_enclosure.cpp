@@ -1,7 +1,8 @@
 // The enclosure of a constant formula (certify/constant_enclosure.hpp): it holds the formula's
 // exact value, and a function undefined on an enclosure is an error, never a wrong enclosure.
-// The exact values come from closed forms (2/3, 2^-3 = 1/8, 0) or from MPFR at 512 bits (cos,
-// sin, exp, log, sqrt, pi: correctly rounded there, 335 bits beyond the 177 of the enclosure),
+// The exact values come from closed forms (2/3, 2^-3 = 1/8, 0, 4 atan(1) = pi) or from MPFR at
+// 512 bits (cos, sin, exp, log, sqrt, tanh, atan, sinh, cosh, pi: correctly rounded there, 335
+// bits beyond the 177 of the enclosure),
 // each compared as an interval that must lie inside the enclosure.
 #include <eulervop/certify/constant_enclosure.hpp>
 #include <eulervop/scene/expression_parser.hpp>
@@ -69,6 +70,13 @@ TEST(ConstantEnclosure, HoldsTheExactValue) {
   });
   expect_encloses("pi/4", [](mpfr_ptr r, mpfr_rnd_t m) { mpfr_const_pi(r, m), mpfr_div_ui(r, r, 4, m); });
   expect_encloses("sqrt(1 - 1)", [](mpfr_ptr r, mpfr_rnd_t m) { mpfr_set_ui(r, 0, m); });
+  // tanh, atan and sinh rise, cosh rises on [0, inf) and is even; the arguments are exact binary.
+  expect_encloses("tanh(0.5)", [](mpfr_ptr r, mpfr_rnd_t m) { mpfr_set_d(r, 0.5, m), mpfr_tanh(r, r, m); });
+  expect_encloses("atan(-2)", [](mpfr_ptr r, mpfr_rnd_t m) { mpfr_set_si(r, -2, m), mpfr_atan(r, r, m); });
+  expect_encloses("sinh(0.25)", [](mpfr_ptr r, mpfr_rnd_t m) { mpfr_set_d(r, 0.25, m), mpfr_sinh(r, r, m); });
+  expect_encloses("cosh(-1.5)", [](mpfr_ptr r, mpfr_rnd_t m) { mpfr_set_d(r, 1.5, m), mpfr_cosh(r, r, m); });
+  // 4 atan(1) = pi.
+  expect_encloses("4*atan(1)", [](mpfr_ptr r, mpfr_rnd_t m) { mpfr_const_pi(r, m); });
 }
 
 TEST(ConstantEnclosure, UndefinedOnTheEnclosureIsAnError) {

@@ -28,6 +28,7 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <utility>
 
 namespace {
 
@@ -98,6 +99,49 @@ TYPED_TEST(Expression, ValuesEqualTheirClosedForms) {
   EXPECT_EQ(this->value("Omega1 * Omega2 - Omega3 / tau", t, y, normalized), y[0] * y[1] - y[2] / t);
 }
 
+// tanh, atan, sinh and cosh: the program's value is T's own function (the same call, bit for bit),
+// and that function agrees with an independent closed form: tanh x = (e^2x - 1) / (e^2x + 1),
+// sinh x = (e^x - e^-x) / 2, cosh x = (e^x + e^-x) / 2, atan 1 = pi/4 and
+// atan x + atan(1/x) = pi/2 for x > 0. Bounds, relative: each exp within an ulp (glibc and
+// libquadmath measure below one, MPFR rounds correctly), each + - / within half of one, and the
+// function itself within an ulp; e^1.4 - 1 = 3.06 amplifies exp's error by 4.06 / 3.06 and
+// e^0.7 - e^-0.7 = 1.52 by 2.51 / 1.52, so the closed forms stand within 5 eps and the bound is
+// 8 eps. atan: 4 atan(1) within 4 ulps of pi (scaling by 4 is exact) and the sum within 4 eps.
+// Measured: at most 1.3 eps (sinh in double) and 1 eps (the sum in quad).
+TYPED_TEST(Expression, HyperbolicAndArctangentMatchClosedForms) {
+  using T = TypeParam;
+  using std::abs;
+  using std::atan;
+  using std::cosh;
+  using std::exp;
+  using std::sinh;
+  using std::tanh;
+  const T t = dec<T>("0.7"), eps = this->eps(), pi = dec<T>(pi_100);
+  const vec3<T> y = this->state();
+  const T tanh_t = this->value("tanh(t)", t, y), sinh_t = this->value("sinh(t)", t, y);
+  const T cosh_t = this->value("cosh(t)", t, y);
+  EXPECT_EQ(tanh_t, tanh(t));
+  EXPECT_EQ(sinh_t, sinh(t));
+  EXPECT_EQ(cosh_t, cosh(t));
+  EXPECT_EQ(this->value("atan(omega3)", t, y), atan(y[2]));
+  EXPECT_EQ(this->value("-0.25*tanh(omega1/0.5)", t, y), -(tanh(y[0] / dec<T>("0.5")) / 4));
+  const T e2 = exp(2 * t), e = exp(t), e_minus = exp(-t);
+  EXPECT_LE(abs(tanh_t - (e2 - 1) / (e2 + 1)), 8 * eps * tanh_t);
+  EXPECT_LE(abs(sinh_t - (e - e_minus) / 2), 8 * eps * sinh_t);
+  EXPECT_LE(abs(cosh_t - (e + e_minus) / 2), 8 * eps * cosh_t);
+  EXPECT_LE(abs(this->value("4*atan(1)", t, y) - pi), 4 * eps * pi);
+  EXPECT_LE(abs(this->value("atan(omega1) + atan(1/omega1)", t, y) - pi / 2), 4 * eps);
+  // Odd and even: the same magnitude on both sides, bit for bit (the functions are symmetric in
+  // every library used).
+  EXPECT_EQ(this->value("tanh(omega3) + tanh(-omega3)", t, y), T(0));
+  EXPECT_EQ(this->value("cosh(omega3) - cosh(-omega3)", t, y), T(0));
+  // Saturation: 1 - tanh 40 = 2 e^-80 / (1 + e^-80) = 3.6e-35, below half an ulp of 1 in double
+  // and quad (tanh rounds to 1) and far above it in MPFR at 256 bits; never above 1.
+  const T sat = this->value("tanh(40)", t, y), gap = 2 * exp(T(-80)) / (1 + exp(T(-80)));
+  EXPECT_LE(sat, T(1));
+  EXPECT_LE(abs((1 - sat) - gap), 2 * eps);
+}
+
 TYPED_TEST(Expression, DecimalsAreExactInT) {
   using T = TypeParam;
   const T t = 0;
@@ -164,11 +208,15 @@ TYPED_TEST(Expression, NonFiniteValuesAreReturned) {
 TYPED_TEST(Expression, GradientsMatchAnalyticDerivatives) {
   using T = TypeParam;
   using std::abs;
+  using std::atan;
   using std::cos;
+  using std::cosh;
   using std::exp;
   using std::log;
   using std::sin;
+  using std::sinh;
   using std::sqrt;
+  using std::tanh;
   const T t = dec<T>("0.7");
   const vec3<T> y = {dec<T>("0.3"), dec<T>("0.2"), dec<T>("0.9")};  // positive, for log and sqrt
   const T a = y[0], b = y[1], c = y[2], z = 0;
@@ -205,6 +253,14 @@ TYPED_TEST(Expression, GradientsMatchAnalyticDerivatives) {
   check("exp(omega3)", exp(c), {z, z, exp(c)});
   check("log(omega1)", log(a), {1 / a, z, z});
   check("sqrt(omega2)", sqrt(b), {z, 1 / (2 * sqrt(b)), z});
+  // The program takes tanh' = 1 / cosh^2; here 1 - tanh^2, the other form.
+  check("tanh(omega1)", tanh(a), {1 - tanh(a) * tanh(a), z, z});
+  check("atan(omega2)", atan(b), {z, 1 / (1 + b * b), z});
+  check("sinh(omega3)", sinh(c), {z, z, cosh(c)});
+  check("cosh(omega1)", cosh(a), {sinh(a), z, z});
+  // A saturation law, d/da -k tanh(a / s) = -(k / s) (1 - tanh(a / s)^2), with k = 0.5, s = 0.25.
+  const T th = tanh(a / dec<T>("0.25"));
+  check("-0.5*tanh(omega1/0.25)", -(dec<T>("0.5") * th), {-(dec<T>("0.5") / dec<T>("0.25")) * (1 - th * th), z, z});
   check("t * omega1", t * a, {t, z, z});
   // d/da (a b^2 / 2) = b^2 / 2, d/db = a b; d/dc (-sin c / a) = -cos c / a, d/da = sin c / a^2;
   // d/db exp(-t/10) cos(2 b) = -2 exp(-t/10) sin(2 b).
@@ -214,6 +270,28 @@ TYPED_TEST(Expression, GradientsMatchAnalyticDerivatives) {
         {b * b / 2 + sin(c) / (a * a), a * b - 2 * e * sin(2 * b), -cos(c) / a});
   check("sqrt(log(omega1 * omega3)^2 + 1)", sqrt(log(a * c) * log(a * c) + 1),
         {log(a * c) / a / sqrt(log(a * c) * log(a * c) + 1), z, log(a * c) / c / sqrt(log(a * c) * log(a * c) + 1)});
+}
+
+// Deep in saturation tanh' x = 1 / cosh^2 x is tiny and 1 - tanh^2 x cancels (to 0 in double at
+// x = 20, where tanh rounds to 1): the partial keeps its relative accuracy. Truth: 4 / (e^x + e^-x)^2
+// at x = 20 and -30 (1.7e-17 and 3.5e-26), three roundings and two exps: within 8 eps of it.
+// atan' x = 1 / (1 + x^2) at x = 1e5: 1e-10, within 4 eps. (Measured: equal in all three types.)
+TYPED_TEST(Expression, SaturatedPartialsKeepTheirRelativeAccuracy) {
+  using T = TypeParam;
+  using std::abs;
+  using std::exp;
+  for (const char* x : {"20", "-30"}) {
+    const vec3<T> y = {dec<T>(x), T(0), T(0)};
+    vec3<T> dy;
+    compiled_expression<T>(parse_expression("tanh(omega1)", rates)).value_and_gradient(T(0), y, dy);
+    const T e = exp(y[0]) + exp(-y[0]), truth = 4 / (e * e);
+    EXPECT_GT(dy[0], T(0)) << x;
+    EXPECT_LE(abs(dy[0] - truth), 8 * this->eps() * truth) << x;
+  }
+  const vec3<T> y = {dec<T>("1e5"), T(0), T(0)};
+  vec3<T> dy;
+  compiled_expression<T>(parse_expression("atan(omega1)", rates)).value_and_gradient(T(0), y, dy);
+  EXPECT_LE(abs(dy[0] - dec<T>("1e-10") / (1 + dec<T>("1e-10"))), 4 * this->eps() * dy[0]);
 }
 
 TEST(Expression, UsesBits) {
@@ -253,6 +331,18 @@ TEST(Expression, ProgramShape) {
   EXPECT_EQ(parse_expression("t^(+1000)", rates).code.back().arg, 1000);
   EXPECT_EQ(parse_expression("t^-1000", rates).code.back().arg, -1000);
   EXPECT_EQ(parse_expression("t^007", rates).code.back().arg, 7);
+  // Each function is one step after its argument.
+  const std::pair<const char*, expression_op> functions[] = {
+      {"sin", expression_op::sin},   {"cos", expression_op::cos},   {"exp", expression_op::exp},
+      {"log", expression_op::log},   {"sqrt", expression_op::sqrt}, {"tanh", expression_op::tanh},
+      {"atan", expression_op::atan}, {"sinh", expression_op::sinh}, {"cosh", expression_op::cosh}};
+  for (const auto& [name, op] : functions) {
+    const expression f = parse_expression(std::string(name) + "(omega2)", rates);
+    ASSERT_EQ(f.code.size(), 2u) << name;
+    EXPECT_EQ(f.code[0].op, expression_op::variable) << name;
+    EXPECT_EQ(f.code[1].op, op) << name;
+    EXPECT_EQ(f.uses, 0b100u) << name;
+  }
 }
 
 TEST(Expression, MalformedProgramsAreRefused) {
@@ -314,6 +404,9 @@ TEST(ExpressionErrors, UnknownFunction) {
   expect_error("t(2)", "unknown function", "t", 1);
   expect_error("sin t", "missing `(` after function", "sin", 1);
   expect_error("1 + exp", "missing `(` after function", "exp", 5);
+  expect_error("tanh t", "missing `(` after function", "tanh", 1);
+  expect_error("Tanh(t)", "unknown function", "Tanh", 1);  // case matters
+  expect_error("atanh(t)", "the functions are sin, cos, exp, log, sqrt, tanh, atan, sinh and cosh", "atanh", 1);
 }
 
 TEST(ExpressionErrors, UnbalancedParentheses) {
@@ -398,6 +491,7 @@ TEST(ExpressionErrors, ArgumentCount) {
   expect_error("sin()", "sin takes 1 argument, got 0", "sin()", 1);
   expect_error("2*sin(t, 1)", "sin takes 1 argument, got 2", "sin(t, 1)", 3);
   expect_error("sqrt(t,t,t)", "sqrt takes 1 argument, got 3", "sqrt(t,t,t)", 1);
+  expect_error("atan(omega2, omega1)", "atan takes 1 argument, got 2", "atan(omega2, omega1)", 1);  // no atan2
 }
 
 TEST(ExpressionErrors, Limits) {
@@ -423,7 +517,7 @@ TEST(ExpressionErrors, Limits) {
 TEST(ExpressionErrors, RandomTextsParseOrThrowExpressionError) {
   const std::vector<std::string> pieces = {"t", "omega1", "omega3", "pi", "sin", "cos", "log", "(", ")", "(",
                                            ")", "+", "-", "*", "/", "^", "2", "0.5", "1e3", ".", ",", " ",
-                                           "e", "x", "#", "-1", "sqrt(", "exp("};
+                                           "e", "x", "#", "-1", "sqrt(", "exp(", "tanh(", "atan", "sinh(", "cosh"};
   std::mt19937 rng(20240501);
   std::uniform_int_distribution<std::size_t> piece(0, pieces.size() - 1), length(0, 12);
   int parsed = 0;

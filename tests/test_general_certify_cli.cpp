@@ -316,6 +316,88 @@ TEST(GeneralCertify, AnUndefinedFormulaStopsAtItsPlace) {
   }
 }
 
+// Saturations and hyperbolic functions (tanh, atan, sinh, cosh) of the state and of the time, in
+// the coefficient form with a = 0, where each equation stands alone and has a closed form:
+//   y1' = -tanh y1:        sinh y1 = sinh(y1(0)) e^-t, so y1 = asinh(sinh(1.5) e^-t);
+//   y2' = -0.2 cosh y2:    gd(y2) = gd(y2(0)) - 0.2 t with gd(y) = atan(sinh y) (d gd / dy =
+//                          1 / cosh y), so y2 = asinh(tan(atan(sinh 1) - 0.2 t)) while
+//                          |atan(sinh 1) - 0.2 t| < pi/2 (to t = 10: -1.13);
+//   y3' = 0.1 tanh(t - 5) + atan(t/2 - 1) + sinh(t/5):
+//       y3 = -0.5 + 0.1 log(cosh(t - 5) / cosh 5) + 2 [u atan u - log(1 + u^2) / 2] from u = -1 to
+//       t/2 - 1, + 5 (cosh(t/5) - 1).
+// Every row lies within its radius of the closed form (MPFR at 256 bits), and the radii are tight.
+TEST(GeneralCertify, SaturationsHoldTheirClosedForms) {
+  const eulervop::mpfr_precision_scope scope(256);
+  temp_dir dir;
+  write_file(dir.path() / "s.toml", R"toml(name = "saturations"
+[equations]
+a = [0.0, 0.0, 0.0]
+[torque]
+f = ["-tanh(y1)", "-0.2*cosh(y2)", "0.1*tanh(t - 5) + atan(t/2 - 1) + sinh(t/5)"]
+[initial]
+y = [1.5, 1.0, -0.5]
+[span]
+t_end = 10.0
+samples = 21
+)toml");
+  const run_result r = run(dir.path(), {"reference", "s.toml", "--certify", "--out", "c.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const table t = read_table(dir.path() / "c.csv");
+  ASSERT_EQ(t.rows.size(), 21u);
+  const auto antiderivative = [](const mpfr_real& u) { return u * atan(u) - log(1 + u * u) / 2; };
+  group_result g;
+  for (const auto& row : t.rows) {
+    const mpfr_real time = number(row[0]);
+    const std::array<mpfr_real, 3> y = {
+        asinh(sinh(mpfr_real("1.5")) * exp(-time)), asinh(tan(atan(sinh(mpfr_real(1))) - mpfr_real("0.2") * time)),
+        mpfr_real("-0.5") + mpfr_real("0.1") * log(cosh(time - 5) / cosh(mpfr_real(5))) +
+            2 * (antiderivative(time / 2 - 1) - antiderivative(mpfr_real(-1))) + 5 * (cosh(time / 5) - 1)};
+    mpfr_real e2 = 0;
+    for (int i = 0; i < 3; ++i) {
+      const mpfr_real v = number(row[*t.column("y" + std::to_string(i + 1))]);
+      e2 += (v - y[i]) * (v - y[i]);
+      g.size = std::max(g.size, mpfr_real(abs(v)));
+    }
+    const mpfr_real radius = number(row[*t.column("radius")]);
+    EXPECT_LE(sqrt(e2), radius) << "at t = " << row[0];
+    g.radius = std::max(g.radius, radius);
+    g.error = std::max(g.error, mpfr_real(sqrt(e2)));
+    ++g.rows;
+  }
+  EXPECT_GT(g.error, 0);  // the rows are quad numbers: the closed form is not among them
+  expect_tight(g, "saturations");
+}
+
+// A body's rate damping saturated by tanh (M_i = -0.5 tanh(omega_i / 0.05), the torque's bound
+// 0.5 N m reached for |omega_i| >> 0.05 rad/s and linear below), with an atan disturbance, and its
+// attitude: every row within its radii of an mpfr:256 run of the same scene (about 1e-70 from the
+// truth, far inside any radius here), and the radii tight.
+TEST(GeneralCertify, SaturatedRateDampingIsCovered) {
+  const eulervop::mpfr_precision_scope scope(256);
+  temp_dir dir;
+  write_file(dir.path() / "s.toml", R"toml(name = "saturated damping"
+[body]
+inertia = [100.0, 150.0, 200.0]
+[torque]
+M = ["-0.5*tanh(omega1/0.05)", "-0.5*tanh(omega2/0.05) + 0.01*atan(t - 20)", "-0.5*tanh(omega3/0.05)"]
+[initial]
+omega = [0.3, -0.2, 0.1]
+q = [1.0, 0.0, 0.0, 0.0]
+[span]
+t_end = 60.0
+samples = 13
+)toml");
+  const run_result c = run(dir.path(), {"reference", "s.toml", "--certify", "--out", "c.csv"});
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  ASSERT_EQ(run(dir.path(), {"reference", "s.toml", "--precision", "mpfr:256", "--out", "m.csv"}).exit_code, 0);
+  const table ref = read_table(dir.path() / "c.csv"), wide = read_table(dir.path() / "m.csv");
+  const group_result w = check_group(ref, wide, {"omega1", "omega2", "omega3"}, "radius_omega", "saturated");
+  const group_result q = check_group(ref, wide, {"q0", "q1", "q2", "q3"}, "radius_q", "saturated");
+  EXPECT_EQ(w.rows, 13u);
+  expect_tight(w, "saturated: rates");
+  expect_tight(q, "saturated: q");
+}
+
 // check against a certified file of a body in the direct form reads its radius_omega.
 TEST(GeneralCertify, CheckReadsTheDirectFormsRadius) {
   temp_dir dir;

@@ -81,7 +81,8 @@ TEST(NodeSines, DeclinesArgumentsItDoesNotCover) {
 //   t sin(2t + 1) + cos(t/3)^2 - exp(-t): |t| <= 38 times (2 * 64 + 64 + 64 + 12 + 1) = 10,374,
 //   plus 2 (64/3 + 8 + 8 + 12 + 1) = 101 for the cosine, plus three roundings of sums near 40
 //   (64 units each): 10,667.
-// The last formula's sine has an argument that is not affine (t^2): node by node, bit for bit.
+// The last two formulas have no sine of an affine argument (sin(t^2), and tanh, atan, sinh and
+// cosh): node by node, bit for bit.
 TEST(NodeSines, BatchAtTheNodesMatchesTheValueAtEachNode) {
   eulervop::detail::node_sines sines(degree);
   const eulervop::detail::chebyshev_basis<quad> basis(degree);
@@ -97,7 +98,8 @@ TEST(NodeSines, BatchAtTheNodesMatchesTheValueAtEachNode) {
     double bound;   // units of 2^-113 where batched
   };
   for (const formula& f : {formula{"0.25*sin(t)^2", true, 41}, formula{"t*sin(2*t + 1) + cos(t/3)^2 - exp(-t)", true, 10667},
-                           formula{"3*t^2 - t/7 + 1.5", false, 0}, formula{"sin(t^2)", false, 0}}) {
+                           formula{"3*t^2 - t/7 + 1.5", false, 0}, formula{"sin(t^2)", false, 0},
+                           formula{"tanh(t/40) - atan(t)*sinh(t/50) + cosh(t/60)", false, 0}}) {
     const eulervop::compiled_expression<quad> program(eulervop::scene::parse_expression(f.text, time_only));
     std::vector<quad> batch;
     int handed = 0;

@@ -114,7 +114,11 @@ constexpr function_name functions[] = {{"sin", expression_op::sin},
                                        {"cos", expression_op::cos},
                                        {"exp", expression_op::exp},
                                        {"log", expression_op::log},
-                                       {"sqrt", expression_op::sqrt}};
+                                       {"sqrt", expression_op::sqrt},
+                                       {"tanh", expression_op::tanh},
+                                       {"atan", expression_op::atan},
+                                       {"sinh", expression_op::sinh},
+                                       {"cosh", expression_op::cosh}};
 
 std::optional<expression_op> function_op(std::string_view name) {
   for (const function_name& f : functions)
@@ -243,7 +247,7 @@ class parser {
         const std::optional<expression_op> function = function_op(word);
         if (cur_.kind == tok::lparen) {
           if (!function)
-            fail("unknown function", word, name.begin, "the functions are sin, cos, exp, log and sqrt");
+            fail("unknown function", word, name.begin, "the functions are sin, cos, exp, log, sqrt, tanh, atan, sinh and cosh");
           call(name, *function);
           return;
         }

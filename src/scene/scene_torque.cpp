@@ -78,7 +78,9 @@ decimal scene_reader::formula_constant(const toml::node& node, std::string_view 
     e = std::make_shared<const expression>(parse_expression(node.as_string()->get(), expression_variables{}));
   } catch (const expression_error& x) {
     fail_value(node, field,
-               fmt::format("{} (a constant formula here: numbers, pi, + - * / ^ and sin cos exp log sqrt)", x.what()));
+               fmt::format("{} (a constant formula here: numbers, pi, + - * / ^ and sin cos exp log sqrt tanh "
+                           "atan sinh cosh)",
+                           x.what()));
   }
   const double v = compiled_expression<double>(*e)(0.0, {0.0, 0.0, 0.0});
   if (!std::isfinite(v)) fail_value(node, field, "must be finite");

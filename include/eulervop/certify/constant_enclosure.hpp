@@ -48,6 +48,10 @@ inline void apply_function(expression_op op, interval& x, const std::function<st
     case expression_op::sin: mpfi_sin(x.get(), x.get()); break;
     case expression_op::cos: mpfi_cos(x.get(), x.get()); break;
     case expression_op::exp: mpfi_exp(x.get(), x.get()); break;
+    case expression_op::tanh: mpfi_tanh(x.get(), x.get()); break;
+    case expression_op::atan: mpfi_atan(x.get(), x.get()); break;
+    case expression_op::sinh: mpfi_sinh(x.get(), x.get()); break;
+    case expression_op::cosh: mpfi_cosh(x.get(), x.get()); break;
     case expression_op::log:
       if (mpfi_is_strictly_pos(x.get()) <= 0) throw undefined("log of an enclosure that reaches 0 or below");
       mpfi_log(x.get(), x.get());

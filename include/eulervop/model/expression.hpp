@@ -44,6 +44,10 @@ enum class expression_op : std::uint8_t {
   exp,
   log,
   sqrt,
+  tanh,
+  atan,
+  sinh,
+  cosh,
 };
 
 struct expression_step {
@@ -108,6 +112,10 @@ inline std::size_t checked_stack_depth(const expression& e) {
       case expression_op::exp:
       case expression_op::log:
       case expression_op::sqrt:
+      case expression_op::tanh:
+      case expression_op::atan:
+      case expression_op::sinh:
+      case expression_op::cosh:
         if (depth < 1) throw bad("a function lacks its argument");
         break;
       default: throw bad("unknown step");
@@ -186,10 +194,7 @@ class compiled_expression {
   void values_at_nodes(const T& alpha, const T& alpha_lo, const T& beta, const std::vector<T>& t,
                        AffineSine&& affine_sine, std::vector<T>& out) const {
     using std::cos;
-    using std::exp;
-    using std::log;
     using std::sin;
-    using std::sqrt;
     const std::size_t n = t.size();
     if (node_stack_.size() < values_.size()) node_stack_.resize(values_.size());
     if (affine_.size() < values_.size()) affine_.resize(values_.size());
@@ -286,9 +291,12 @@ class compiled_expression {
           });
           break;
         }
-        case expression_op::exp: elementwise(sp - 1, [&](T& x) { s1_ = exp(x); std::swap(x, s1_); }); break;
-        case expression_op::log: elementwise(sp - 1, [&](T& x) { s1_ = log(x); std::swap(x, s1_); }); break;
-        case expression_op::sqrt: elementwise(sp - 1, [&](T& x) { s1_ = sqrt(x); std::swap(x, s1_); }); break;
+        default:
+          elementwise(sp - 1, [&](T& x) {
+            function_value(s.op, x);
+            std::swap(x, s1_);
+          });
+          break;
       }
     }
     out = node_stack_[0];
@@ -318,12 +326,33 @@ class compiled_expression {
     return (*q)[static_cast<std::size_t>(slot - expression::attitude_slot)];
   }
 
-  T evaluate(const T& t, const vec3<T>& y, const attitude_values* q) const {
+  // s1_ = f(x) for a function step f. f(x) goes to a scratch value, which the caller then trades
+  // with x: no temporary for MPFR.
+  void function_value(expression_op op, const T& x) const {
+    using std::atan;
     using std::cos;
+    using std::cosh;
     using std::exp;
     using std::log;
     using std::sin;
+    using std::sinh;
     using std::sqrt;
+    using std::tanh;
+    switch (op) {
+      case expression_op::sin: s1_ = sin(x); break;
+      case expression_op::cos: s1_ = cos(x); break;
+      case expression_op::exp: s1_ = exp(x); break;
+      case expression_op::log: s1_ = log(x); break;
+      case expression_op::sqrt: s1_ = sqrt(x); break;
+      case expression_op::tanh: s1_ = tanh(x); break;
+      case expression_op::atan: s1_ = atan(x); break;
+      case expression_op::sinh: s1_ = sinh(x); break;
+      case expression_op::cosh: s1_ = cosh(x); break;
+      default: throw std::logic_error("expression: not a function step");
+    }
+  }
+
+  T evaluate(const T& t, const vec3<T>& y, const attitude_values* q) const {
     using std::swap;
     std::size_t sp = 0;  // values_[0, sp) is the stack
     for (const expression_step& s : source_.code) {
@@ -337,12 +366,10 @@ class compiled_expression {
         case expression_op::div: --sp; values_[sp - 1] /= values_[sp]; break;
         case expression_op::neg: detail::negate_in_place(values_[sp - 1]); break;
         case expression_op::pow: integer_power(values_[sp - 1], s.arg); break;
-        // f(x) goes to a scratch value, then trades places with x: no temporary for MPFR.
-        case expression_op::sin: s1_ = sin(values_[sp - 1]); swap(values_[sp - 1], s1_); break;
-        case expression_op::cos: s1_ = cos(values_[sp - 1]); swap(values_[sp - 1], s1_); break;
-        case expression_op::exp: s1_ = exp(values_[sp - 1]); swap(values_[sp - 1], s1_); break;
-        case expression_op::log: s1_ = log(values_[sp - 1]); swap(values_[sp - 1], s1_); break;
-        case expression_op::sqrt: s1_ = sqrt(values_[sp - 1]); swap(values_[sp - 1], s1_); break;
+        default:
+          function_value(s.op, values_[sp - 1]);
+          swap(values_[sp - 1], s1_);
+          break;
       }
     }
     return values_[0];
@@ -430,42 +457,45 @@ class compiled_expression {
     }
   }
 
-  // f(x) for x = entry i, by the chain rule: f(x)' = f'(x) x'.
+  // f(x) for x = entry i, by the chain rule: f(x)' = f'(x) x'. The value is function_value's, as
+  // in operator(); f'(x) multiplies the partials, or its reciprocal divides them.
   void function_with_partials(expression_op op, std::size_t i) const {
     using std::cos;
-    using std::exp;
-    using std::log;
+    using std::cosh;
     using std::sin;
-    using std::sqrt;
+    using std::sinh;
     using std::swap;
     T& x = values_[i];
+    function_value(op, x);  // s1_ = f(x)
+    const T* factor = &s2_;  // f'(x), or 1 / f'(x) where `divide`
+    bool divide = false;
     switch (op) {
-      case expression_op::sin:  // sin' = cos
-        s1_ = sin(x);
-        s2_ = cos(x);
-        for (std::size_t k = 0; k < count_; ++k) partials_[i][k] *= s2_;
+      case expression_op::sin: s2_ = cos(x); break;  // sin' = cos
+      case expression_op::cos: s2_ = sin(x); detail::negate_in_place(s2_); break;  // cos' = -sin
+      case expression_op::exp: factor = &s1_; break;  // exp' = exp
+      case expression_op::log: factor = &x; divide = true; break;  // log' x = 1 / x
+      case expression_op::sqrt: factor = &s1_; divide = true; break;  // sqrt' x = 1 / (2 sqrt x)
+      case expression_op::tanh:  // tanh' = 1 / cosh^2: no cancellation, unlike 1 - tanh^2
+        s2_ = cosh(x);
+        s2_ *= s2_;
+        divide = true;
         break;
-      case expression_op::cos:  // cos' = -sin
-        s1_ = cos(x);
-        s2_ = sin(x);
-        detail::negate_in_place(s2_);
-        for (std::size_t k = 0; k < count_; ++k) partials_[i][k] *= s2_;
+      case expression_op::atan:  // atan' x = 1 / (1 + x^2)
+        s2_ = x;
+        s2_ *= x;
+        s2_ += 1;
+        divide = true;
         break;
-      case expression_op::exp:  // exp' = exp
-        s1_ = exp(x);
-        for (std::size_t k = 0; k < count_; ++k) partials_[i][k] *= s1_;
-        break;
-      case expression_op::log:  // log' x = 1 / x
-        for (std::size_t k = 0; k < count_; ++k) partials_[i][k] /= x;
-        s1_ = log(x);
-        break;
-      default:  // sqrt' x = 1 / (2 sqrt x); the division by 2 is exact
-        s1_ = sqrt(x);
-        for (std::size_t k = 0; k < count_; ++k) {
-          partials_[i][k] /= s1_;
-          partials_[i][k] /= 2;
-        }
-        break;
+      case expression_op::sinh: s2_ = cosh(x); break;  // sinh' = cosh
+      default: s2_ = sinh(x); break;                   // cosh' = sinh
+    }
+    for (std::size_t k = 0; k < count_; ++k) {
+      if (!divide) {
+        partials_[i][k] *= *factor;
+        continue;
+      }
+      partials_[i][k] /= *factor;
+      if (op == expression_op::sqrt) partials_[i][k] /= 2;  // exact
     }
     swap(x, s1_);
   }

@@ -8,7 +8,7 @@
 //   power   := primary ('^' integer)?                    one '^' only: (x^2)^3, never x^2^3
 //   integer := ['+' | '-'] digits | '(' ['+' | '-'] digits ')'    |value| <= max_power
 //   primary := number | 'pi' | variable | function '(' sum ')' | '(' sum ')'
-//   function := 'sin' | 'cos' | 'exp' | 'log' | 'sqrt'
+//   function := 'sin' | 'cos' | 'exp' | 'log' | 'sqrt' | 'tanh' | 'atan' | 'sinh' | 'cosh'
 //   number  := digits ['.' digits] [('e' | 'E') ['+' | '-'] digits], also '.5'; a finite double
 // Numbers keep their exact decimal text (scene/decimal.hpp). A power's exponent must be an
 // integer as written, so x^2 is the exact product x x in every number type.

@@ -1,6 +1,6 @@
 // An elementary function of a Chebyshev model (chebyshev_model.hpp), for the general path of
 // --certify (docs/certified.md, "Functions of time and state"): the model of f(u) for
-// f in {sin, cos, exp, log, sqrt, 1/x}, with a proven remainder.
+// f in {sin, cos, exp, log, sqrt, tanh, atan, sinh, cosh, 1/x}, with a proven remainder.
 //
 // u is a polynomial p (ball coefficients c_k) plus a remainder d. Then
 //   f(u) = f(p) + (f(p + e) - f(p)),  |e| <= d,  |f(p + e) - f(p)| <= sup |f'| d  over u's range,
@@ -14,7 +14,9 @@
 // p(z) lies in the disk of centre c_0 and radius B = sum_{k>=1} |c_k| (rho^k + rho^-k) / 2, and M
 // is |f| over that disk (Arb's complex balls). f is analytic on the disk when it avoids f's
 // singularities: for log and sqrt (principal branches) when the disk lies in the right half
-// plane, for 1/x when it avoids 0. Several rho are tried; the one needing the fewest points wins.
+// plane, for 1/x when it avoids 0, for tanh when it avoids the poles i (pi/2 + k pi), for atan
+// when it avoids the branch cuts (+-i) [1, inf) (sin, cos, exp, sinh and cosh are entire).
+// Several rho are tried; the one needing the fewest points wins.
 #pragma once
 
 #include <eulervop/certify/ball.hpp>
@@ -37,7 +39,112 @@
 
 namespace eulervop::detail {
 
-enum class elementary { sin, cos, exp, log, sqrt, inverse };
+enum class elementary { sin, cos, exp, log, sqrt, tanh, atan, sinh, cosh, inverse };
+
+// Why f is refused on a range (elementary_on_ball false), for the messages.
+inline const char* outside_domain(elementary f) {
+  return f == elementary::inverse ? "a division by a value that may be 0"
+         : f == elementary::log   ? "the log of a value that is not certainly positive"
+         : f == elementary::sqrt  ? "the square root of a value that is not certainly positive"
+                                  : "a value that is not finite";
+}
+
+// The ends of a real ball x, and those of |x|, rounded outward.
+struct ball_ends {
+  arf_t lo, hi, abs_lo, abs_hi;
+  ball_ends(const ball& x, slong prec) {
+    arf_init(lo);
+    arf_init(hi);
+    arf_init(abs_lo);
+    arf_init(abs_hi);
+    arb_get_lbound_arf(lo, x.get(), prec);
+    arb_get_ubound_arf(hi, x.get(), prec);
+    arb_get_abs_lbound_arf(abs_lo, x.get(), prec);
+    arb_get_abs_ubound_arf(abs_hi, x.get(), prec);
+  }
+  ~ball_ends() {
+    arf_clear(lo);
+    arf_clear(hi);
+    arf_clear(abs_lo);
+    arf_clear(abs_hi);
+  }
+  ball_ends(const ball_ends&) = delete;
+  ball_ends& operator=(const ball_ends&) = delete;
+};
+
+// out = g over [a, b] for g monotone there, from g at the two ends (f(a), f(b) in balls). Arb's
+// enclosure of g over a wide ball takes the derivative's bound at the midpoint and can be far
+// wider, even unbounded: sech(0 +- 40) as 1 / (1 +- 40 sinh 40).
+template <class G>
+void monotone_over(ball& out, const arf_t a, const arf_t b, G&& g, slong prec) {
+  ball ga, gb;
+  arb_set_arf(ga.get(), a);
+  arb_set_arf(gb.get(), b);
+  g(ga.get(), prec);
+  g(gb.get(), prec);
+  arb_union(out.get(), ga.get(), gb.get(), prec);
+}
+
+// Whether the values given are finite (null: not asked for).
+inline bool all_finite(const ball* v, const ball* d1, const ball* d2) {
+  const auto finite = [](const ball* b) { return !b || arb_is_finite(b->get()); };
+  return finite(v) && finite(d1) && finite(d2);
+}
+
+// f(x), f'(x) and f''(x) of tanh, atan, sinh and cosh over a real ball, into v, d1 and d2 (any
+// may be null), each monotone piece from its ends: tanh, atan and sinh rise; cosh, sech^2 and
+// 1 / (1 + x^2) are even and monotone in |x|. tanh' = sech^2, tanh'' = -2 tanh tanh';
+// atan' = 1 / (1 + x^2), atan'' = -2 x atan'^2; sinh' = cosh'' = cosh, cosh' = sinh'' = sinh.
+// False where a value is not finite.
+inline bool hyperbolic_on_ball(elementary f, const ball& x, ball* value_out, ball* d1, ball* d2, slong prec) {
+  using arb_function = void (*)(arb_ptr, arb_srcptr, slong);
+  const auto in_place = [](arb_function g) { return [g](arb_ptr y, slong p) { g(y, y, p); }; };
+  const auto sech2 = [](arb_ptr y, slong p) {
+    arb_sech(y, y, p);
+    arb_mul(y, y, y, p);
+  };
+  const auto inverse_1p_square = [](arb_ptr y, slong p) {  // 1 / (1 + y^2)
+    arb_mul(y, y, y, p);
+    arb_add_ui(y, y, 1, p);
+    arb_inv(y, y, p);
+  };
+  const ball_ends e(x, prec);
+  const arb_function value = f == elementary::tanh   ? arb_tanh
+                             : f == elementary::atan ? arb_atan
+                             : f == elementary::sinh ? arb_sinh
+                                                     : arb_cosh;
+  ball v;
+  if (f == elementary::cosh)
+    monotone_over(v, e.abs_lo, e.abs_hi, in_place(value), prec);
+  else
+    monotone_over(v, e.lo, e.hi, in_place(value), prec);
+  if (value_out) arb_set(value_out->get(), v.get());
+  if (!d1 && !d2) return all_finite(value_out, d1, d2);
+  ball d;  // f'
+  switch (f) {
+    case elementary::tanh:
+      monotone_over(d, e.abs_lo, e.abs_hi, sech2, prec);
+      if (d2) arb_mul(d2->get(), v.get(), d.get(), prec);
+      break;
+    case elementary::atan:
+      monotone_over(d, e.abs_lo, e.abs_hi, inverse_1p_square, prec);
+      if (d2) {
+        arb_mul(d2->get(), d.get(), d.get(), prec);
+        arb_mul(d2->get(), d2->get(), x.get(), prec);
+      }
+      break;
+    case elementary::sinh: monotone_over(d, e.abs_lo, e.abs_hi, in_place(arb_cosh), prec); break;
+    default: monotone_over(d, e.lo, e.hi, in_place(arb_sinh), prec); break;  // cosh
+  }
+  if (d1) arb_set(d1->get(), d.get());
+  if (d2 && (f == elementary::tanh || f == elementary::atan)) {  // -2 times the product above
+    arb_mul_2exp_si(d2->get(), d2->get(), 1);
+    arb_neg(d2->get(), d2->get());
+  } else if (d2) {
+    arb_set(d2->get(), v.get());
+  }
+  return all_finite(value_out, d1, d2);
+}
 
 // f(x), f'(x) and f''(x) over a real ball (any may be null); false where x reaches outside f's
 // domain (log, sqrt: x must be certainly positive; 1/x: x must not hold 0).
@@ -97,17 +204,46 @@ inline bool elementary_on_ball(elementary f, const ball& x, ball* v, ball* d1, b
         arb_mul_2exp_si(d2->get(), d2->get(), 1);
       }
       break;
+    default: return hyperbolic_on_ball(f, x, v, d1, d2, prec);  // tanh, atan, sinh, cosh
   }
-  const auto finite = [](const ball* b) { return !b || arb_is_finite(b->get()); };
-  return finite(v) && finite(d1) && finite(d2);
+  return all_finite(v, d1, d2);
 }
 
-// f over a complex ball; false where f may not be analytic on it (the conditions above).
+// Whether every point of the ball y lies in (-h, h).
+inline bool certainly_within(const arb_t y, const arb_t h) {
+  ball m;
+  arb_abs(m.get(), y);
+  return arb_lt(m.get(), h) != 0;
+}
+
+// f over a complex ball; false where f may not be analytic on it (the conditions above). tanh's
+// poles i (pi/2 + k pi) and atan's branch points +-i and cuts (+-i) [1, inf) all lie on the
+// imaginary axis, at |Im z| >= pi/2 and >= 1: a ball whose real part excludes 0, or whose
+// imaginary part lies within those bounds, avoids them. Arb's acb_atan is the principal branch
+// with those cuts; on a ball that meets a cut it encloses the values on both sides, a bound of
+// |atan| there but no analytic function, so such a ball is refused here before it is asked.
 inline bool elementary_on_complex(elementary f, const acb_t z, acb_t out, slong prec) {
+  ball bound;
   switch (f) {
     case elementary::sin: acb_sin(out, z, prec); break;
     case elementary::cos: acb_cos(out, z, prec); break;
     case elementary::exp: acb_exp(out, z, prec); break;
+    case elementary::sinh: acb_sinh(out, z, prec); break;
+    case elementary::cosh: acb_cosh(out, z, prec); break;
+    case elementary::tanh:
+    case elementary::atan:
+      if (f == elementary::tanh) {
+        arb_const_pi(bound.get(), prec);
+        arb_mul_2exp_si(bound.get(), bound.get(), -1);
+      } else {
+        arb_one(bound.get());
+      }
+      if (!arb_is_nonzero(acb_realref(z)) && !certainly_within(acb_imagref(z), bound.get())) return false;
+      if (f == elementary::tanh)
+        acb_tanh(out, z, prec);
+      else
+        acb_atan(out, z, prec);
+      break;
     case elementary::log:
     case elementary::sqrt:
       if (!arb_is_positive(acb_realref(z))) return false;
@@ -172,11 +308,7 @@ inline void compose(chebyshev_model& out, elementary f, const chebyshev_model& u
                     std::size_t max_degree = 256) {
   ball range, fr, d1;
   range_of(range, u);
-  if (!elementary_on_ball(f, range, &fr, &d1, nullptr, prec))
-    throw std::domain_error(f == elementary::inverse ? "a division by a value that may be 0"
-                            : f == elementary::log  ? "the log of a value that is not certainly positive"
-                            : f == elementary::sqrt ? "the square root of a value that is not certainly positive"
-                                                    : "a value that is not finite");
+  if (!elementary_on_ball(f, range, &fr, &d1, nullptr, prec)) throw std::domain_error(outside_domain(f));
   // The target: 2^-target_bits of sup |f| over the range (of 1 where f may vanish throughout).
   mag_value scale;
   arb_get_mag(scale.m, fr.get());

@@ -9,8 +9,9 @@
 //
 // A formula's constant subexpressions are folded into one ball each, evaluated by Arb's
 // functions. On a variable, the ring operations are the algebras' own; sin, cos, exp, log, sqrt,
-// divisions and negative powers are elementary functions of it (chebyshev_composition.hpp: a
-// model of f(u) with a proven remainder; on balls, Arb's functions with their derivatives). A
+// tanh, atan, sinh, cosh, divisions and negative powers are elementary functions of it
+// (chebyshev_composition.hpp: a model of f(u) with a proven remainder; on balls, Arb's functions
+// with their derivatives). A
 // function undefined where its argument may be (the log of a ball that reaches 0) throws
 // undefined_formula: it is never a bound.
 #pragma once
@@ -127,6 +128,26 @@ class series_algebra {
         multiply(out, t, t, bits);
         negate(out);
         break;
+      case elementary::tanh: {  // 1 - tanh(u)^2: one composition; the partials need their error
+                                // small against 1, not against sech^2
+        compose(t, elementary::tanh, u, jacobian_prec, bits);
+        multiply(out, t, t, bits);
+        negate(out);
+        chebyshev_model one;
+        one.set_constant(ball(1));
+        add_to(out, one, jacobian_prec);
+        break;
+      }
+      case elementary::atan: {  // 1 / (1 + u^2) = cos(atan u)^2: cos takes any model, while the
+                                // range bound of a model of 1 + u^2 (c_0 - sum |c_k|) may reach 0
+        chebyshev_model c;
+        compose(t, elementary::atan, u, jacobian_prec, bits);
+        compose(c, elementary::cos, t, jacobian_prec, bits);
+        multiply(out, c, c, bits);
+        break;
+      }
+      case elementary::sinh: compose(out, elementary::cosh, u, jacobian_prec, bits); break;
+      case elementary::cosh: compose(out, elementary::sinh, u, jacobian_prec, bits); break;
     }
   }
   // a = f(a): f(a)' = f'(a) a', f' at the Jacobian's precision. std::domain_error where a may
@@ -220,11 +241,7 @@ class box_algebra {
   // and f'' over a's ball. std::domain_error where the ball leaves f's domain.
   void function(elementary f, value& a) const {
     ball v, d1, d2;
-    if (!elementary_on_ball(f, a.f, &v, &d1, &d2, prec_))
-      throw std::domain_error(f == elementary::inverse ? "a division by a value that may be 0"
-                              : f == elementary::log  ? "the log of a value that is not certainly positive"
-                              : f == elementary::sqrt ? "the square root of a value that is not certainly positive"
-                                                      : "a value that is not finite");
+    if (!elementary_on_ball(f, a.f, &v, &d1, &d2, prec_)) throw std::domain_error(outside_domain(f));
     ball gg;
     for (std::size_t i = 0; i < n_; ++i)
       for (std::size_t j = 0; j < n_; ++j) {
@@ -304,6 +321,22 @@ class ball_formula {
   ball pi_;
 };
 
+// The elementary function of a function step.
+inline elementary elementary_of(expression_op op) {
+  switch (op) {
+    case expression_op::sin: return elementary::sin;
+    case expression_op::cos: return elementary::cos;
+    case expression_op::exp: return elementary::exp;
+    case expression_op::log: return elementary::log;
+    case expression_op::sqrt: return elementary::sqrt;
+    case expression_op::tanh: return elementary::tanh;
+    case expression_op::atan: return elementary::atan;
+    case expression_op::sinh: return elementary::sinh;
+    case expression_op::cosh: return elementary::cosh;
+    default: throw std::logic_error("ball_formula: not a function step");
+  }
+}
+
 inline void ball_formula::power(ball& x, std::int32_t n, slong prec) {
   if (n >= 0) {
     arb_pow_ui(x.get(), x.get(), static_cast<ulong>(n), prec);
@@ -321,6 +354,10 @@ inline void ball_formula::apply_function(expression_op op, ball& x, slong prec) 
     case expression_op::sin: arb_sin(x.get(), x.get(), prec); break;
     case expression_op::cos: arb_cos(x.get(), x.get(), prec); break;
     case expression_op::exp: arb_exp(x.get(), x.get(), prec); break;
+    case expression_op::tanh: arb_tanh(x.get(), x.get(), prec); break;
+    case expression_op::atan: arb_atan(x.get(), x.get(), prec); break;
+    case expression_op::sinh: arb_sinh(x.get(), x.get(), prec); break;
+    case expression_op::cosh: arb_cosh(x.get(), x.get(), prec); break;
     case expression_op::log:
       if (!arb_is_positive(x.get())) throw undefined("the log of a number that is not certainly positive");
       arb_log(x.get(), x.get(), prec);
@@ -444,12 +481,7 @@ typename Algebra::value ball_formula::operator()(const Algebra& alg, const formu
           apply_function(step.op, a.c, prec);
           break;
         }
-        const elementary f = step.op == expression_op::sin   ? elementary::sin
-                             : step.op == expression_op::cos ? elementary::cos
-                             : step.op == expression_op::exp ? elementary::exp
-                             : step.op == expression_op::log ? elementary::log
-                                                             : elementary::sqrt;
-        defined([&] { alg.function(f, a.v); });
+        defined([&] { alg.function(elementary_of(step.op), a.v); });
         break;
       }
     }
