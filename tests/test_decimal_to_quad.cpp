@@ -79,14 +79,14 @@ TEST(QuadToDecimal, EqualsQuadmathSnprintf) {
     std::memcpy(&v, &bits, sizeof v);
     const quad x(v);
     if (!isfinite(x)) continue;
-    const unsigned digits = n % 10 == 0 ? static_cast<unsigned>(random() % 40) : 36;
+    const unsigned digits = n % 10 == 0 ? 1 + static_cast<unsigned>(random() % 40) : 36;  // Boost reads 0 as 36
     ASSERT_EQ(eulervop::quad_text(x, digits), x.str(digits, std::ios_base::scientific)) << "digits " << digits;
   }
   // Values of the magnitudes a reference holds, and ties: 0.5 ulp of the last digit kept.
   for (const char* text : {"1", "0.1", "-2.5", "9.9999999999999999999999999999999999999", "1e-300", "123456789e20",
                            "0.00000000000000000000000000000000000015"}) {
     const quad x(text);
-    for (unsigned digits : {0u, 1u, 3u, 35u, 36u})
+    for (unsigned digits : {1u, 3u, 35u, 36u})
       EXPECT_EQ(eulervop::quad_text(x, digits), x.str(digits, std::ios_base::scientific)) << text << " " << digits;
   }
   for (const quad& x : {quad(0), quad(-0.0), std::numeric_limits<quad>::infinity()})

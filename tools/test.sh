@@ -6,7 +6,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${EULERVOP_BUILD_DIR:-$root/build}
-"$root/tools/build.sh"
+"$root/tools/build.sh" eulervop_test_programs  # the program, the module and the tests (not the benchmarks)
 cd "$build"
 skip=()
 [[ "${EULERVOP_LONG_TESTS:-0}" == 1 ]] || skip+=(long)
