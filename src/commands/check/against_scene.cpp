@@ -1,6 +1,7 @@
 #include "commands/check/against_scene.hpp"
 
 #include "commands/check/trajectory_columns.hpp"
+#include "commands/check/trajectory_stream.hpp"
 #include "compute/reference_compute.hpp"
 #include "compute/with_scalar.hpp"
 #include "io/table_rows.hpp"
@@ -54,13 +55,14 @@ trajectory_columns scene_columns(const check_job& job, const table_rows& rows) {
 // memory does not grow with the rows.
 struct trajectory_scan {
   trajectory_columns cols;
+  std::vector<std::string> header;
   std::size_t rows = 0;
   decimal last_time;
 };
 
 trajectory_scan scan_trajectory(const check_job& job) {
   const std::unique_ptr<table_rows> rows = job.open_trajectory();
-  trajectory_scan out{scene_columns(job, *rows), 0, {}};
+  trajectory_scan out{scene_columns(job, *rows), rows->header(), 0, {}};
   row_reader reader{*rows, out.cols};
   while (rows->next()) {
     out.last_time = reader.time();
@@ -71,55 +73,6 @@ trajectory_scan scan_trajectory(const check_job& job) {
   if (!out.rows) throw input_error(fmt::format("{}: no data rows", rows->where()));
   return out;
 }
-
-// Pass 2: the rows read again, one at a time as the integration asks for the next sample time
-// (segment_sampler.hpp), each compared when the reference there is known.
-template <scalar T>
-class trajectory_stream {
- public:
-  trajectory_stream(const check_job& job, const trajectory_scan& scan, const compared_variables<T>& vars,
-                    const T& tau_end)
-      : rows_(job.open_trajectory()), reader_{*rows_, scan.cols}, scan_(scan), vars_(vars), tau_end_(tau_end) {}
-
-  // The sample time source: the next row's time in tau.
-  sample_time_source<T> times() {
-    return [this](T& tau) {
-      if (!rows_->next()) {
-        if (read_ != scan_.rows) throw changed();
-        return false;
-      }
-      time_ = reader_.time();
-      values_ = reader_.values();
-      if (scan_.cols.q) q_ = reader_.attitude();
-      tau_ = vars_.tau_of(time_.template to_scalar<T>());
-      if (++read_ > scan_.rows || tau_ > tau_end_) throw changed();
-      tau = tau_;
-      return true;
-    };
-  }
-
-  const table_rows& rows() const { return *rows_; }
-  const decimal& time() const { return time_; }
-  const T& tau() const { return tau_; }  // the time in the integrator's variables
-  vec3<T> values() const { return vec3_of<T>(values_); }
-  quaternion<T> attitude() const { return quaternion_of<T>(q_); }
-
- private:
-  input_error changed() const {
-    return input_error(fmt::format("{}: the file changed while it was read", rows_->where()));
-  }
-
-  std::unique_ptr<table_rows> rows_;
-  row_reader reader_;
-  const trajectory_scan& scan_;
-  const compared_variables<T>& vars_;
-  T tau_end_;
-  std::size_t read_ = 0;
-  decimal time_;
-  T tau_;
-  std::array<decimal, 3> values_;
-  std::array<decimal, 4> q_;
-};
 
 // `end`: the last row's time, as the file states it (`time_name` = end).
 void describe_scene_reference(const check_job& job, const std::string& time_name, const std::string& end,
@@ -182,18 +135,19 @@ check_result check_in(const check_job& job) {
   r.t.attitude = cols.q.has_value();
   r.scene = scene_terms_of(job.scn, cols);
   out.header(cols.time_name, false, r.t.attitude);
-  trajectory_stream<T> rows(job, scan, vars, tau_end);
   if (cols.q)
-    for (int k = 0; k < 4; ++k) r.q_columns[k] = rows.rows().header()[(*cols.q)[k]];
+    for (int k = 0; k < 4; ++k) r.q_columns[k] = scan.header[(*cols.q)[k]];
+  trajectory_stream<T> rows(job, cols, scan.rows, vars, tau_end);
   // The current row against the reference there (q_ref: its attitude, if checked), with the
   // equations for the direction of motion, if they are the rates' own.
   const std::optional<motion_function> motion = motion_of(job.scn);
   const auto compare = [&](const vec3<T>& Omega_ref, const quaternion<T>* q_ref) {
-    const row_states<T> states = vars.states(Omega_ref, rows.values());
+    const auto& row = rows.current();
+    const row_states<T> states = vars.states(Omega_ref, row.values);
     std::optional<attitude_pair<T>> q;
-    if (q_ref) q = attitude_pair<T>{*q_ref, rows.attitude()};
-    record<T>(job, r.t, out, rows.rows().line(), rows.time(), states, vars, motion ? &*motion : nullptr, rows.tau(),
-              std::nullopt, q ? &*q : nullptr);
+    if (q_ref) q = attitude_pair<T>{*q_ref, row.q};
+    record<T>(job, r.t, out, row.line, row.time, states, vars, motion ? &*motion : nullptr, row.tau, std::nullopt,
+              q ? &*q : nullptr);
   };
   const reference_run ref = integrate_against(job, tau_end, rows.times(), cols.q.has_value(), compare);
   out.commit();
