@@ -27,70 +27,54 @@ eulervop::precision parse_precision(const std::string& value, const std::string&
 
 double seconds_of(const std::string& value) { return std::strtod(value.c_str(), nullptr); }
 
-// Reads the '#' lines of a reference file into its metadata. Unknown keys are ignored, so a
-// file written by a later version still reads.
+// The metadata's texts and figures (bounds and estimates: non-negative decimals, kept as their
+// text for display and their value), by key.
+constexpr std::pair<std::string_view, std::string reference_metadata::*> metadata_texts[] = {
+    {"scene", &reference_metadata::scene_name},       {"scene_source", &reference_metadata::scene_source},
+    {"command", &reference_metadata::command},        {"overrides", &reference_metadata::overrides},
+    {"times", &reference_metadata::times},            {"method", &reference_metadata::method},
+    {"verify_method", &reference_metadata::verify_method}, {"certify_method", &reference_metadata::certify_method},
+    {"attitude", &reference_metadata::attitude},      {"coupled", &reference_metadata::coupled}};
+constexpr std::pair<std::string_view, std::optional<decimal> reference_metadata::*> metadata_figures[] = {
+    {"estimated_max_error", &reference_metadata::estimated_max_error},
+    {"estimated_max_error_omega", &reference_metadata::estimated_max_error_omega},
+    {"estimated_max_attitude_error", &reference_metadata::estimated_max_attitude_error},
+    {"certified_max_error", &reference_metadata::certified_max_error},
+    {"certified_max_error_omega", &reference_metadata::certified_max_error_omega},
+    {"certified_max_error_q", &reference_metadata::certified_max_error_q},
+    {"q_norm_drift", &reference_metadata::q_norm_drift}};
+
+// One "# key: value" line into `m`; `where` and `line` name it in messages. Unknown keys are
+// ignored, so a file written by a later version still reads.
+void read_metadata_line(reference_metadata& m, const std::string& l, const std::string& where, std::size_t line) {
+  for (const auto& [key, member] : metadata_texts)
+    if (auto v = metadata_value(l, key)) return void(m.*member = *v);
+  for (const auto& [key, member] : metadata_figures)
+    if (auto v = metadata_value(l, key)) {
+      const auto parsed = parse_decimal(*v);
+      if (!parsed.number || parsed.number->value < 0)
+        throw input_error(fmt::format("{}: line {}: {} `{}` is not a non-negative number", where, line, key, *v));
+      return void(m.*member = decimal{*v, parsed.number->value});
+    }
+  if (auto v = metadata_value(l, "precision")) m.precision = parse_precision(*v, where, line);
+  else if (auto vp = metadata_value(l, "verify_precision")) m.verify_precision = parse_precision(*vp, where, line);
+  else if (auto w = metadata_value(l, "wall_seconds")) m.wall_seconds = seconds_of(*w);
+  else if (auto wv = metadata_value(l, "wall_seconds_verify")) m.wall_seconds_verify = seconds_of(*wv);
+  else if (auto note = metadata_value(l, "note")) m.notes.push_back(*note);
+}
+
+// Reads the '#' lines of a reference file into its metadata.
 reference_metadata metadata_of(const csv_rows& rows) {
   reference_metadata m;
   std::size_t line = 0;
   for (const std::string& l : rows.comments()) {
     ++line;  // the comments come first in the file (blank lines aside)
-    auto value = [&](std::string_view key) { return metadata_value(l, key); };
-    // A bound or an estimate: a non-negative decimal, kept as its text (for display) and value.
-    auto non_negative = [&](std::string_view key, const std::string& text) {
-      const auto parsed = parse_decimal(text);
-      if (!parsed.number || parsed.number->value < 0)
-        throw input_error(
-            fmt::format("{}: line {}: {} `{}` is not a non-negative number", rows.where(), line, key, text));
-      return decimal{text, parsed.number->value};
-    };
-    if (auto v = value("precision")) {
-      m.precision = parse_precision(*v, rows.where(), line);
-    } else if (auto e = value("estimated_max_error")) {
-      m.estimated_max_error = non_negative("estimated_max_error", *e);
-    } else if (auto eo = value("estimated_max_error_omega")) {
-      m.estimated_max_error_omega = non_negative("estimated_max_error_omega", *eo);
-    } else if (auto n = value("scene")) {
-      m.scene_name = *n;
-    } else if (auto o = value("scene_source")) {
-      m.scene_source = *o;
-    } else if (auto c = value("command")) {
-      m.command = *c;
-    } else if (auto o2 = value("overrides")) {
-      m.overrides = *o2;
-    } else if (auto tm = value("times")) {
-      m.times = *tm;
-    } else if (auto me = value("method")) {
-      m.method = *me;
-    } else if (auto w = value("wall_seconds")) {
-      m.wall_seconds = seconds_of(*w);
-    } else if (auto vp = value("verify_precision")) {
-      m.verify_precision = parse_precision(*vp, rows.where(), line);
-    } else if (auto vm = value("verify_method")) {
-      m.verify_method = *vm;
-    } else if (auto wv = value("wall_seconds_verify")) {
-      m.wall_seconds_verify = seconds_of(*wv);
-    } else if (auto ce = value("certified_max_error")) {
-      m.certified_max_error = non_negative("certified_max_error", *ce);
-    } else if (auto co = value("certified_max_error_omega")) {
-      m.certified_max_error_omega = non_negative("certified_max_error_omega", *co);
-    } else if (auto cq = value("certified_max_error_q")) {
-      m.certified_max_error_q = non_negative("certified_max_error_q", *cq);
-    } else if (auto cm = value("certify_method")) {
-      m.certify_method = *cm;
-    } else if (auto note = value("note")) {
-      m.notes.push_back(*note);
-    } else if (auto att = value("attitude")) {
-      m.attitude = *att;
-    } else if (auto cp = value("coupled")) {
-      m.coupled = *cp;
-    } else if (auto qd = value("q_norm_drift")) {
-      m.q_norm_drift = non_negative("q_norm_drift", *qd);
-    } else if (auto ea = value("estimated_max_attitude_error")) {
-      m.estimated_max_attitude_error = non_negative("estimated_max_attitude_error", *ea);
-    } else if (l.starts_with("# scene_text:")) {
+    if (l.starts_with("# scene_text:")) {
       std::string_view text = std::string_view(l).substr(13);
       if (text.starts_with(" ")) text.remove_prefix(1);
       m.scene_text += std::string(text) + "\n";
+    } else {
+      read_metadata_line(m, l, rows.where(), line);
     }
   }
   return m;

@@ -160,7 +160,9 @@ const py::object& csv_of(const py_reference& r) {
 
 }  // namespace
 
-void bind_reference(py::module_& m) {
+namespace {
+
+void bind_reference_class(py::module_& m) {
   py::class_<py_reference>(m, "Reference", "A reference solution held in memory: its columns as float64 arrays.")
       .def_readonly("t", &py_reference::t,
                     "float64 (n,): the sample times (t, or tau of a normalized scene), each exactly the binary64 "
@@ -199,7 +201,12 @@ void bind_reference(py::module_& m) {
       .def("__repr__", [](const py_reference& r) {
         return fmt::format("<eulervop.Reference {} rows: {}>", r.held->size(), fmt::join(r.all_columns, ","));
       });
+}
 
+}  // namespace
+
+void bind_reference(py::module_& m) {
+  bind_reference_class(m);
   m.def("_reference", &reference, py::arg("scene"), py::arg("times") = py::none(), py::arg("precision") = py::none(),
         py::arg("verify") = false, py::arg("certify") = false, py::arg("samples") = py::none(),
         py::arg("t_end") = py::none(), py::arg("tau_end") = py::none());
