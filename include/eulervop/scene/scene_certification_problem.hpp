@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -58,23 +59,15 @@ std::vector<T> reference_breakpoints(const scene& s, const std::shared_ptr<const
   return expression_torque<T, true>(law, vars).breakpoints();
 }
 
-}  // namespace detail
-
-// The scene's problem at `prec` bits, for a reference computed in T.
-// A number undefined on its enclosure is bad input naming its field.
-template <scalar T>
-certification_problem certification_problem_of(const scene& s, slong prec) {
-  certification_problem p;
-  p.prec = prec;
-  p.dimension = s.has_attitude() ? 7 : 3;
-  const auto bits = static_cast<mpfr_prec_t>(prec);
-  const bool direct = uses_direct_form(s);
-  // The equations' coefficients a and the change of variables.
+// The equations' coefficients a and the change of variables into p; the scene's exact scaling
+// where it is a physical body in Eq. 5.
+inline std::optional<physical_scaling<interval>> put_equations(certification_problem& p, const scene& s, bool direct) {
+  const slong prec = p.prec;
   if (s.is_coefficient_form()) {
-    for (int i = 0; i < 3; ++i) p.a[i] = detail::ball_of_decimal((*s.coefficients)[i], prec, "[equations] a");
+    for (int i = 0; i < 3; ++i) p.a[i] = ball_of_decimal((*s.coefficients)[i], prec, "[equations] a");
   } else if (direct) {
     std::array<ball, 3> I;
-    for (int i = 0; i < 3; ++i) I[i] = detail::ball_of_decimal((*s.inertia)[i], prec, "[body] inertia");
+    for (int i = 0; i < 3; ++i) I[i] = ball_of_decimal((*s.inertia)[i], prec, "[body] inertia");
     for (int i = 0; i < 3; ++i) {
       arb_sub(p.a[i].get(), I[(i + 1) % 3].get(), I[(i + 2) % 3].get(), prec);
       arb_div(p.a[i].get(), p.a[i].get(), I[i].get(), prec);
@@ -84,10 +77,10 @@ certification_problem certification_problem_of(const scene& s, slong prec) {
   } else {
     p.a = {ball(-1), ball(1), ball(-1)};
   }
-  for (int i = 0; i < 3; ++i) p.unit_a[i] = detail::unit_value(p.a[i]);
+  for (int i = 0; i < 3; ++i) p.unit_a[i] = unit_value(p.a[i]);
   std::optional<physical_scaling<interval>> scaling;
   if (s.is_physical() && !direct) {
-    scaling.emplace(exact_scaling_of(s, bits));
+    scaling.emplace(exact_scaling_of(s, static_cast<mpfr_prec_t>(prec)));
     exact_variables& v = p.variables;
     v.identity = false;
     v.axes = scaling->axes();
@@ -106,13 +99,20 @@ certification_problem certification_problem_of(const scene& s, slong prec) {
       arb_mul(p.rates.scale[i].get(), v.state_scale[i].get(), v.rate_inverse.get(), prec);
     }
   }
-  // The initial state.
+  return scaling;
+}
+
+// The initial state into p (q normalized exactly), in the integrator's variables.
+inline void put_initial(certification_problem& p, const scene& s,
+                        const std::optional<physical_scaling<interval>>& scaling) {
+  const slong prec = p.prec;
+  const auto bits = static_cast<mpfr_prec_t>(prec);
   p.initial.resize(p.dimension);
   const auto put3 = [&](const decimal3& d, const std::string& field) {
-    for (int i = 0; i < 3; ++i) p.initial[i] = detail::ball_of_decimal(d[i], prec, field);
+    for (int i = 0; i < 3; ++i) p.initial[i] = ball_of_decimal(d[i], prec, field);
   };
   if (scaling) {
-    const vec3<interval> omega0 = detail::decimals_of(std::get<initial_rates>(s.initial).rates, bits, "[initial] omega");
+    const vec3<interval> omega0 = decimals_of(std::get<initial_rates>(s.initial).rates, bits, "[initial] omega");
     const vec3<interval> Omega0 = scaling->Omega_of_omega(omega0);
     for (int i = 0; i < 3; ++i) p.initial[i] = ball_of(Omega0[i], prec);
   } else if (const auto* r = std::get_if<initial_rates>(&s.initial)) {
@@ -121,24 +121,20 @@ certification_problem certification_problem_of(const scene& s, slong prec) {
     const vec3<interval> Omega0 = exact_Omega_of_elements(std::get<initial_elements>(s.initial), bits);
     for (int i = 0; i < 3; ++i) p.initial[i] = ball_of(Omega0[i], prec);
   }
-  if (s.has_attitude()) {
-    ball norm2;
-    for (int r = 0; r < 4; ++r) {
-      p.initial[3 + r] = detail::ball_of_decimal((*s.attitude)[r], prec, "[initial] q");
-      arb_addmul(norm2.get(), p.initial[3 + r].get(), p.initial[3 + r].get(), prec);
-    }
-    arb_rsqrt(norm2.get(), norm2.get(), prec);
-    for (int r = 0; r < 4; ++r) arb_mul(p.initial[3 + r].get(), p.initial[3 + r].get(), norm2.get(), prec);
+  if (!s.has_attitude()) return;
+  ball norm2;
+  for (int r = 0; r < 4; ++r) {
+    p.initial[3 + r] = ball_of_decimal((*s.attitude)[r], prec, "[initial] q");
+    arb_addmul(norm2.get(), p.initial[3 + r].get(), p.initial[3 + r].get(), prec);
   }
-  if (s.gravity_gradient) {
-    gravity_term g;
-    g.mean_motion = detail::ball_of_decimal(*s.gravity_gradient, prec, "[torque.gravity_gradient] mean_motion");
-    for (int i = 0; i < 3; ++i) g.moments[i] = detail::ball_of_decimal((*s.inertia)[i], prec, "[body] inertia");
-    p.gravity = g;
-  }
-  // The torque, its pieces and its breakpoints.
-  p.law = detail::law_of(s);
-  if (!p.law) return p;
+  arb_rsqrt(norm2.get(), norm2.get(), prec);
+  for (int r = 0; r < 4; ++r) arb_mul(p.initial[3 + r].get(), p.initial[3 + r].get(), norm2.get(), prec);
+}
+
+// The torque's formula sets (the base, then each piece's) and the pieces' windows into p; returns
+// the pieces' exact bounds in the integrator's time, in order.
+inline std::vector<ball> put_formula_sets(certification_problem& p) {
+  const slong prec = p.prec;
   const auto compile = [&](const std::array<expression, 3>& terms) {
     std::array<eulervop::detail::ball_formula, 3> set;
     for (int i = 0; i < 3; ++i) set[i] = eulervop::detail::ball_formula(terms[i], prec);
@@ -159,8 +155,14 @@ certification_problem certification_problem_of(const scene& s, slong prec) {
     }
     p.windows.push_back(std::move(w));
   }
-  // Each breakpoint of the reference stands for the exact bounds nearest to it.
-  for (const T& b : detail::reference_breakpoints<T>(s, p.law)) {
+  return exact;
+}
+
+// Each breakpoint of the reference (`reference`, in T) stands for the exact bounds nearest to it.
+template <scalar T>
+void put_breakpoints(certification_problem& p, const std::vector<T>& reference, const std::vector<ball>& exact) {
+  const slong prec = p.prec;
+  for (const T& b : reference) {
     breakpoint_window w;
     set_exact(w.reference, b);
     w.hull = w.reference;
@@ -185,6 +187,30 @@ certification_problem certification_problem_of(const scene& s, slong prec) {
     if (w.exact_count == 0 || !arb_equal(w.exact.get(), x.get())) ++w.exact_count;
     w.exact = x;
   }
+}
+
+}  // namespace detail
+
+// The scene's problem at `prec` bits, for a reference computed in T.
+// A number undefined on its enclosure is bad input naming its field.
+template <scalar T>
+certification_problem certification_problem_of(const scene& s, slong prec) {
+  certification_problem p;
+  p.prec = prec;
+  p.dimension = s.has_attitude() ? 7 : 3;
+  const std::optional<physical_scaling<interval>> scaling = detail::put_equations(p, s, uses_direct_form(s));
+  detail::put_initial(p, s, scaling);
+  if (s.gravity_gradient) {
+    gravity_term g;
+    g.mean_motion = detail::ball_of_decimal(*s.gravity_gradient, prec, "[torque.gravity_gradient] mean_motion");
+    for (int i = 0; i < 3; ++i) g.moments[i] = detail::ball_of_decimal((*s.inertia)[i], prec, "[body] inertia");
+    p.gravity = g;
+  }
+  // The torque, its pieces and its breakpoints.
+  p.law = detail::law_of(s);
+  if (!p.law) return p;
+  const std::vector<ball> exact = detail::put_formula_sets(p);
+  detail::put_breakpoints(p, detail::reference_breakpoints<T>(s, p.law), exact);
   return p;
 }
 
