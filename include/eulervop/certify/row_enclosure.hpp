@@ -50,27 +50,12 @@ inline interval row_radius(const row_enclosure& at, const std::array<std::string
 
 namespace detail {
 
-// P from its coefficients on their grid (segment_polynomial::grid) at s, an enclosure of
-// dt / hl - 1 within [-1, 1]: with s^ its left end (|s - s^| <= d, its width), t_k = T_k(s^) by the
-// three-term recurrence at the working precision (one rounding each, a fused multiply-subtract)
-// and e_k >= |t_k - T_k(s)|:
-//   e_0 = 0, e_1 = d, e_k = 2 |s^| e_(k-1) + e_(k-2) + 2 d + 2^-bits |t_k|   (|T_(k-1)(s)| <= 1),
-// in double rounded up. Then with q_k t_k summed as one exact integer per component (t_k on the
-// grid 2^-bits, toward zero: one step more) and rounded once to nearest,
-//   |P(s) - sum q_k t_k| <= sum |p_k - q_k| |T_k| + sum |q_k| |T_k - t_k|
-//                        <= rad + sum cmag_k (e_k + 2^-bits),
-// plus the rounding's 2^-bits of the result. e_k grows like 2.4^k but multiplies p_k, which
-// decay faster (as below). False where a t_k needs more than L limbs, or where 2^-bits is below
-// double's range.
+// t_k = T_k(s^) for k < n1 on the grid 2^-bits (toward zero, L limbs each, their signs apart) and
+// deviation_k >= |T_k(s) - t_k| (polynomial_on_grid, below).
 template <std::size_t L>
-bool polynomial_on_grid(const segment_polynomial& S, const interval& s, std::vector<interval>& P) {
-  constexpr std::size_t W = 2 * L + 1;
-  const std::size_t n1 = S.n1;
-  const mpfr_prec_t bits = S.bits;
-  if (bits > 1000) return false;
+bool chebyshev_on_grid(const interval& s, std::size_t n1, mpfr_prec_t bits, std::vector<mp_limb_t>& t,
+                       std::vector<mp_limb_t>& t_negative, std::vector<double>& deviation) {
   const double unit = std::ldexp(1.0, -static_cast<int>(bits));
-  std::vector<mp_limb_t> t(n1 * L), t_negative(n1);
-  std::vector<double> deviation(n1);
   real w(64), two_s(bits), prev(bits), cur(bits), next(bits);
   mpfr_srcptr s_hat = &s.get()->left;
   width_up(w, s);
@@ -100,37 +85,66 @@ bool polynomial_on_grid(const segment_polynomial& S, const interval& s, std::vec
     if (!limbs::load_truncated(tk, bits, L, &t[k * L], t_negative[k])) return false;
     deviation[k] = (ek + unit) * (1 + 1e-12);
   }
-  mpfr_set_d(w.get(), unit, MPFR_RNDU);
-  mpfr_ptr step = w.get();
+  return true;
+}
+
+// Component i of P: sum q_k t_k as one exact integer, rounded once to nearest, widened by the
+// bound (polynomial_on_grid, below).
+template <std::size_t L>
+void component_on_grid(const segment_polynomial& S, int i, const std::vector<mp_limb_t>& t,
+                       const std::vector<mp_limb_t>& t_negative, const std::vector<double>& deviation, interval& P) {
+  constexpr std::size_t W = 2 * L + 1;
+  const std::size_t n1 = S.n1;
+  const mpfr_prec_t bits = S.bits;
+  limbs::column_sum<L> sum;
+  double weighted = 0;
+  for (std::size_t k = 0; k < n1; ++k) {
+    const std::size_t q = i * n1 + k;
+    limbs::product_columns<L> product;
+    limbs::columns_of<L>(&S.grid.q[q * L], &t[k * L], product);
+    sum.add(product, (S.grid.negative[q] ^ t_negative[k]) & 1);
+    weighted += S.cmag[q] * deviation[k];
+  }
   mp_limb_t acc[W];
   real y(bits), e(64);
+  sum.to_limbs(acc, W);
+  limbs::round_to(acc, W, y.get(), S.grid.shift + static_cast<long>(bits));
+  // The bound: rad + the weighted deviations (their products may underflow: n1 denorm_min more)
+  // + 2^-bits |y|, rounded up.
+  mpfr_abs(e.get(), y.get(), MPFR_RNDU);
+  mpfr_mul_2si(e.get(), e.get(), -static_cast<long>(bits), MPFR_RNDU);  // exact
+  mpfr_add(e.get(), e.get(), S.grid.rad[i].get(), MPFR_RNDU);
+  mpfr_add_d(e.get(), e.get(),
+             (weighted + static_cast<double>(n1) * std::numeric_limits<double>::denorm_min()) * (1 + 1e-12),
+             MPFR_RNDU);
   interval spread = interval::zero(64);
-  for (int i = 0; i < 3; ++i) {
-    limbs::column_sum<L> sum;
-    double weighted = 0;
-    for (std::size_t k = 0; k < n1; ++k) {
-      const std::size_t q = i * n1 + k;
-      limbs::product_columns<L> product;
-      limbs::columns_of<L>(&S.grid.q[q * L], &t[k * L], product);
-      sum.add(product, (S.grid.negative[q] ^ t_negative[k]) & 1);
-      weighted += S.cmag[q] * deviation[k];
-    }
-    sum.to_limbs(acc, W);
-    limbs::round_to(acc, W, y.get(), S.grid.shift + static_cast<long>(bits));
-    // The bound: rad + the weighted deviations (their products may underflow: n1 denorm_min more)
-    // + 2^-bits |y|, rounded up.
-    mpfr_abs(e.get(), y.get(), MPFR_RNDU);
-    mpfr_mul(e.get(), e.get(), step, MPFR_RNDU);
-    mpfr_add(e.get(), e.get(), S.grid.rad[i].get(), MPFR_RNDU);
-    mpfr_add_d(e.get(), e.get(),
-               (weighted + static_cast<double>(n1) * std::numeric_limits<double>::denorm_min()) * (1 + 1e-12),
-               MPFR_RNDU);
-    mpfi_interv_fr(spread.get(), e.get(), e.get());
-    mpfi_neg(spread.get(), spread.get());
-    mpfi_put_fr(spread.get(), e.get());  // [-e, e]
-    mpfi_set_fr(P[i].get(), y.get());
-    mpfi_add(P[i].get(), P[i].get(), spread.get());
-  }
+  mpfi_interv_fr(spread.get(), e.get(), e.get());
+  mpfi_neg(spread.get(), spread.get());
+  mpfi_put_fr(spread.get(), e.get());  // [-e, e]
+  mpfi_set_fr(P.get(), y.get());
+  mpfi_add(P.get(), P.get(), spread.get());
+}
+
+// P from its coefficients on their grid (segment_polynomial::grid) at s, an enclosure of
+// dt / hl - 1 within [-1, 1]: with s^ its left end (|s - s^| <= d, its width), t_k = T_k(s^) by the
+// three-term recurrence at the working precision (one rounding each, a fused multiply-subtract)
+// and e_k >= |t_k - T_k(s)|:
+//   e_0 = 0, e_1 = d, e_k = 2 |s^| e_(k-1) + e_(k-2) + 2 d + 2^-bits |t_k|   (|T_(k-1)(s)| <= 1),
+// in double rounded up. Then with q_k t_k summed as one exact integer per component (t_k on the
+// grid 2^-bits, toward zero: one step more) and rounded once to nearest,
+//   |P(s) - sum q_k t_k| <= sum |p_k - q_k| |T_k| + sum |q_k| |T_k - t_k|
+//                        <= rad + sum cmag_k (e_k + 2^-bits),
+// plus the rounding's 2^-bits of the result. e_k grows like 2.4^k but multiplies p_k, which
+// decay faster (as below). False where a t_k needs more than L limbs, or where 2^-bits is below
+// double's range.
+template <std::size_t L>
+bool polynomial_on_grid(const segment_polynomial& S, const interval& s, std::vector<interval>& P) {
+  const std::size_t n1 = S.n1;
+  if (S.bits > 1000) return false;
+  std::vector<mp_limb_t> t(n1 * L), t_negative(n1);
+  std::vector<double> deviation(n1);
+  if (!chebyshev_on_grid<L>(s, n1, S.bits, t, t_negative, deviation)) return false;
+  for (int i = 0; i < 3; ++i) component_on_grid<L>(S, i, t, t_negative, deviation, P[i]);
   return true;
 }
 
