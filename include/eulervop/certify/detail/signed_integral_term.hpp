@@ -84,6 +84,8 @@ class signed_integral_term {
                const std::array<double, 3>& wrad, double hl, integrated_products& sums) const;
   void solve(const segment_polynomial& P, const picard_residual& r, const variational_matrix& phi,
              const jacobian_rows& rows, double hl);
+  void values_at_nodes(const double* c, std::size_t length, double* __restrict out);
+  void coefficients_of_values(const double* v, double* __restrict out);
   double residual_sup(const segment_polynomial& P, const picard_residual& r, const jacobian_rows& rows, double hl,
                       integrated_products& sums);
 
@@ -143,28 +145,12 @@ inline void signed_integral_term::J_times(const segment_polynomial& P, const jac
 inline void signed_integral_term::solve(const segment_polynomial& P, const picard_residual& r,
                                         const variational_matrix& phi, const jacobian_rows& rows, double hl) {
   const std::size_t n = nr_;
-  const integral_term_nodes& nodes = *nodes_;
-  const std::size_t h = nodes.h;
   // Values at the nodes from coefficients: P (y_), r (w_), Phi_num (Phi_).
-  auto values = [&](const double* c, std::size_t length, double* __restrict out) {
-    double* __restrict e = fold_.data();
-    double* __restrict o = fold_.data() + h;
-    std::fill(fold_.begin(), fold_.end(), 0.0);
-    for (std::size_t k = 0; k < length; ++k) {
-      const double* __restrict Tk = &nodes.T[k * h];
-      double* __restrict part = (k % 2) ? o : e;
-      for (std::size_t l = 0; l < h; ++l) part[l] += c[k] * Tk[l];
-    }
-    for (std::size_t l = 0; l < h; ++l) {
-      out[l] = e[l] + o[l];
-      out[n - 1 - l] = e[l] - o[l];
-    }
-  };
   for (int c = 0; c < 3; ++c) {
-    values(&P.cd[c * P.n1], short_length_[c], &y_[c * n]);
-    values(&r.rd[c * n], n, &w_[c * n]);
+    values_at_nodes(&P.cd[c * P.n1], short_length_[c], &y_[c * n]);
+    values_at_nodes(&r.rd[c * n], n, &w_[c * n]);
   }
-  for (int q = 0; q < 9; ++q) values(phi.coefficients(q), variational_matrix::coefficient_count, &Phi_[q * n]);
+  for (int q = 0; q < 9; ++q) values_at_nodes(phi.coefficients(q), variational_matrix::coefficient_count, &Phi_[q * n]);
   for (std::size_t l = 0; l < n; ++l) {
     double Jr[3] = {0, 0, 0};
     for (int i = 0; i < 3; ++i)
@@ -178,41 +164,64 @@ inline void signed_integral_term::solve(const segment_polynomial& P, const picar
       g_[i * n + l] = scale * (A[3 * i] * Jr[0] + A[3 * i + 1] * Jr[1] + A[3 * i + 2] * Jr[2]);
   }
   // G = S g (the integrals at the nodes), then u = Phi G there (into w_), then u's coefficients.
-  auto columns = [&](const std::vector<double>& A, const double* x, double* __restrict out) {
+  for (int i = 0; i < 3; ++i) {
+    double* __restrict out = &G_[i * n];
+    const double* x = &g_[i * n];
     std::fill(out, out + n, 0.0);
     for (std::size_t k = 0; k < n; ++k) {
-      const double* __restrict Ak = &A[k * n];
-      for (std::size_t l = 0; l < n; ++l) out[l] += x[k] * Ak[l];
+      const double* __restrict Sk = &nodes_->S[k * n];
+      for (std::size_t l = 0; l < n; ++l) out[l] += x[k] * Sk[l];
     }
-  };
-  for (int i = 0; i < 3; ++i) columns(nodes.S, &g_[i * n], &G_[i * n]);
+  }
   for (int i = 0; i < 3; ++i)
     for (std::size_t l = 0; l < n; ++l) {
       double acc = 0;
       for (int j = 0; j < 3; ++j) acc += Phi_[(i * 3 + j) * n + l] * G_[j * n + l];
       w_[i * n + l] = acc;
     }
-  for (int i = 0; i < 3; ++i) {  // coefficients from values
-    const double* v = &w_[i * n];
-    double* __restrict e = fold_.data();
-    double* __restrict o = fold_.data() + h;
-    std::fill(fold_.begin(), fold_.end(), 0.0);
-    for (std::size_t l = 0; l < h; ++l) {
-      const double plus = v[l] + v[n - 1 - l], minus = v[l] - v[n - 1 - l];
-      const double* __restrict ce = &nodes.even[l * h];
-      const double* __restrict co = &nodes.odd[l * h];
-      for (std::size_t m = 0; m < h; ++m) {
-        e[m] += plus * ce[m];
-        o[m] += minus * co[m];
-      }
-    }
-    for (std::size_t m = 0; m < h; ++m) {
-      ud_[i * n + 2 * m] = e[m];
-      ud_[i * n + 2 * m + 1] = o[m];
-    }
-  }
+  for (int i = 0; i < 3; ++i) coefficients_of_values(&w_[i * n], &ud_[i * n]);
   for (double x : ud_)
     if (!std::isfinite(x)) P.fail(outcome_kind::certify_non_finite);
+}
+
+// out (at the nr_ nodes) from `length` Chebyshev coefficients c: the even and odd parts on half
+// the nodes, then their sum and difference.
+inline void signed_integral_term::values_at_nodes(const double* c, std::size_t length, double* __restrict out) {
+  const std::size_t n = nr_, h = nodes_->h;
+  double* __restrict e = fold_.data();
+  double* __restrict o = fold_.data() + h;
+  std::fill(fold_.begin(), fold_.end(), 0.0);
+  for (std::size_t k = 0; k < length; ++k) {
+    const double* __restrict Tk = &nodes_->T[k * h];
+    double* __restrict part = (k % 2) ? o : e;
+    for (std::size_t l = 0; l < h; ++l) part[l] += c[k] * Tk[l];
+  }
+  for (std::size_t l = 0; l < h; ++l) {
+    out[l] = e[l] + o[l];
+    out[n - 1 - l] = e[l] - o[l];
+  }
+}
+
+// nr_ Chebyshev coefficients (out) from the values v at the nodes: sums and differences of
+// mirrored values, each half the products.
+inline void signed_integral_term::coefficients_of_values(const double* v, double* __restrict out) {
+  const std::size_t n = nr_, h = nodes_->h;
+  double* __restrict e = fold_.data();
+  double* __restrict o = fold_.data() + h;
+  std::fill(fold_.begin(), fold_.end(), 0.0);
+  for (std::size_t l = 0; l < h; ++l) {
+    const double plus = v[l] + v[n - 1 - l], minus = v[l] - v[n - 1 - l];
+    const double* __restrict ce = &nodes_->even[l * h];
+    const double* __restrict co = &nodes_->odd[l * h];
+    for (std::size_t m = 0; m < h; ++m) {
+      e[m] += plus * ce[m];
+      o[m] += minus * co[m];
+    }
+  }
+  for (std::size_t m = 0; m < h; ++m) {
+    out[2 * m] = e[m];
+    out[2 * m + 1] = o[m];
+  }
 }
 
 // The residual of the exact polynomials: u_num exact, r = rd + (its radius); u_num + r as a view,
