@@ -29,8 +29,10 @@
 #include <eulervop/certify/detail/ball_linear_flow.hpp>
 #include <eulervop/certify/detail/ball_lohner_box.hpp>
 #include <eulervop/certify/detail/ball_node_transform.hpp>
+#include <eulervop/certify/detail/breakpoint_term.hpp>
 #include <eulervop/certify/detail/chebyshev_model.hpp>
 #include <eulervop/certify/detail/field_algebra.hpp>
+#include <eulervop/certify/detail/weighted_jacobian_bounds.hpp>
 #include <eulervop/core/numerical_failure.hpp>
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/reference/segment.hpp>
@@ -75,6 +77,9 @@ class ball_segment_check {
   void prepare(const chebyshev_segment<T, D>& seg);
 
   [[noreturn]] void fail(outcome_kind cause, double value = 0, const std::string& detail = {}) const;
+  // The ball of e at a + dt (after ball_certifier::advance): |Phi - Phi_num| |W e(a)| +
+  // |W (u - u_num)|, each propagated, + dt exp(mu+ dt) c R^2.
+  void error_ball(const mag_t dt, mag_t out) const;
 
   const certification_problem* problem;
   std::size_t D, n1;
@@ -88,16 +93,7 @@ class ball_segment_check {
   // of |W v| bounds each component |v_i| by B / weight_i.
   std::vector<double> weight;
   mag_value rsup, jmax, mu_plus, c, R_cap, psup;
-  // The breakpoint windows (breakpoint_term): the jump of e at a's (signed where one exact
-  // breakpoint stands behind it), the bound of the term of b's, and, for rows, each window that
-  // touches the segment with its bound.
-  std::vector<ball> jump_a;
-  std::vector<mag_value> omega_b;
-  struct touching_window {
-    ball hull;
-    std::vector<mag_value> bound;
-  };
-  std::vector<touching_window> windows;
+  detail::breakpoint_term breakpoints;  // the windows that touch a or b (detail/breakpoint_term.hpp)
   std::vector<mag_value> fabs;  // |F_i| over the tube, whichever formula set applies
   std::size_t set = 0;
   detail::ball_linear_flow flow;
@@ -106,13 +102,19 @@ class ball_segment_check {
   std::unique_ptr<detail::ball_lohner_box> box_at_a;
 
  private:
+  template <scalar T, std::size_t Dim>
+  void load(const chebyshev_segment<T, Dim>& seg);
+  void polynomial();
+  void field_and_residual();
   void bounds_of_jacobian();
+  void residual_sup();
   void tube_bounds();
-  void breakpoint_term();
 
   detail::ball_node_transform transform_;
   arb_mat_t coefficients_;
   std::vector<ball> X0_;
+  detail::weighted_jacobian_bounds jacobian_bounds_;
+  std::vector<ball> tube_;  // tube_bounds' box
 
  public:
   ~ball_segment_check() { arb_mat_clear(coefficients_); }
@@ -123,7 +125,7 @@ class ball_segment_check {
 inline ball_segment_check::ball_segment_check(const certification_problem& p,
                                               const detail::ball_node_transform& transform)
     : problem(&p), D(p.dimension), n1(transform.nodes()), start(D), end(D), P(D), r(D), J(D * D), r1(D),
-      weight(D, 1.0), jump_a(D), omega_b(D), flow(D, error_prec), transform_(transform), X0_(D) {
+      weight(D, 1.0), breakpoints(D), flow(D, error_prec), transform_(transform), X0_(D) {
   arb_mat_init(coefficients_, static_cast<slong>(n1), static_cast<slong>(D));
 }
 
@@ -138,19 +140,39 @@ inline void ball_segment_check::fail(outcome_kind cause, double value, const std
 
 template <scalar T, std::size_t Dim>
 void ball_segment_check::prepare(const chebyshev_segment<T, Dim>& seg) {
-  const slong prec = problem->prec;
   if (Dim != D || seg.values.size() != n1) throw std::invalid_argument("ball_segment_check: the segment's shape differs");
+  load(seg);
+  // 1. P's coefficients.
+  polynomial();
+  // 2. The field along P with its Jacobian, and the residual.
+  field_and_residual();
+  // 3. Bounds over the segment and the tube, in the weighted norm.
+  bounds_of_jacobian();
+  residual_sup();
+  tube_bounds();
+  breakpoints.compute(*this);
+  // 4. Phi and u.
+  flow.load_jacobian(std::move(J), weight);
+  J.assign(D * D, detail::chebyshev_model());
+  const double jh = mag_get_d(jmax.m) * arf_get_d(arb_midref(h.get()), ARF_RND_UP);
+  if (!flow.variational(hl, jh)) fail(outcome_kind::certify_non_finite);
+  if (!flow.integral_term(r, hl)) fail(outcome_kind::certify_non_finite);
+}
+
+// The segment's ends and the stored node values, which define P exactly.
+template <scalar T, std::size_t Dim>
+void ball_segment_check::load(const chebyshev_segment<T, Dim>& seg) {
+  const slong prec = problem->prec;
   set_exact(a, seg.tau_begin);
   set_exact(hl, seg.half_length);
   arb_mul_2exp_si(h.get(), hl.get(), 1);
   arb_add(b.get(), a.get(), h.get(), prec);
-  ball lo;
+  ball lo, v;
   for (std::size_t i = 0; i < D; ++i) {
     set_exact(X0_[i], seg.base[i]);
     set_exact(lo, seg.base_lo[i]);
     arb_add(X0_[i].get(), X0_[i].get(), lo.get(), prec);
     for (std::size_t j = 0; j < n1; ++j) {
-      ball v;
       set_exact(v, seg.values[j][i]);
       if (!arb_is_finite(v.get())) fail(outcome_kind::certify_non_finite);
       arb_set(transform_.value(j, i), v.get());
@@ -159,7 +181,10 @@ void ball_segment_check::prepare(const chebyshev_segment<T, Dim>& seg) {
     arb_add(end[i].get(), X0_[i].get(), transform_.value(n1 - 1, i), prec);
   }
   if (!arb_is_finite(a.get()) || !arb_is_finite(hl.get())) fail(outcome_kind::certify_non_finite);
-  // 1. P's coefficients.
+}
+
+inline void ball_segment_check::polynomial() {
+  const slong prec = problem->prec;
   transform_.apply(coefficients_);
   for (std::size_t i = 0; i < D; ++i) {
     P[i].resize(static_cast<slong>(n1));
@@ -168,7 +193,11 @@ void ball_segment_check::prepare(const chebyshev_segment<T, Dim>& seg) {
       arb_set(P[i].coeff(static_cast<slong>(k)), arb_mat_entry(coefficients_, static_cast<slong>(k), static_cast<slong>(i)));
     arb_add(P[i].coeff(0), P[i].coeff(0), X0_[i].get(), prec);
   }
-  // 2. The field along P with its Jacobian, and the residual.
+}
+
+// F along P (its Jacobian into J), r = P(-1) + hl int F(P) - P and r(1).
+inline void ball_segment_check::field_and_residual() {
+  const slong prec = problem->prec;
   std::vector<detail::series_jet> F;
   try {
     set = formula_set(*problem, a, b);
@@ -192,8 +221,15 @@ void ball_segment_check::prepare(const chebyshev_segment<T, Dim>& seg) {
     arb_add_error_mag(r1[i].get(), r[i].remainder());
     for (std::size_t k = 0; k < D; ++k) J[i * D + k] = std::move(F[i].d[k]);
   }
-  // 3. Bounds over the segment and the tube, in the weighted norm.
-  bounds_of_jacobian();
+}
+
+// 3. The bounds of J in the weighted norm (detail/weighted_jacobian_bounds.hpp).
+inline void ball_segment_check::bounds_of_jacobian() {
+  if (!jacobian_bounds_.compute(J, D, problem->prec, weight, jmax.m, mu_plus.m)) fail(outcome_kind::certify_non_finite);
+}
+
+// sup |W r| over the segment.
+inline void ball_segment_check::residual_sup() {
   mag_value s;
   mag_zero(rsup.m);
   for (std::size_t i = 0; i < D; ++i) {
@@ -203,100 +239,6 @@ void ball_segment_check::prepare(const chebyshev_segment<T, Dim>& seg) {
   }
   mag_sqrt(rsup.m, rsup.m);
   if (!mag_is_finite(rsup.m)) fail(outcome_kind::certify_non_finite);
-  tube_bounds();
-  breakpoint_term();
-  // 4. Phi and u.
-  flow.load_jacobian(std::move(J), weight);
-  J.assign(D * D, detail::chebyshev_model());
-  const double jh = mag_get_d(jmax.m) * arf_get_d(arb_midref(h.get()), ARF_RND_UP);
-  if (!flow.variational(hl, jh)) fail(outcome_kind::certify_non_finite);
-  if (!flow.integral_term(r, hl)) fail(outcome_kind::certify_non_finite);
-}
-
-// In the weighted norm, W J W^-1 has the entries J_ik w_i / w_k. jmax >= its 2-norm (the Frobenius
-// norm, from the ranges of the entries); mu >= the largest eigenvalue of its symmetric part
-// (Gershgorin's theorem on the ranges of the symmetric part's entries: where w_i = w_k, of the
-// range of J_ik + J_ki itself, so that a skew block such as q's adds nothing). q's weight is the
-// power of two, from 1 down to 2^-12, with the smallest mu: the rates' error drives q's through a
-// coupling that carries the units of the map from the rates to the body's (body_rates.hpp), and
-// with the plain norm that coupling alone would set mu.
-inline void ball_segment_check::bounds_of_jacobian() {
-  const slong prec = problem->prec;
-  const auto group = [](std::size_t i) { return i < 3 ? 0 : 1; };
-  // |J_ik| over the segment; where i and k share a weight, |J_ik + J_ki| / 2; the range of J_ii.
-  std::vector<mag_value> range(D * D), sym(D * D);
-  std::vector<ball> diag(D);
-  ball x;
-  detail::chebyshev_model sum;
-  for (std::size_t q = 0; q < D * D; ++q) {
-    range_of(x, J[q]);
-    arb_get_mag(range[q].m, x.get());
-    if (q % (D + 1) == 0) diag[q / D] = x;
-  }
-  for (std::size_t i = 0; i < D; ++i)
-    for (std::size_t k = i + 1; k < D; ++k) {
-      if (group(i) != group(k)) continue;
-      sum = J[i * D + k];
-      detail::add_to(sum, J[k * D + i], prec);
-      range_of(x, sum);
-      arb_get_mag(sym[i * D + k].m, x.get());
-      mag_mul_2exp_si(sym[i * D + k].m, sym[i * D + k].m, -1);
-      mag_set(sym[k * D + i].m, sym[i * D + k].m);
-    }
-  // mu for q's weight 2^-e: Gershgorin's bound, each row's radius summed in mags (upward).
-  arf_t up, mu_e;
-  arf_init(up);
-  arf_init(mu_e);
-  mag_value m, other;
-  const auto mu_of = [&](int e, arf_t out) {
-    const auto scaled = [&](std::size_t i, std::size_t k, mag_t o) {  // |J_ik| w_i / w_k
-      mag_mul_2exp_si(o, range[i * D + k].m, (group(k) - group(i)) * e);
-    };
-    arf_zero(out);
-    for (std::size_t i = 0; i < D; ++i) {
-      ball row = diag[i];
-      for (std::size_t k = 0; k < D; ++k) {
-        if (k == i) continue;
-        if (group(i) == group(k)) {
-          mag_set(m.m, sym[i * D + k].m);
-        } else {
-          scaled(i, k, m.m);
-          scaled(k, i, other.m);
-          mag_add(m.m, m.m, other.m);
-          mag_mul_2exp_si(m.m, m.m, -1);
-        }
-        arb_add_error_mag(row.get(), m.m);
-      }
-      arb_get_ubound_arf(up, row.get(), prec);
-      arf_max(out, out, up);  // mu+ = max(mu, 0): exp(mu+ dt) bounds |Phi| for growth and decay alike
-    }
-  };
-  int best_e = 0;
-  mu_of(0, mu_e);
-  arf_t best;
-  arf_init(best);
-  arf_set(best, mu_e);
-  if (D == 7)
-    for (int e = 1; e <= 12; ++e) {
-      mu_of(e, mu_e);
-      if (arf_cmp(mu_e, best) < 0) {
-        arf_set(best, mu_e);
-        best_e = e;
-      }
-    }
-  arf_get_mag(mu_plus.m, best);
-  for (std::size_t i = 0; i < D; ++i) weight[i] = std::ldexp(1.0, -best_e * group(i));
-  mag_zero(jmax.m);
-  for (std::size_t i = 0; i < D; ++i)
-    for (std::size_t k = 0; k < D; ++k) {
-      mag_mul_2exp_si(m.m, range[i * D + k].m, (group(k) - group(i)) * best_e);
-      mag_addmul(jmax.m, m.m, m.m);
-    }
-  mag_sqrt(jmax.m, jmax.m);
-  arf_clear(up);
-  arf_clear(mu_e);
-  arf_clear(best);
-  if (!mag_is_finite(jmax.m) || !mag_is_finite(mu_plus.m)) fail(outcome_kind::certify_non_finite);
 }
 
 // The tube |y - P| <= R_cap with R_cap = 2^-20 max(1, sup |P|), where the box would fail the
@@ -311,20 +253,20 @@ inline void ball_segment_check::tube_bounds() {
     mag_max(psup.m, psup.m, m.m);
   }
   mag_mul_2exp_si(R_cap.m, psup.m, -20);
-  std::vector<ball> box(D);
+  tube_.resize(D);
   for (std::size_t i = 0; i < D; ++i) {
-    detail::range_of(box[i], P[i]);
-    arb_add_error_mag(box[i].get(), R_cap.m);
+    detail::range_of(tube_[i], P[i]);
+    arb_add_error_mag(tube_[i].get(), R_cap.m);
   }
   ball t;
   arb_union(t.get(), a.get(), b.get(), prec);
   try {
-    box_bounds(*problem, set, t, box, weight, c.m, fabs);
+    box_bounds(*problem, set, t, tube_, weight, c.m, fabs);
     for (std::size_t other = 0; other < problem->sets.size(); ++other) {
       if (other == set) continue;
       mag_value c_other;
       std::vector<mag_value> f_other;
-      box_bounds(*problem, other, t, box, weight, c_other.m, f_other);
+      box_bounds(*problem, other, t, tube_, weight, c_other.m, f_other);
       for (std::size_t i = 0; i < D; ++i) mag_max(fabs[i].m, fabs[i].m, f_other[i].m);
     }
   } catch (const std::domain_error& e) {
@@ -335,132 +277,6 @@ inline void ball_segment_check::tube_bounds() {
     if (!mag_is_finite(f.m)) fail(outcome_kind::certify_non_finite);
 }
 
-// The breakpoint term of the windows (the hull of a breakpoint of the reference and the exact ones
-// it stands for) that touch a or b. On a window the exact solution y' = F_exact(y) differs from the
-// reference's y' = F(y) by d, |d_i| <= sup |F_other,i - F_i| over the tube (other any formula set),
-// for as long as the window's width; its effect on e is int Phi d, whose component i is at most
-// width (sup|d_i| + (exp(|J| width) - 1) sum_k sup|d_k|) (|Phi - I| <= exp(|J| width) - 1 there):
-// the window's bound. Where one exact breakpoint B* stands behind the reference's B, with the
-// formulas L before and R after, int d = (B* - B) (F_L - F_R)(t, y) for some t in the window and y
-// near y(B), whichever side B* lies on: that signed jump of e enters at the join at B (jump_a), the
-// bound only as its radius; the rows in the window take the bound (whether the window has passed
-// at the row's time is not known). y stays in the tube across the window: it moves by at most
-// width |F|, checked below R_cap/4.
-inline void ball_segment_check::breakpoint_term() {
-  const slong prec = problem->prec;
-  for (std::size_t i = 0; i < D; ++i) {
-    arb_zero(jump_a[i].get());
-    mag_zero(omega_b[i].m);
-  }
-  windows.clear();
-  const detail::box_algebra alg(prec, 0);
-  // The field of formula set `s` over the window's time `t` and the states `y`.
-  const auto field_over = [&](std::size_t s, const ball& t, const std::vector<ball>& y) {
-    std::vector<detail::box_jet> x, F;
-    for (const ball& yi : y) x.push_back(alg.independent(yi));
-    field(*problem, s, alg, alg.independent(t), x, F);
-    return F;
-  };
-  ball span;
-  arb_union(span.get(), a.get(), b.get(), prec);
-  for (const breakpoint_window& w : problem->breakpoints) {
-    const bool at_a = arb_overlaps(w.hull.get(), a.get()), at_b = arb_overlaps(w.hull.get(), b.get());
-    // The reference ends a segment at every breakpoint: one inside a segment means its breakpoints
-    // are not the scene's (the formulas would change where nothing accounts for it).
-    if (!at_a && !at_b && arb_overlaps(w.hull.get(), span.get()))
-      fail(outcome_kind::certify_formula, 0, "a breakpoint of the torque lies inside a segment of the reference");
-    if (!at_a && !at_b) continue;
-    mag_value width, m, move, sum, spread;
-    mag_mul_2exp_si(width.m, arb_radref(w.hull.get()), 1);
-    if (mag_is_zero(width.m)) continue;
-    std::vector<ball> tube(D), near(D);
-    for (std::size_t i = 0; i < D; ++i) {
-      detail::range_of(tube[i], P[i]);
-      arb_add_error_mag(tube[i].get(), R_cap.m);
-      near[i] = at_a ? start[i] : end[i];
-      arb_add_error_mag(near[i].get(), R_cap.m);
-    }
-    std::vector<mag_value> d(D);
-    std::vector<ball> signed_jump;
-    try {
-      const std::vector<detail::box_jet> mine = field_over(set, w.hull, tube);
-      for (std::size_t other = 0; other < problem->sets.size(); ++other) {
-        if (other == set) continue;
-        const std::vector<detail::box_jet> theirs = field_over(other, w.hull, tube);
-        for (std::size_t i = 0; i < D; ++i) {
-          ball di;
-          arb_sub(di.get(), theirs[i].f.get(), mine[i].f.get(), prec);
-          arb_get_mag(m.m, di.get());
-          mag_max(d[i].m, d[i].m, m.m);
-        }
-      }
-      if (at_a && w.exact_count == 1) {
-        // L: the set just before the window (this segment, which starts at B, has R).
-        // L: the set at a time 16 window widths before the window (this segment, which starts at B,
-        // has R); a formula_set_at that cannot tell throws, and the bound alone stands.
-        ball before;
-        arf_t lo, lead;
-        arf_init(lo);
-        arf_init(lead);
-        arb_get_lbound_arf(lo, w.hull.get(), prec);
-        arf_set_mag(lead, width.m);
-        arf_mul_2exp_si(lead, lead, 4);
-        arf_sub(lo, lo, lead, prec, ARF_RND_DOWN);
-        arb_set_arf(before.get(), lo);
-        arf_clear(lo);
-        arf_clear(lead);
-        std::optional<std::size_t> L;
-        try {
-          L = formula_set_at(*problem, before);
-        } catch (const std::domain_error&) {
-        }
-        if (L) {
-          const std::vector<detail::box_jet> left = field_over(*L, w.hull, near),
-                                             right = field_over(set, w.hull, near);
-          ball distance;
-          arb_sub(distance.get(), w.exact.get(), w.reference.get(), prec);
-          signed_jump.resize(D);
-          for (std::size_t i = 0; i < D; ++i) {
-            arb_sub(signed_jump[i].get(), left[i].f.get(), right[i].f.get(), prec);
-            arb_mul(signed_jump[i].get(), signed_jump[i].get(), distance.get(), prec);
-          }
-        }
-      }
-    } catch (const std::domain_error& e) {
-      fail(outcome_kind::certify_formula, 0, e.what());
-    }
-    for (std::size_t i = 0; i < D; ++i) {
-      mag_add(sum.m, sum.m, d[i].m);
-      mag_addmul(move.m, fabs[i].m, fabs[i].m);
-    }
-    mag_sqrt(move.m, move.m);
-    mag_mul(move.m, move.m, width.m);
-    mag_mul_2exp_si(m.m, R_cap.m, -2);
-    if (mag_cmp(move.m, m.m) > 0) fail(outcome_kind::certify_growth, 0, "a breakpoint's window is too wide");
-    // (exp(|J| width) - 1) sum_k d_k, with |J|_2 <= jmax / min w in the plain norm.
-    mag_mul(spread.m, jmax.m, width.m);
-    mag_mul_2exp_si(spread.m, spread.m, -std::ilogb(*std::min_element(weight.begin(), weight.end())));
-    mag_expm1(spread.m, spread.m);
-    mag_mul(spread.m, spread.m, sum.m);
-    touching_window tw{w.hull, std::vector<mag_value>(D)};
-    for (std::size_t i = 0; i < D; ++i) {
-      mag_add(m.m, d[i].m, spread.m);
-      mag_mul(tw.bound[i].m, m.m, width.m);
-      if (at_b) mag_add(omega_b[i].m, omega_b[i].m, tw.bound[i].m);
-      if (at_a) {
-        if (signed_jump.empty()) {
-          arb_add_error_mag(jump_a[i].get(), tw.bound[i].m);
-        } else {
-          mag_mul(m.m, spread.m, width.m);
-          arb_add_error_mag(signed_jump[i].get(), m.m);
-          arb_add(jump_a[i].get(), jump_a[i].get(), signed_jump[i].get(), prec);
-        }
-      }
-    }
-    windows.push_back(std::move(tw));
-  }
-}
-
 class ball_certifier {
  public:
   using check = ball_segment_check;
@@ -469,7 +285,8 @@ class ball_certifier {
   ball_certifier(certification_problem problem, std::size_t degree)
       : problem_(std::make_shared<const certification_problem>(std::move(problem))),
         transform_(problem_->prec, degree, problem_->dimension), box_(problem_->dimension, error_prec),
-        prev_end_(problem_->dimension) {}
+        prev_end_(problem_->dimension), e_(problem_->dimension), w_(problem_->dimension),
+        plain_(problem_->dimension, 1.0) {}
 
   const certification_problem& problem() const { return *problem_; }
 
@@ -499,14 +316,20 @@ class ball_certifier {
   std::vector<ball> prev_end_;
   ball prev_b_;
   bool started_ = false;
+  // advance's scratch, kept between segments: e(a), the signed part at b, the plain norm's weights.
+  std::vector<ball> e_, w_;
+  std::vector<mag_value> ball_b_;
+  std::vector<double> plain_;
+
+  void error_at_a(ball_segment_check& c);
+  void a_priori_bound(ball_segment_check& c) const;
 };
 
 namespace detail {
 // A bound B of |W v|_2 as bounds of each component: |v_i| <= B / w_i.
-inline std::vector<mag_value> per_component(const mag_value& B, const std::vector<double>& weight) {
-  std::vector<mag_value> out(weight.size());
+inline void per_component(const mag_value& B, const std::vector<double>& weight, std::vector<mag_value>& out) {
+  out.resize(weight.size());
   for (std::size_t i = 0; i < weight.size(); ++i) mag_mul_2exp_si(out[i].m, B.m, -std::ilogb(weight[i]));
-  return out;
 }
 // exp(mu+ dt) and the factor (1 + dt exp(mu+ dt) jmax) of a residual's propagated error.
 inline void growth_factors(const mag_t mu_plus, const mag_t jmax, const mag_t dt, mag_t expo, mag_t factor) {
@@ -518,43 +341,83 @@ inline void growth_factors(const mag_t mu_plus, const mag_t jmax, const mag_t dt
 }
 }  // namespace detail
 
+inline void ball_segment_check::error_ball(const mag_t dt, mag_t out) const {
+  mag_value expo, factor, t;
+  detail::growth_factors(mu_plus.m, jmax.m, dt, expo.m, factor.m);
+  mag_mul(out, flow.phi_residual(), factor.m);
+  mag_mul(out, out, rho_a.m);
+  mag_mul(t.m, flow.u_residual(), factor.m);
+  mag_add(out, out, t.m);
+  mag_mul(t.m, R.m, R.m);
+  mag_mul(t.m, t.m, c.m);
+  mag_mul(t.m, t.m, dt);
+  mag_mul(t.m, t.m, expo.m);
+  mag_add(out, out, t.m);
+}
+
 inline std::unique_ptr<ball_segment_check> ball_certifier::advance(std::unique_ptr<ball_segment_check> prepared) {
   ball_segment_check& c = *prepared;
   const std::size_t D = problem_->dimension;
+  error_at_a(c);
+  a_priori_bound(c);
+  // The box at b: Phi(b, a) e(a) + r(b) + u(b) + [the ball at b]. (A window at b enters at the
+  // next segment's join, whole.)
+  mag_value hm, ball_b;
+  arb_get_mag(hm.m, c.h.get());
+  c.error_ball(hm.m, ball_b.m);
+  for (std::size_t i = 0; i < D; ++i) arb_add(w_[i].get(), c.r1[i].get(), c.flow.u1()[i].get(), problem_->prec);
+  detail::per_component(ball_b, c.weight, ball_b_);
+  if (!box_.step(c.flow.Phi1(), w_, ball_b_)) c.fail(outcome_kind::certify_non_finite);
+  // Growth: a box beyond 2^-20 of the state is of no use to anyone (as lohner_box.hpp).
+  mag_value size;
+  box_.norm(size.m, plain_);
+  if (!mag_is_finite(size.m)) c.fail(outcome_kind::certify_non_finite);
+  if (mag_cmp(size.m, c.R_cap.m) > 0) c.fail(outcome_kind::certify_growth, mag_get_d(size.m) / mag_get_d(c.psup.m));
+  for (std::size_t i = 0; i < D; ++i) prev_end_[i] = c.end[i];
+  prev_b_ = c.b;
+  started_ = true;
+  std::swap(current_, prepared);
+  return prepared;
+}
+
+// e(a): the scene's exact initial state less P(a), or the previous segment's box plus the jump
+// between the two polynomials at the join; and a breakpoint window there (breakpoint_term). The
+// box at a and |W e(a)| into the check.
+inline void ball_certifier::error_at_a(ball_segment_check& c) {
   const slong prec = problem_->prec;
-  // e(a): the scene's exact initial state less P(a), or the previous segment's box plus the jump
-  // between the two polynomials at the join; and a breakpoint window there (breakpoint_term).
-  std::vector<ball> e(D);
-  for (std::size_t i = 0; i < D; ++i) {
+  for (std::size_t i = 0; i < problem_->dimension; ++i) {
     if (started_)
-      arb_sub(e[i].get(), prev_end_[i].get(), c.start[i].get(), prec);
+      arb_sub(e_[i].get(), prev_end_[i].get(), c.start[i].get(), prec);
     else
-      arb_sub(e[i].get(), problem_->initial[i].get(), c.start[i].get(), prec);
-    arb_add(e[i].get(), e[i].get(), c.jump_a[i].get(), prec);
+      arb_sub(e_[i].get(), problem_->initial[i].get(), c.start[i].get(), prec);
+    arb_add(e_[i].get(), e_[i].get(), c.breakpoints.jump_a[i].get(), prec);
   }
   if (started_) {
     if (!arb_equal(prev_b_.get(), c.a.get())) c.fail(outcome_kind::certify_segment_gap);
-    box_.join(e);
+    box_.join(e_);
   } else {
-    box_.start(e);
+    box_.start(e_);
   }
   if (!c.box_at_a) c.box_at_a = std::make_unique<detail::ball_lohner_box>(box_);
   else *c.box_at_a = box_;
   box_.norm(c.rho_a.m, c.weight);
-  // The a-priori bound, in the weighted norm |W .| of the segment. z = e - r solves z' = J z + J r + N(e) (+ the breakpoint term), z(a) = e(a),
-  // so while |e| <= R, |z| <= exp(mu+ h) (|e(a)| + omega + h (jmax sup|r| + c R^2)) (the logarithmic
-  // norm's comparison theorem) and |e| <= |z| + sup|r|. With R = 2 (exp(mu+ h) (|e(a)| + omega +
-  // h jmax sup|r|) + sup|r|), that is below R when exp(mu+ h) h c R < 1/2, and |e| never reaches R
-  // (continuity from |e(a)| < R).
-  mag_value R, hm, expo, factor, t;
+}
+
+// The a-priori bound, in the weighted norm |W .| of the segment. z = e - r solves
+// z' = J z + J r + N(e) (+ the breakpoint term), z(a) = e(a), so while |e| <= R,
+// |z| <= exp(mu+ h) (|e(a)| + omega + h (jmax sup|r| + c R^2)) (the logarithmic norm's comparison
+// theorem) and |e| <= |z| + sup|r|. With R = 2 (exp(mu+ h) (|e(a)| + omega + h jmax sup|r|) +
+// sup|r|), that is below R when exp(mu+ h) h c R < 1/2, and |e| never reaches R (continuity from
+// |e(a)| < R). Into c.R, and c.R_plain >= |e|_2.
+inline void ball_certifier::a_priori_bound(ball_segment_check& c) const {
+  mag_value R, hm, expo, factor, t, omega;
   arb_get_mag(hm.m, c.h.get());
   detail::growth_factors(c.mu_plus.m, c.jmax.m, hm.m, expo.m, factor.m);
   mag_mul(R.m, c.jmax.m, c.rsup.m);
   mag_mul(R.m, R.m, hm.m);
   mag_add(R.m, R.m, c.rho_a.m);
-  mag_value omega;
-  for (std::size_t i = 0; i < D; ++i) {
-    mag_mul_2exp_si(t.m, c.omega_b[i].m, std::ilogb(c.weight[i]));
+  for (std::size_t i = 0; i < problem_->dimension; ++i) {
+    mag_mul_2exp_si(t.m, c.breakpoints.omega_b[i].m, std::ilogb(c.weight[i]));
     mag_addmul(omega.m, t.m, t.m);
   }
   mag_sqrt(omega.m, omega.m);
@@ -567,36 +430,12 @@ inline std::unique_ptr<ball_segment_check> ball_certifier::advance(std::unique_p
   mag_mul(t.m, t.m, R.m);
   mag_mul_2exp_si(t.m, t.m, 1);
   // |e|_2 <= |W e| / min w: the tube of c and |F| must hold it (with room for rows moved along tau).
+  const int min_w = std::ilogb(*std::min_element(c.weight.begin(), c.weight.end()));
   mag_value half_cap;
-  mag_mul_2exp_si(half_cap.m, c.R_cap.m, -1 + std::ilogb(*std::min_element(c.weight.begin(), c.weight.end())));
+  mag_mul_2exp_si(half_cap.m, c.R_cap.m, -1 + min_w);
   if (!(mag_cmp_2exp_si(t.m, 0) < 0) || mag_cmp(R.m, half_cap.m) > 0) c.fail(outcome_kind::certify_a_priori);
   mag_set(c.R.m, R.m);
-  mag_mul_2exp_si(c.R_plain.m, R.m, -std::ilogb(*std::min_element(c.weight.begin(), c.weight.end())));
-  // The ball at b: |Phi - Phi_num| |e(a)| + |u - u_num| + h exp(mu+ h) c R^2. (A window at b enters
-  // at the next segment's join, whole.)
-  mag_value ball_b;
-  mag_mul(ball_b.m, c.flow.phi_residual(), factor.m);
-  mag_mul(ball_b.m, ball_b.m, c.rho_a.m);
-  mag_mul(t.m, c.flow.u_residual(), factor.m);
-  mag_add(ball_b.m, ball_b.m, t.m);
-  mag_mul(t.m, R.m, R.m);
-  mag_mul(t.m, t.m, c.c.m);
-  mag_mul(t.m, t.m, hm.m);
-  mag_mul(t.m, t.m, expo.m);
-  mag_add(ball_b.m, ball_b.m, t.m);
-  std::vector<ball> w(D);
-  for (std::size_t i = 0; i < D; ++i) arb_add(w[i].get(), c.r1[i].get(), c.flow.u1()[i].get(), prec);
-  if (!box_.step(c.flow.Phi1(), w, detail::per_component(ball_b, c.weight))) c.fail(outcome_kind::certify_non_finite);
-  // Growth: a box beyond 2^-20 of the state is of no use to anyone (as lohner_box.hpp).
-  mag_value size;
-  box_.norm(size.m, std::vector<double>(D, 1.0));
-  if (!mag_is_finite(size.m)) c.fail(outcome_kind::certify_non_finite);
-  if (mag_cmp(size.m, c.R_cap.m) > 0) c.fail(outcome_kind::certify_growth, mag_get_d(size.m) / mag_get_d(c.psup.m));
-  for (std::size_t i = 0; i < D; ++i) prev_end_[i] = c.end[i];
-  prev_b_ = c.b;
-  started_ = true;
-  std::swap(current_, prepared);
-  return prepared;
+  mag_mul_2exp_si(c.R_plain.m, R.m, -min_w);
 }
 
 template <scalar T>
@@ -622,28 +461,20 @@ ball_row ball_certifier::enclose(const T& tau) const {
   c.flow.Phi_at(Ts, Phi);
   c.flow.u_at(Ts, u);
   c.box_at_a->image(Phi, e);
-  mag_value dtm, expo, factor, rowball, t;
+  mag_value dtm, rowball;
   arb_get_mag(dtm.m, dt.get());
-  detail::growth_factors(c.mu_plus.m, c.jmax.m, dtm.m, expo.m, factor.m);
-  mag_mul(rowball.m, c.flow.phi_residual(), factor.m);
-  mag_mul(rowball.m, rowball.m, c.rho_a.m);
-  mag_mul(t.m, c.flow.u_residual(), factor.m);
-  mag_add(rowball.m, rowball.m, t.m);
-  mag_mul(t.m, c.R.m, c.R.m);
-  mag_mul(t.m, t.m, c.c.m);
-  mag_mul(t.m, t.m, dtm.m);
-  mag_mul(t.m, t.m, expo.m);
-  mag_add(rowball.m, rowball.m, t.m);
+  c.error_ball(dtm.m, rowball.m);
   ball_row out;
   out.y.resize(D);
   ball v;
-  const std::vector<mag_value> radius = detail::per_component(rowball, c.weight);
+  std::vector<mag_value> radius;
+  detail::per_component(rowball, c.weight, radius);
   for (std::size_t i = 0; i < D; ++i) {
     detail::evaluate(v, c.r[i], Ts, error_prec);
     arb_add(e[i].get(), e[i].get(), v.get(), error_prec);
     arb_add(e[i].get(), e[i].get(), u[i].get(), error_prec);
     arb_add_error_mag(e[i].get(), radius[i].m);
-    for (const ball_segment_check::touching_window& w : c.windows)
+    for (const detail::breakpoint_term::touching_window& w : c.breakpoints.windows)
       if (arb_overlaps(w.hull.get(), tb.get())) arb_add_error_mag(e[i].get(), w.bound[i].m);
     detail::evaluate(out.y[i], c.P[i], Tp, prec);
     arb_add(out.y[i].get(), out.y[i].get(), e[i].get(), prec);
