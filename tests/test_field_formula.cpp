@@ -118,7 +118,9 @@ TEST(FieldFormula, ValueAndPartialAlongModelsHoldTheFormulaAtEveryPoint) {
 }
 
 TEST(FieldFormula, ConstantsFoldAsArbEvaluatesThem) {
-  const eulervop::detail::ball_formula formula(parse("(1 + 1/4)^-2 * pi - sqrt(2)/3 + log(7) * cosh(1/2)"), 200);
+  // ball_formula keeps a pointer to its expression: the expression outlives it.
+  const eulervop::expression e = parse("(1 + 1/4)^-2 * pi - sqrt(2)/3 + log(7) * cosh(1/2)");
+  const eulervop::detail::ball_formula formula(e, 200);
   ASSERT_TRUE(formula.is_constant());
   const ball got = formula.constant_value(200);
   ball truth, t;  // 16/25 pi - sqrt(2) / 3 + log(7) cosh(1/2) at 2000 bits
@@ -140,7 +142,8 @@ TEST(FieldFormula, ConstantsFoldAsArbEvaluatesThem) {
 
 // The message of the error a formula throws over the box y1 in [-1/2, 1/2], y2 = y3 = 1.
 std::string refusal(const std::string& text) {
-  const eulervop::detail::ball_formula formula(parse(text), 64);
+  const eulervop::expression e = parse(text);
+  const eulervop::detail::ball_formula formula(e, 64);
   const eulervop::detail::box_algebra alg(64, 3);
   ball y1;
   mag_set_ui_2exp_si(arb_radref(y1.get()), 1, -1);
@@ -176,6 +179,22 @@ TEST(ChebyshevComposition, EllipseDiskHoldsThePolynomialOnTheEllipse) {
     eulervop::detail::ellipse_disk_radius(B.m, c, rho);
     ball Bb;
     arf_set_mag(arb_midref(Bb.get()), B.m);
+    // Tight: B is sum |c_k| (rho^k + rho^-k) / 2 itself (the largest |S| on the ellipse, at w = rho
+    // for positive c_k), rounded up by at most 2^-20 of it (mags carry 30 bits).
+    ball exact, r, term;
+    for (std::size_t k = 1; k < num.size(); ++k) {
+      arb_set_d(r.get(), rho);
+      arb_pow_ui(term.get(), r.get(), k, truth_prec);
+      arb_inv(r.get(), term.get(), truth_prec);
+      arb_add(term.get(), term.get(), r.get(), truth_prec);
+      arb_mul_si(term.get(), term.get(), num[k] < 0 ? -num[k] : num[k], truth_prec);
+      arb_mul_2exp_si(term.get(), term.get(), -7);  // c_k = num_k / 64, halved
+      arb_add(exact.get(), exact.get(), term.get(), truth_prec);
+    }
+    EXPECT_TRUE(arb_le(exact.get(), Bb.get())) << "rho " << rho;
+    arb_mul_2exp_si(r.get(), exact.get(), -20);
+    arb_add(r.get(), r.get(), exact.get(), truth_prec);
+    EXPECT_TRUE(arb_le(Bb.get(), r.get())) << "rho " << rho;
     for (int j = 0; j < 64; ++j) {  // w = rho e^(i pi j / 32): S = sum_{k>=1} c_k (w^k + w^-k) / 2
       acb_t w, wk, wi, S, t;
       for (acb_ptr z : {w, wk, wi, S, t}) acb_init(z);
