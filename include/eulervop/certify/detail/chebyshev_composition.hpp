@@ -301,6 +301,114 @@ class lobatto_interpolation {
   arb_mat_t coefficients_;
 };
 
+// The Bernstein ellipse taken for f(p): its rho, the points' degree n it needs, and M >= |f| on it.
+struct ellipse_choice {
+  std::size_t n = 0;  // 0: no ellipse avoids f's singularities
+  double rho = 0;
+  mag_value M;
+};
+
+// B = sum_{k>=1} |c_k| (rho^k + rho^-k) / 2, upward (rho is exact in double): the radius of the
+// disk about c_0 that holds p(z) on E_rho, since |T_k(z)| <= (rho^k + rho^-k) / 2 there.
+inline void ellipse_disk_radius(mag_t B, const std::vector<mag_value>& c, double rho) {
+  mag_value power, inv_power, term, r, ri, rl;
+  mag_zero(B);
+  mag_set_d(r.m, rho);
+  mag_set_d_lower(rl.m, rho);
+  mag_one(ri.m);
+  mag_div(ri.m, ri.m, rl.m);
+  mag_one(power.m);
+  mag_one(inv_power.m);
+  for (std::size_t k = 1; k < c.size(); ++k) {
+    mag_mul(power.m, power.m, r.m);
+    mag_mul(inv_power.m, inv_power.m, ri.m);
+    mag_add(term.m, power.m, inv_power.m);
+    mag_mul(term.m, term.m, c[k].m);
+    mag_add(B, B, term.m);
+  }
+  mag_mul_2exp_si(B, B, -1);
+}
+
+// |f| over the disk of centre c_0 (with its radius) and radius B, as M; false where f may not be
+// analytic on it or M is not finite.
+inline bool bound_on_disk(mag_t M, elementary f, arb_srcptr c0, const mag_t B, slong prec) {
+  acb_t disk, image;
+  acb_init(disk);
+  acb_init(image);
+  if (c0)
+    arb_set(acb_realref(disk), c0);
+  else
+    arb_zero(acb_realref(disk));
+  arb_add_error_mag(acb_realref(disk), B);
+  arb_zero(acb_imagref(disk));
+  arb_add_error_mag(acb_imagref(disk), B);
+  const bool analytic = elementary_on_complex(f, disk, image, prec);
+  if (analytic) acb_get_mag(M, image);
+  acb_clear(disk);
+  acb_clear(image);
+  return analytic && mag_is_finite(M);
+}
+
+// The ellipse among rho in {1.5, ..., 256} whose bound 4 M rho^-n / (rho - 1) (Trefethen,
+// Theorem 8.2) reaches 2^log2_target with the fewest points (at least 8). The rho grow, and so do
+// the disks: the first that fails ends the search.
+inline ellipse_choice choose_ellipse(elementary f, const chebyshev_model& u, double log2_target, slong prec) {
+  const slong L = u.length();
+  std::vector<mag_value> c(static_cast<std::size_t>(std::max<slong>(L, 1)));  // |c_k|, k >= 1
+  for (slong k = 1; k < L; ++k) arb_get_mag(c[static_cast<std::size_t>(k)].m, u.coeff(k));
+  ellipse_choice best;
+  for (const double rho : {1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0, 64.0, 128.0, 256.0}) {
+    mag_value B, M;
+    ellipse_disk_radius(B.m, c, rho);
+    if (!mag_is_finite(B.m)) break;
+    if (!bound_on_disk(M.m, f, L > 0 ? u.coeff(0) : nullptr, B.m, prec)) break;
+    // The least n with 4 M rho^-n / (rho - 1) <= target: the choice only (the bound is computed
+    // upward for the n taken, composition_remainder).
+    const double need = 2 + mag_get_d_log2_approx(M.m) - std::log2(rho - 1) - log2_target;
+    const double n = std::max(8.0, std::ceil(need / std::log2(rho)));
+    if (!std::isfinite(n)) continue;
+    const auto ni = static_cast<std::size_t>(std::min(n, 1e6));
+    if (best.n == 0 || ni < best.n) {
+      best.n = ni;
+      best.rho = rho;
+      mag_set(best.M.m, M.m);
+    }
+  }
+  return best;
+}
+
+// out = the degree-n interpolant of f(p) at the Lobatto points (p: u's polynomial, without its
+// remainder), from the values f(p(s_j)) in balls.
+inline void interpolate(chebyshev_model& out, elementary f, const chebyshev_model& u, std::size_t n, slong prec) {
+  lobatto_interpolation& li = lobatto_interpolation::of(prec, n);
+  chebyshev_model poly = u;
+  mag_zero(poly.remainder());
+  ball p, v;
+  for (std::size_t j = 0; j <= n; ++j) {
+    evaluate(p, poly, li.point(j), prec);
+    if (!elementary_on_ball(f, p, &v, nullptr, nullptr, prec))
+      throw std::domain_error("a value outside the function's domain on the segment");
+    arb_set(li.value(j), v.get());
+  }
+  li.coefficients(out);
+}
+
+// The remainder of f(u)'s model: the interpolation's bound 4 M rho^-n / (rho - 1) (rho and rho - 1
+// rounded down, so the bound rounds up), and u's remainder times d1 >= sup |f'| over u's range
+// (the mean value theorem).
+inline void composition_remainder(mag_t out, const ellipse_choice& e, std::size_t n, const ball& d1,
+                                  const chebyshev_model& u) {
+  mag_value t, rhom, rho_minus_one;
+  mag_set_d_lower(rhom.m, e.rho);
+  mag_set_d_lower(rho_minus_one.m, e.rho - 1);
+  mag_pow_ui_lower(t.m, rhom.m, n);
+  mag_div(out, e.M.m, t.m);
+  mag_div(out, out, rho_minus_one.m);
+  mag_mul_2exp_si(out, out, 2);
+  arb_get_mag(t.m, d1.get());
+  mag_addmul(out, t.m, u.remainder());
+}
+
 // out = the model of f(u) (out distinct from u), its remainder within 2^-target_bits of sup |f|
 // over u's range where at most `max_degree` points reach that; std::domain_error where u's range
 // leaves f's domain.
@@ -314,60 +422,8 @@ inline void compose(chebyshev_model& out, elementary f, const chebyshev_model& u
   arb_get_mag(scale.m, fr.get());
   if (mag_is_zero(scale.m)) mag_one(scale.m);
   const double log2_target = mag_get_d_log2_approx(scale.m) - static_cast<double>(target_bits);
-  const slong L = u.length();
-  std::vector<mag_value> c(static_cast<std::size_t>(std::max<slong>(L, 1)));  // |c_k|, k >= 1
-  for (slong k = 1; k < L; ++k) arb_get_mag(c[static_cast<std::size_t>(k)].m, u.coeff(k));
-  acb_t disk, image;
-  acb_init(disk);
-  acb_init(image);
-  std::size_t best_n = 0;
-  mag_value best_M;
-  double best_rho = 0;
-  for (const double rho : {1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0, 64.0, 128.0, 256.0}) {
-    // B = sum_{k>=1} |c_k| (rho^k + rho^-k) / 2, upward (rho is exact in double).
-    mag_value B, power, inv_power, term, r, ri, rl;
-    mag_set_d(r.m, rho);
-    mag_set_d_lower(rl.m, rho);
-    mag_one(ri.m);
-    mag_div(ri.m, ri.m, rl.m);
-    mag_one(power.m);
-    mag_one(inv_power.m);
-    for (slong k = 1; k < L; ++k) {
-      mag_mul(power.m, power.m, r.m);
-      mag_mul(inv_power.m, inv_power.m, ri.m);
-      mag_add(term.m, power.m, inv_power.m);
-      mag_mul(term.m, term.m, c[static_cast<std::size_t>(k)].m);
-      mag_add(B.m, B.m, term.m);
-    }
-    mag_mul_2exp_si(B.m, B.m, -1);
-    if (!mag_is_finite(B.m)) break;
-    // The disk as a complex ball: centre c_0 (with its radius), radius B in both parts.
-    if (L > 0)
-      arb_set(acb_realref(disk), u.coeff(0));
-    else
-      arb_zero(acb_realref(disk));
-    arb_add_error_mag(acb_realref(disk), B.m);
-    arb_zero(acb_imagref(disk));
-    arb_add_error_mag(acb_imagref(disk), B.m);
-    if (!elementary_on_complex(f, disk, image, prec)) break;  // a larger rho only grows the disk
-    mag_value M;
-    acb_get_mag(M.m, image);
-    if (!mag_is_finite(M.m)) break;
-    // The least n with 4 M rho^-n / (rho - 1) <= target: the choice only (the bound is computed
-    // upward below for the n taken).
-    const double need = 2 + mag_get_d_log2_approx(M.m) - std::log2(rho - 1) - log2_target;
-    const double n = std::max(8.0, std::ceil(need / std::log2(rho)));
-    if (!std::isfinite(n)) continue;
-    const auto ni = static_cast<std::size_t>(std::min(n, 1e6));
-    if (best_n == 0 || ni < best_n) {
-      best_n = ni;
-      best_rho = rho;
-      mag_set(best_M.m, M.m);
-    }
-  }
-  acb_clear(disk);
-  acb_clear(image);
-  if (best_n == 0) {
+  const ellipse_choice e = choose_ellipse(f, u, log2_target, prec);
+  if (e.n == 0) {
     // No ellipse avoids f's singularities (u comes close to one): f over the whole range, as a
     // constant and a remainder.
     out.resize(1);
@@ -376,31 +432,10 @@ inline void compose(chebyshev_model& out, elementary f, const chebyshev_model& u
     mag_set(out.remainder(), arb_radref(fr.get()));
     return;
   }
-  const std::size_t n = std::min(best_n, max_degree);
-  // The values f(p(s_j)) in balls (p: u's polynomial; u's remainder enters below), then the
-  // interpolant's coefficients.
-  lobatto_interpolation& li = lobatto_interpolation::of(prec, n);
-  chebyshev_model poly = u;
-  mag_zero(poly.remainder());
-  ball p, v;
-  for (std::size_t j = 0; j <= n; ++j) {
-    evaluate(p, poly, li.point(j), prec);
-    if (!elementary_on_ball(f, p, &v, nullptr, nullptr, prec))
-      throw std::domain_error("a value outside the function's domain on the segment");
-    arb_set(li.value(j), v.get());
-  }
-  li.coefficients(out);
-  // The remainder: the interpolation's bound 4 M rho^-n / (rho - 1), and u's remainder times
-  // sup |f'| over u's range.
-  mag_value rem, t, rhom, rho_minus_one;
-  mag_set_d_lower(rhom.m, best_rho);
-  mag_set_d_lower(rho_minus_one.m, best_rho - 1);
-  mag_pow_ui_lower(t.m, rhom.m, n);
-  mag_div(rem.m, best_M.m, t.m);
-  mag_div(rem.m, rem.m, rho_minus_one.m);
-  mag_mul_2exp_si(rem.m, rem.m, 2);
-  arb_get_mag(t.m, d1.get());
-  mag_addmul(rem.m, t.m, u.remainder());
+  const std::size_t n = std::min(e.n, max_degree);
+  interpolate(out, f, u, n, prec);
+  mag_value rem;
+  composition_remainder(rem.m, e, n, d1, u);
   mag_set(out.remainder(), rem.m);
 }
 

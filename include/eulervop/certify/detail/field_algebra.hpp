@@ -307,14 +307,33 @@ class ball_formula {
   ball constant_value(slong prec) const;
 
  private:
+  // A stack entry: a folded constant (c) or a value in the algebra (v).
   template <class Value>
   struct slot {
     bool constant = true;
     ball c;
     Value v{};
   };
+  template <class Algebra>
+  using stack_of = std::vector<slot<typename Algebra::value>>;
+
+  undefined_formula undefined(const char* why) const { return undefined_formula("`" + source_->text + "`: " + why); }
   void apply_function(expression_op op, ball& x, slong prec) const;
   static void power(ball& x, std::int32_t n, slong prec);
+  template <class Apply>
+  void defined(Apply&& apply) const;
+  template <class Algebra>
+  static typename Algebra::value& as_value(const Algebra& alg, slot<typename Algebra::value>& s);
+  template <class Algebra>
+  const typename Algebra::value& variable(const formula_variables<Algebra>& vars, std::int32_t arg) const;
+  void fold(expression_op op, ball& a, const ball& b, slong prec) const;
+  template <class Algebra>
+  void binary(const Algebra& alg, expression_op op, stack_of<Algebra>& stack) const;
+  template <class Algebra>
+  void power_step(const Algebra& alg, std::int32_t n, slot<typename Algebra::value>& a) const;
+  template <class Algebra>
+  void step(const Algebra& alg, const formula_variables<Algebra>& vars, const expression_step& s,
+            stack_of<Algebra>& stack) const;
 
   const expression* source_ = nullptr;
   std::vector<ball> constants_;
@@ -347,9 +366,6 @@ inline void ball_formula::power(ball& x, std::int32_t n, slong prec) {
 }
 
 inline void ball_formula::apply_function(expression_op op, ball& x, slong prec) const {
-  const auto undefined = [&](const char* why) {
-    return undefined_formula("`" + source_->text + "`: " + why);
-  };
   switch (op) {
     case expression_op::sin: arb_sin(x.get(), x.get(), prec); break;
     case expression_op::cos: arb_cos(x.get(), x.get(), prec); break;
@@ -370,123 +386,139 @@ inline void ball_formula::apply_function(expression_op op, ball& x, slong prec) 
   if (!arb_is_finite(x.get())) throw undefined("a value that is not finite");
 }
 
+// Runs apply(): a std::domain_error from it (a function of a variable undefined where the variable
+// may be) becomes an undefined_formula that names the formula and the cause.
+template <class Apply>
+void ball_formula::defined(Apply&& apply) const {
+  try {
+    apply();
+  } catch (const undefined_formula&) {
+    throw;
+  } catch (const std::domain_error& e) {
+    throw undefined_formula("`" + source_->text + "`: " + e.what());
+  }
+}
+
+// The entry as a value in the algebra (a constant becomes one there).
+template <class Algebra>
+typename Algebra::value& ball_formula::as_value(const Algebra& alg, slot<typename Algebra::value>& s) {
+  if (s.constant) {
+    s.v = alg.constant(s.c);
+    s.constant = false;
+  }
+  return s.v;
+}
+
+// The variable of a variable step: the time, a state component or an attitude component.
+template <class Algebra>
+const typename Algebra::value& ball_formula::variable(const formula_variables<Algebra>& vars, std::int32_t arg) const {
+  const typename Algebra::value* v =
+      arg == expression::time_slot    ? vars.time
+      : arg <= expression::state_slots ? vars.state[static_cast<std::size_t>(arg - 1)]
+                                       : vars.attitude[static_cast<std::size_t>(arg - expression::attitude_slot)];
+  if (!v) throw std::logic_error("ball_formula: `" + source_->text + "` names a variable that is not given");
+  return *v;
+}
+
+// a = a op b of two constants (op one of + - * /).
+inline void ball_formula::fold(expression_op op, ball& a, const ball& b, slong prec) const {
+  switch (op) {
+    case expression_op::add: arb_add(a.get(), a.get(), b.get(), prec); break;
+    case expression_op::sub: arb_sub(a.get(), a.get(), b.get(), prec); break;
+    case expression_op::mul: arb_mul(a.get(), a.get(), b.get(), prec); break;
+    default:
+      if (arb_contains_zero(b.get())) throw undefined("a division by a number that may be 0");
+      arb_div(a.get(), a.get(), b.get(), prec);
+      break;
+  }
+}
+
+// The two top entries a, b replaced by a op b (op one of + - * /): constants fold; a constant
+// factor or divisor scales; a divisor that is a value is inverted in the algebra.
+template <class Algebra>
+void ball_formula::binary(const Algebra& alg, expression_op op, stack_of<Algebra>& stack) const {
+  slot<typename Algebra::value> b = std::move(stack.back());
+  stack.pop_back();
+  slot<typename Algebra::value>& a = stack.back();
+  if (a.constant && b.constant) {
+    fold(op, a.c, b.c, alg.prec());
+  } else if (op == expression_op::div && !b.constant) {
+    defined([&] { alg.invert(b.v); });
+    alg.mul(as_value(alg, a), b.v);
+  } else if (op == expression_op::div) {
+    if (arb_contains_zero(b.c.get())) throw undefined("a division by a number that may be 0");
+    arb_inv(b.c.get(), b.c.get(), alg.prec());
+    alg.scale(as_value(alg, a), b.c);
+  } else if (op == expression_op::mul && b.constant) {
+    alg.scale(a.v, b.c);
+  } else if (op == expression_op::mul && a.constant) {
+    alg.scale(b.v, a.c);
+    a.v = std::move(b.v);
+    a.constant = false;
+  } else if (op == expression_op::mul) {
+    alg.mul(a.v, b.v);
+  } else if (op == expression_op::add) {
+    alg.add(as_value(alg, a), as_value(alg, b));
+  } else {
+    alg.sub(as_value(alg, a), as_value(alg, b));
+  }
+}
+
+// a = a^n: of a constant in balls, of a value as n - 1 products (after 1/a for n < 0).
+template <class Algebra>
+void ball_formula::power_step(const Algebra& alg, std::int32_t n, slot<typename Algebra::value>& a) const {
+  if (a.constant) {
+    if (n < 0 && arb_contains_zero(a.c.get())) throw undefined("a negative power of a number that may be 0");
+    power(a.c, n, alg.prec());
+    return;
+  }
+  if (n == 0) {
+    a.constant = true;
+    a.c = ball(1);
+    return;
+  }
+  if (n < 0) defined([&] { alg.invert(a.v); });
+  const typename Algebra::value base = a.v;
+  for (std::int32_t k = 1; k < (n < 0 ? -n : n); ++k) alg.mul(a.v, base);
+}
+
+// One step of the formula's program on the stack.
+template <class Algebra>
+void ball_formula::step(const Algebra& alg, const formula_variables<Algebra>& vars, const expression_step& s,
+                        stack_of<Algebra>& stack) const {
+  using value = typename Algebra::value;
+  switch (s.op) {
+    case expression_op::constant:
+      stack.push_back({true, constants_[static_cast<std::size_t>(s.arg)], value{}});
+      break;
+    case expression_op::pi: stack.push_back({true, pi_, value{}}); break;
+    case expression_op::variable: stack.push_back({false, ball(), variable(vars, s.arg)}); break;
+    case expression_op::add:
+    case expression_op::sub:
+    case expression_op::mul:
+    case expression_op::div: binary(alg, s.op, stack); break;
+    case expression_op::neg:
+      if (stack.back().constant)
+        arb_neg(stack.back().c.get(), stack.back().c.get());
+      else
+        alg.neg(stack.back().v);
+      break;
+    case expression_op::pow: power_step(alg, s.arg, stack.back()); break;
+    default:  // a function
+      if (stack.back().constant)
+        apply_function(s.op, stack.back().c, alg.prec());
+      else
+        defined([&] { alg.function(elementary_of(s.op), stack.back().v); });
+      break;
+  }
+}
+
 template <class Algebra>
 typename Algebra::value ball_formula::operator()(const Algebra& alg, const formula_variables<Algebra>& vars) const {
-  using value = typename Algebra::value;
-  const slong prec = alg.prec();
-  // A function of a variable undefined where the variable may be: the formula and the reason.
-  const auto defined = [&](auto&& apply) {
-    try {
-      apply();
-    } catch (const undefined_formula&) {
-      throw;
-    } catch (const std::domain_error& e) {
-      throw undefined_formula("`" + source_->text + "`: " + e.what());
-    }
-  };
-  std::vector<slot<value>> stack;
+  stack_of<Algebra> stack;
   stack.reserve(source_->stack_depth);
-  const auto as_value = [&](slot<value>& s) -> value& {
-    if (s.constant) {
-      s.v = alg.constant(s.c);
-      s.constant = false;
-    }
-    return s.v;
-  };
-  for (const expression_step& step : source_->code) {
-    switch (step.op) {
-      case expression_op::constant:
-        stack.push_back({true, constants_[static_cast<std::size_t>(step.arg)], value{}});
-        break;
-      case expression_op::pi: stack.push_back({true, pi_, value{}}); break;
-      case expression_op::variable: {
-        const value* v = step.arg == expression::time_slot ? vars.time
-                         : step.arg <= expression::state_slots
-                             ? vars.state[static_cast<std::size_t>(step.arg - 1)]
-                             : vars.attitude[static_cast<std::size_t>(step.arg - expression::attitude_slot)];
-        if (!v) throw std::logic_error("ball_formula: `" + source_->text + "` names a variable that is not given");
-        stack.push_back({false, ball(), *v});
-        break;
-      }
-      case expression_op::add:
-      case expression_op::sub:
-      case expression_op::mul:
-      case expression_op::div: {
-        slot<value> b = std::move(stack.back());
-        stack.pop_back();
-        slot<value>& a = stack.back();
-        if (a.constant && b.constant) {
-          switch (step.op) {
-            case expression_op::add: arb_add(a.c.get(), a.c.get(), b.c.get(), prec); break;
-            case expression_op::sub: arb_sub(a.c.get(), a.c.get(), b.c.get(), prec); break;
-            case expression_op::mul: arb_mul(a.c.get(), a.c.get(), b.c.get(), prec); break;
-            default:
-              if (arb_contains_zero(b.c.get()))
-                throw undefined_formula("`" + source_->text + "`: a division by a number that may be 0");
-              arb_div(a.c.get(), a.c.get(), b.c.get(), prec);
-              break;
-          }
-          break;
-        }
-        if (step.op == expression_op::div && !b.constant) {
-          defined([&] { alg.invert(b.v); });
-          alg.mul(as_value(a), b.v);
-        } else if (step.op == expression_op::div) {
-          if (arb_contains_zero(b.c.get()))
-            throw undefined_formula("`" + source_->text + "`: a division by a number that may be 0");
-          arb_inv(b.c.get(), b.c.get(), prec);
-          alg.scale(as_value(a), b.c);
-        } else if (step.op == expression_op::mul && b.constant) {
-          alg.scale(a.v, b.c);
-        } else if (step.op == expression_op::mul && a.constant) {
-          alg.scale(b.v, a.c);
-          a.v = std::move(b.v);
-          a.constant = false;
-        } else if (step.op == expression_op::mul) {
-          alg.mul(a.v, b.v);
-        } else if (step.op == expression_op::add) {
-          alg.add(as_value(a), as_value(b));
-        } else {
-          alg.sub(as_value(a), as_value(b));
-        }
-        break;
-      }
-      case expression_op::neg:
-        if (stack.back().constant)
-          arb_neg(stack.back().c.get(), stack.back().c.get());
-        else
-          alg.neg(stack.back().v);
-        break;
-      case expression_op::pow: {
-        slot<value>& a = stack.back();
-        if (a.constant) {
-          if (step.arg < 0 && arb_contains_zero(a.c.get()))
-            throw undefined_formula("`" + source_->text + "`: a negative power of a number that may be 0");
-          power(a.c, step.arg, prec);
-          break;
-        }
-        if (step.arg == 0) {
-          a.constant = true;
-          a.c = ball(1);
-          break;
-        }
-        if (step.arg < 0) defined([&] { alg.invert(a.v); });
-        const value base = a.v;
-        for (std::int32_t k = 1; k < (step.arg < 0 ? -step.arg : step.arg); ++k) alg.mul(a.v, base);
-        break;
-      }
-      default: {
-        slot<value>& a = stack.back();
-        if (a.constant) {
-          apply_function(step.op, a.c, prec);
-          break;
-        }
-        defined([&] { alg.function(elementary_of(step.op), a.v); });
-        break;
-      }
-    }
-  }
-  return std::move(as_value(stack.back()));
+  for (const expression_step& s : source_->code) step(alg, vars, s, stack);
+  return std::move(as_value(alg, stack.back()));
 }
 
 inline ball ball_formula::constant_value(slong prec) const {
