@@ -47,7 +47,7 @@ done
 median_of() { printf '%s\n' "${@:2}" | awk -v c="$1" '{print $c}' | median; }
 ow=$(median_of 1 "${ours[@]}") oc=$(median_of 2 "${ours[@]}")
 tw=$(median_of 1 "${theirs[@]}") tc=$(median_of 2 "${theirs[@]}")
-printf '%s %s: CPU eulervop reference %.3f s, %s peer %.3f s, ratio %.3f; wall %.3f s, %.3f s, ratio %.3f' \
-  "$scene" "$*" "$oc" "$peer" "$tc" "$(awk -v a="$oc" -v b="$tc" 'BEGIN {print a / b}')" \
+printf '%s%s: CPU eulervop reference %.3f s, %s peer %.3f s, ratio %.3f; wall %.3f s, %.3f s, ratio %.3f' \
+  "$scene" "${*:+ $*}" "$oc" "$peer" "$tc" "$(awk -v a="$oc" -v b="$tc" 'BEGIN {print a / b}')" \
   "$ow" "$tw" "$(awk -v a="$ow" -v b="$tw" 'BEGIN {print a / b}')"
 printf ' (medians of %d, alternating)\n' "$repeat"
