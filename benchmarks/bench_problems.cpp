@@ -326,7 +326,7 @@ std::optional<eulervop::bench::taylor_problem<Q>> taylor_problem_of(const scene:
     problem.rhs(tp.t0, tp.y0, dy);
     for (int i = 0; i < 3; ++i) {
       const auto [j, k] = Problem::quadratic_pair[static_cast<std::size_t>(i)];
-      Q f = tp.forcing[i] ? eulervop::bench::time_jet(*tp.forcing[i], tp.t0, 1)[0] : tp.constant[i];
+      Q f = tp.forcing[i] ? eulervop::bench::time_tape<Q>(*tp.forcing[i], 1).at(tp.t0)[0] : tp.constant[i];
       const Q d = tp.a[i] * tp.y0[j] * tp.y0[k] + f - dy[i];
       if (abs(d) > 1e-30 * (1 + abs(dy[i]))) throw std::runtime_error("taylor peer: its equations differ from the scene's");
     }
@@ -403,7 +403,7 @@ void time_both(const Problem& problem, const scene::scene& scn, const std::vecto
 }
 
 // --only SIDE: that side alone, once, without the truth or the table, so that a whole process
-// can be timed (tools/time_vs_taylor.sh): one line "SIDE SCENE SECONDS".
+// can be timed (tools/time_vs_peer.sh): one line "SIDE SCENE SECONDS".
 template <class Problem>
 void run_side(const Problem& problem, const scene::scene& scn, const std::vector<Q>& taus, const options& opt) {
   const Q tau_end = scene::tau_end_of<Q>(scn);

@@ -432,15 +432,7 @@ class chebyshev_picard {
   outcome narrow_passes(const state& x0, const state& c0, const T& hl, picard_stats& st, double& r_log) {
     constexpr bool in_double_double = detail::field_of<P>::has_double_double_rhs;
     const double hl_d = to_d(hl);
-    for (std::size_t i = 0; i < D; ++i)
-      for (std::size_t j = 0; j < n1_; ++j) {
-        if constexpr (in_double_double) {
-          work_.Ydd_hi[i][j] = work_.warm[i][j];
-          work_.Ydd_lo[i][j] = 0;
-        } else {
-          work_.Yc[i][j] = T(work_.warm[i][j]);
-        }
-      }
+    load_warm_start();
     const double r_double = detail::double_residual(matrices_, work_, x0, c0, hl_d);
     double scale = 0, increments = 0;
     for (std::size_t i = 0; i < D; ++i)
@@ -459,15 +451,7 @@ class chebyshev_picard {
           !o.ok())
         return o;
       detail::add_correction_double_double(work_);
-      std::array<double_double, D> x0dd;
-      for (std::size_t i = 0; i < D; ++i) {
-        x0dd[i].hi = to_d(x0[i]);
-        work_.acc = x0[i];
-        work_.acc -= x0dd[i].hi;
-        work_.acc += c0[i];
-        x0dd[i].lo = to_d(work_.acc);
-      }
-      r_dd = detail::double_double_residual(matrices_, work_, x0dd, to_double_double(hl));
+      r_dd = detail::double_double_residual(matrices_, work_, start_double_double(x0, c0), to_double_double(hl));
       if (!std::isfinite(r_dd)) return {outcome_kind::residual_non_finite};
       if (const outcome o =
               detail::solve_correction(matrices_, work_, hl_d, floor_wide, detail::correction_stop::predicted, st);
@@ -493,6 +477,33 @@ class chebyshev_picard {
     if (log_of(r_dd) > log_of(r_double) - std::log(2.0)) return {outcome_kind::residual_not_decreasing};
     r_log = log_of(r_dd);
     return {};
+  }
+
+  // The iterate of the narrow passes from the warm start: in double-double where the field has
+  // a double-double right-hand side, else in T.
+  void load_warm_start() {
+    for (std::size_t i = 0; i < D; ++i)
+      for (std::size_t j = 0; j < n1_; ++j) {
+        if constexpr (detail::field_of<P>::has_double_double_rhs) {
+          work_.Ydd_hi[i][j] = work_.warm[i][j];
+          work_.Ydd_lo[i][j] = 0;
+        } else {
+          work_.Yc[i][j] = T(work_.warm[i][j]);
+        }
+      }
+  }
+
+  // x0 + c0 in double-double: the leading double of x0, then the rest of x0 and c0 summed in T.
+  std::array<double_double, D> start_double_double(const state& x0, const state& c0) {
+    std::array<double_double, D> x0dd;
+    for (std::size_t i = 0; i < D; ++i) {
+      x0dd[i].hi = to_d(x0[i]);
+      work_.acc = x0[i];
+      work_.acc -= x0dd[i].hi;
+      work_.acc += c0[i];
+      x0dd[i].lo = to_d(work_.acc);
+    }
+    return x0dd;
   }
 
   picard_settings settings_;

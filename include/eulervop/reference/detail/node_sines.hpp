@@ -54,17 +54,7 @@ class node_sines {
     using std::sin;
     const double b = std::abs(static_cast<double>(beta));
     if (!(b > 0) || !(b <= max_beta) || !isfinite(alpha)) return false;
-    // Terms: the first n with n > |beta| and (|beta|/2)^n / n! below 2^-118 (with room for the
-    // tail's geometric sum, whose ratio is then below 1/2).
-    std::size_t terms = 0;
-    double bound = 1;
-    for (std::size_t n = 1; n <= max_terms; ++n) {
-      bound *= b / 2 / static_cast<double>(n);
-      if (static_cast<double>(n) > b && bound < 0x1p-119) {
-        terms = n;
-        break;
-      }
-    }
+    const std::size_t terms = terms_for(b);
     if (terms == 0) return false;
     // Miller: j_{n-1} = (2n / beta) j_n - j_{n+1} from j_{M+1} = 0, j_M = 1, then normalized. In
     // double down to the order `quad_from`, below which |J_n| may exceed 2^-60 of the largest
@@ -113,6 +103,17 @@ class node_sines {
   }
 
  private:
+  // Terms: the first n with n > |beta| and (|beta|/2)^n / n! below 2^-118 (with room for the
+  // tail's geometric sum, whose ratio is then below 1/2); 0 where max_terms do not reach it.
+  static std::size_t terms_for(double b) {
+    double bound = 1;
+    for (std::size_t n = 1; n <= max_terms; ++n) {
+      bound *= b / 2 / static_cast<double>(n);
+      if (static_cast<double>(n) > b && bound < 0x1p-119) return n;
+    }
+    return 0;
+  }
+
   // T_n(s_j) = (-1)^n cos(n j pi / N) for n < terms, rows j = 0..N.
   fixed_point_matrix<quad>& matrix(std::size_t terms) {
     auto it = matrices_.find(terms);
