@@ -37,26 +37,45 @@ inline const chebyshev_basis<double>& lobatto_basis(std::size_t nodes) {
   return *b;
 }
 
-// acc[i] = sum_{k < m} S_k F[k n + i] for i < n, each sum from k = 0 up, from 0.0. N > 0 fixes n
-// at compile time, so the n sums stay in registers: the loop over memory it replaces carried each
-// sum through a store and a load per term, which made it the flow's largest cost (a dependency
-// of several cycles per term). The same additions in the same order: the same bits.
-template <std::size_t N>
-inline void integrate_at_node(const double* S, const double* F, std::size_t m, std::size_t n, double* acc) {
-  if constexpr (N > 0) {
-    double a[N] = {};
-    for (std::size_t k = 0; k < m; ++k) {
-      const double sk = S[k];
-      const double* Fk = F + k * N;
-      for (std::size_t i = 0; i < N; ++i) a[i] += sk * Fk[i];
+// One Gauss-Seidel sweep's integrals: for each node l in order, acc[i] = sum_{k < m} S[l m + k]
+// F[k n + i] (i < n), each sum from k = 0 up and from 0.0, then finish(l, acc), which updates F's
+// row l before the next node's sums read it. N > 0 fixes n at compile time, so that the sums stay
+// in registers: the loop over memory (N = 0) carries each sum through a store and a load per
+// term, a dependency of several cycles that made it the flow's largest cost. With N > 0 the
+// nodes also go in blocks of B: the terms k < l0 of a block's rows are final before the block
+// starts, so those B n sums run side by side; each row then adds its terms k >= l0 in order, after
+// the rows before it have finished. Every sum has the same terms in the same order as the loop
+// over memory: the same bits (test_ball_linear_flow_reuse.cpp compares them).
+template <std::size_t N, class Finish>
+void gauss_seidel_sweep(const double* S, const double* F, std::size_t m, std::size_t n, std::vector<double>& acc,
+                        Finish&& finish) {
+  if constexpr (N == 0) {
+    acc.resize(n);
+    for (std::size_t l = 0; l < m; ++l) {
+      std::fill(acc.begin(), acc.end(), 0.0);
+      for (std::size_t k = 0; k < m; ++k) {
+        const double sk = S[l * m + k];
+        for (std::size_t i = 0; i < n; ++i) acc[i] += sk * F[k * n + i];
+      }
+      finish(l, static_cast<const double*>(acc.data()));
     }
-    for (std::size_t i = 0; i < N; ++i) acc[i] = a[i];
   } else {
-    std::fill(acc, acc + n, 0.0);
-    for (std::size_t k = 0; k < m; ++k) {
-      const double sk = S[k];
-      const double* Fk = F + k * n;
-      for (std::size_t i = 0; i < n; ++i) acc[i] += sk * Fk[i];
+    constexpr std::size_t B = N <= 4 ? 4 : 2;  // B N <= 18 sums: within the 32 doubles of SSE2's 16 registers
+    for (std::size_t l0 = 0; l0 < m; l0 += B) {
+      const std::size_t rows = std::min(B, m - l0);
+      double a[B][N] = {};
+      for (std::size_t k = 0; k < l0; ++k)
+        for (std::size_t r = 0; r < B; ++r) {
+          if (r >= rows) break;
+          const double s = S[(l0 + r) * m + k];
+          for (std::size_t i = 0; i < N; ++i) a[r][i] += s * F[k * N + i];
+        }
+      for (std::size_t r = 0; r < rows; ++r) {
+        const double* Sl = S + (l0 + r) * m;
+        for (std::size_t k = l0; k < m; ++k)
+          for (std::size_t i = 0; i < N; ++i) a[r][i] += Sl[k] * F[k * N + i];
+        finish(l0 + r, static_cast<const double*>(a[r]));
+      }
     }
   }
 }
@@ -121,13 +140,25 @@ inline slong node_picard::grid_coefficients(const chebyshev_basis<double>& b, co
   const std::size_t m = b.nodes.size();
   c_.resize(count * m);
   double big = 0;
-  for (std::size_t q = 0; q < count; ++q)
-    for (std::size_t k = 0; k < m; ++k) {
+  for (std::size_t q = 0; q < count; ++q) {
+    // c_k = sum_l coeffs_kl values_l from l = 0 up; four k side by side (independent sums, each
+    // in its own order), the rest one by one.
+    std::size_t k = 0;
+    for (; k + 4 <= m; k += 4) {
+      double acc[4] = {};
+      for (std::size_t l = 0; l < m; ++l) {
+        const double v = values[l * stride + q];
+        for (std::size_t t = 0; t < 4; ++t) acc[t] += b.coeffs[(k + t) * m + l] * v;
+      }
+      for (std::size_t t = 0; t < 4; ++t) c_[q * m + k + t] = acc[t];
+    }
+    for (; k < m; ++k) {
       double acc = 0;
       for (std::size_t l = 0; l < m; ++l) acc += b.coeffs[k * m + l] * values[l * stride + q];
       c_[q * m + k] = acc;
-      big = std::max(big, std::abs(acc));
     }
+    for (k = 0; k < m; ++k) big = std::max(big, std::abs(c_[q * m + k]));
+  }
   const slong e = big > 0 ? static_cast<slong>(std::ilogb(big)) + 1 - bits : 0;
   out.resize(count);
   for (std::size_t q = 0; q < count; ++q) {
@@ -165,7 +196,6 @@ bool node_picard::variational_kernel(const chebyshev_basis<double>& b, const dou
   const std::size_t m = b.nodes.size(), DD = D * D;
   Y.assign(m * DD, 0.0);
   F_.assign(m * DD, 0.0);
-  acc_.resize(DD);
   for (std::size_t l = 0; l < m; ++l)
     for (std::size_t i = 0; i < D; ++i) Y[l * DD + i * D + i] = 1;
   const auto product_at = [&](std::size_t l) {
@@ -181,16 +211,15 @@ bool node_picard::variational_kernel(const chebyshev_basis<double>& b, const dou
   for (std::size_t l = 0; l < m; ++l) product_at(l);
   for (int sweep = 0; sweep < 400; ++sweep) {
     double change = 0, size = 0;
-    for (std::size_t l = 0; l < m; ++l) {
-      integrate_at_node<N>(b.integral.data() + l * m, F_.data(), m, DD, acc_.data());
+    gauss_seidel_sweep<N>(b.integral.data(), F_.data(), m, DD, acc_, [&](std::size_t l, const double* acc) {
       for (const std::size_t q : entries) {
-        const double next = (q % (D + 1) == 0 ? 1.0 : 0.0) + hl * acc_[q];
+        const double next = (q % (D + 1) == 0 ? 1.0 : 0.0) + hl * acc[q];
         change = std::max(change, std::abs(next - Y[l * DD + q]));
         size = std::max(size, std::abs(next));
         Y[l * DD + q] = next;
       }
       product_at(l);
-    }
+    });
     if (!std::isfinite(change)) return false;
     if (change <= 1e-13 * size) break;
   }
@@ -205,7 +234,6 @@ bool node_picard::integral_term_kernel(const chebyshev_basis<double>& b, const d
   const std::size_t m = b.nodes.size(), DD = D * D;
   Y.assign(m * D, 0.0);
   F_.assign(m * D, 0.0);
-  acc_.resize(D);
   const auto product_at = [&](std::size_t l) {
     for (std::size_t i = 0; i < D; ++i) {
       double acc = 0;
@@ -216,16 +244,15 @@ bool node_picard::integral_term_kernel(const chebyshev_basis<double>& b, const d
   for (std::size_t l = 0; l < m; ++l) product_at(l);
   for (int sweep = 0; sweep < 400; ++sweep) {
     double change = 0, size = 0;
-    for (std::size_t l = 0; l < m; ++l) {
-      integrate_at_node<N>(b.integral.data() + l * m, F_.data(), m, D, acc_.data());
+    gauss_seidel_sweep<N>(b.integral.data(), F_.data(), m, D, acc_, [&](std::size_t l, const double* acc) {
       for (std::size_t i = 0; i < D; ++i) {
-        const double next = hl * acc_[i];
+        const double next = hl * acc[i];
         change = std::max(change, std::abs(next - Y[l * D + i]));
         size = std::max(size, std::abs(next));
         Y[l * D + i] = next;
       }
       product_at(l);
-    }
+    });
     if (!std::isfinite(change)) return false;
     if (change <= 1e-10 * size || size == 0) break;
   }
