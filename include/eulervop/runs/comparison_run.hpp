@@ -22,9 +22,9 @@
 // them in run_result::q (detail/attitude.hpp, docs/attitude-runs.md). The rates are bit for bit
 // those of the run without it. The rate-only runs are separate instantiations.
 //
-// Each (formulation, fixed or adaptive, rates or attitude) is a cell (detail/run_cells.hpp): the
-// compiled kernels hold the cells of the program's torques (kernels/cells.hpp), declared extern
-// below when EULERVOP_COMPILED_KERNELS is defined.
+// Each (formulation, fixed or adaptive, rates or attitude) is a cell (detail/run_cells.hpp) of the
+// constant torque or of varying_torque (every torque of time, state or attitude, its kind data:
+// varying_torque.hpp), compiled in kernels/cells.hpp and declared extern below with the kernels.
 #pragma once
 
 #include <eulervop/core/vec3.hpp>
