@@ -22,9 +22,9 @@
 // them in run_result::q (detail/attitude.hpp, docs/attitude-runs.md). The rates are bit for bit
 // those of the run without it. The rate-only runs are separate instantiations.
 //
-// Each (formulation, fixed or adaptive, rates or attitude) is a cell (detail/run_cells.hpp): the
-// compiled kernels hold the cells of the program's torques (kernels/cells.hpp), declared extern
-// below when EULERVOP_COMPILED_KERNELS is defined.
+// Each (formulation, fixed or adaptive, rates or attitude) is a cell (detail/run_cells.hpp) of the
+// constant torque or of varying_torque (every torque of time, state or attitude, its kind data:
+// varying_torque.hpp), compiled in kernels/cells.hpp and declared extern below with the kernels.
 #pragma once
 
 #include <eulervop/core/vec3.hpp>
@@ -40,6 +40,7 @@
 #include <eulervop/runs/formulation.hpp>
 #include <eulervop/runs/run_result.hpp>
 #include <eulervop/runs/settings.hpp>
+#include <eulervop/runs/varying_torque.hpp>
 
 #include <concepts>
 #include <stdexcept>
@@ -63,17 +64,34 @@ void require_normalized(formulation f, const Problem& p) {
                             "form of Eq. 1 (two moments equal or nearly so)");
 }
 
+// The torque kinds of varying_torque.hpp: their runs are those of the problem under that type.
+template <class Torque>
+concept varying_kind = std::same_as<Torque, time_torque<double>> || std::same_as<Torque, state_torque<double>> ||
+                       std::same_as<Torque, staged_attitude_torque<double>>;
+
+// The same problem with its torque as a varying_torque (a copy: the run pins and evaluates its own).
+template <class Torque>
+euler_problem<double, varying_torque<double>> as_varying(const euler_problem<double, Torque>& p) {
+  euler_problem<double, varying_torque<double>> q;
+  q.torque = varying_torque<double>(p.torque);
+  q.Omega0 = p.Omega0;
+  q.tau0 = p.tau0;
+  q.form = p.form;
+  q.a = p.a;
+  return q;
+}
+
 // Calls cell(std::integral_constant<formulation, F>, std::bool_constant<Attitude>) for the
 // formulation f, with the attitude when `attitude` is set (and the torque type compiles attitude
 // runs: model/torque.hpp, compiles_attitude_runs; std::invalid_argument otherwise).
 template <class Problem, class Cell>
-void dispatch_cell(formulation f, bool attitude, Cell&& cell) {
+void dispatch_cell(formulation f, const Problem& p, bool attitude, Cell&& cell) {
   const auto with_attitude = [&](auto form) {
+    bool rate_runs = compiles_rate_runs<typename Problem::torque_type>;
+    if constexpr (requires { p.torque.reads_attitude(); }) rate_runs = !p.torque.reads_attitude();
     if (!attitude) [[likely]] {
-      if constexpr (compiles_rate_runs<typename Problem::torque_type>)
-        cell(form, std::false_type{});
-      else
-        throw std::invalid_argument("this torque reads the attitude: its runs carry q (attitude settings)");
+      if (!rate_runs) throw std::invalid_argument("this torque reads the attitude: its runs carry q (attitude settings)");
+      if constexpr (compiles_rate_runs<typename Problem::torque_type>) cell(form, std::false_type{});
     } else if constexpr (compiles_attitude_runs<typename Problem::torque_type>) {
       cell(form, std::true_type{});
     } else {
@@ -89,21 +107,26 @@ void dispatch_cell(formulation f, bool attitude, Cell&& cell) {
 
 }  // namespace detail
 
-// Integrates the problem with formulation `f` and method `m` at fixed step in double.
+// Integrates the problem with formulation `f` and method `m` at fixed step in double. A torque of
+// time or state runs as a varying_torque (varying_torque.hpp): one driver for every such kind.
 template <class Problem>
 run_result run_fixed(formulation f, rk::method m, const Problem& p, const fixed_run_settings& s) {
   detail::require_comparison_problem<Problem>();
-  run_result out;
-  out.form = f;
-  out.method = m;
-  detail::require_normalized(f, p);
-  const double tau_end = p.initial_time() + s.h * static_cast<double>(s.n_steps);
-  const double bound =
-      detail::explosion_bound(p.initial_state(), detail::torque_size(p, tau_end), tau_end, f == formulation::vop);
-  detail::dispatch_cell<Problem>(f, s.attitude.has_value(), [&](auto form, auto attitude) {
-    detail::run_fixed_cell<Problem, decltype(form)::value, decltype(attitude)::value>(out, m, p, s, bound);
-  });
-  return out;
+  if constexpr (detail::varying_kind<typename Problem::torque_type>) {
+    return run_fixed(f, m, detail::as_varying(p), s);
+  } else {
+    run_result out;
+    out.form = f;
+    out.method = m;
+    detail::require_normalized(f, p);
+    const double tau_end = p.initial_time() + s.h * static_cast<double>(s.n_steps);
+    const double bound =
+        detail::explosion_bound(p.initial_state(), detail::torque_size(p, tau_end), tau_end, f == formulation::vop);
+    detail::dispatch_cell(f, p, s.attitude.has_value(), [&](auto form, auto attitude) {
+      detail::run_fixed_cell<Problem, decltype(form)::value, decltype(attitude)::value>(out, m, p, s, bound);
+    });
+    return out;
+  }
 }
 
 // Integrates the problem with formulation `f` under error control with the embedded pair of `m`
@@ -111,20 +134,25 @@ run_result run_fixed(formulation f, rk::method m, const Problem& p, const fixed_
 template <class Problem>
 run_result run_adaptive(formulation f, rk::method m, const Problem& p, const adaptive_run_settings& s) {
   detail::require_comparison_problem<Problem>();
-  run_result out;
-  out.form = f;
-  out.method = m;
-  out.adaptive = true;
-  detail::require_normalized(f, p);
-  const double bound =
-      detail::explosion_bound(p.initial_state(), detail::torque_size(p, s.tau_end), s.tau_end, f == formulation::vop);
-  detail::dispatch_cell<Problem>(f, s.attitude.has_value(), [&](auto form, auto attitude) {
-    detail::run_adaptive_cell<Problem, decltype(form)::value, decltype(attitude)::value>(out, m, p, s, bound);
-  });
-  return out;
+  if constexpr (detail::varying_kind<typename Problem::torque_type>) {
+    return run_adaptive(f, m, detail::as_varying(p), s);
+  } else {
+    run_result out;
+    out.form = f;
+    out.method = m;
+    out.adaptive = true;
+    detail::require_normalized(f, p);
+    const double bound = detail::explosion_bound(p.initial_state(), detail::torque_size(p, s.tau_end), s.tau_end,
+                                                 f == formulation::vop);
+    detail::dispatch_cell(f, p, s.attitude.has_value(), [&](auto form, auto attitude) {
+      detail::run_adaptive_cell<Problem, decltype(form)::value, decltype(attitude)::value>(out, m, p, s, bound);
+    });
+    return out;
+  }
 }
 
-// The cells of one torque G<double> (kernels/cells.hpp): formulation FORM, rates only or with
+// The cells of one torque type G<double> of the runs (kernels/cells.hpp: constant_torque and
+// varying_torque): formulation FORM, rates only or with
 // the attitude, at a fixed step or under error control. EXTERN is `extern` to declare them, empty
 // to define them.
 #define EULERVOP_RUN_FIXED_CELL(EXTERN, G, FORM, ATTITUDE)                                                  \
@@ -143,16 +171,10 @@ run_result run_adaptive(formulation f, rk::method m, const Problem& p, const ada
   EULERVOP_RUN_CELL_(extern, G, euler, true)      \
   EULERVOP_RUN_CELL_(extern, G, vop, true)        \
   EULERVOP_RUN_CELL_(extern, G, vop_theta, true)
-#define EULERVOP_EXTERN_ATTITUDE_RUN_CELLS_(G, ...) \
-  EULERVOP_RUN_CELL_(extern, G, euler, true)        \
-  EULERVOP_RUN_CELL_(extern, G, vop, true)          \
-  EULERVOP_RUN_CELL_(extern, G, vop_theta, true)
 #ifdef EULERVOP_COMPILED_KERNELS
-EULERVOP_KERNEL_TORQUES(EULERVOP_EXTERN_RUN_CELLS_, )
-EULERVOP_KERNEL_ATTITUDE_TORQUES(EULERVOP_EXTERN_ATTITUDE_RUN_CELLS_, )
+EULERVOP_KERNEL_RUN_TORQUES(EULERVOP_EXTERN_RUN_CELLS_, )
 #endif
 #undef EULERVOP_EXTERN_RUN_CELLS_
-#undef EULERVOP_EXTERN_ATTITUDE_RUN_CELLS_
 #undef EULERVOP_RUN_CELL_
 
 }  // namespace eulervop
