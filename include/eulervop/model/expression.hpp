@@ -193,16 +193,9 @@ class compiled_expression {
   template <class AffineSine>
   void values_at_nodes(const T& alpha, const T& alpha_lo, const T& beta, const std::vector<T>& t,
                        AffineSine&& affine_sine, std::vector<T>& out) const {
-    using std::cos;
-    using std::sin;
     const std::size_t n = t.size();
     if (node_stack_.size() < values_.size()) node_stack_.resize(values_.size());
     if (affine_.size() < values_.size()) affine_.resize(values_.size());
-    const auto elementwise = [&](std::size_t i, auto&& f) {
-      for (T& x : node_stack_[i]) f(x);
-      affine_[i].known = affine_[i].known && affine_[i].b == 0 && affine_[i].lo == 0;  // a constant stays one
-      if (affine_[i].known) affine_[i].a = node_stack_[i][0];
-    };
     std::size_t sp = 0;
     for (const expression_step& s : source_.code) {
       switch (s.op) {
@@ -221,82 +214,11 @@ class compiled_expression {
         case expression_op::add:
         case expression_op::sub:
         case expression_op::mul:
-        case expression_op::div: {
+        case expression_op::div:
           --sp;
-          std::vector<T>& x = node_stack_[sp - 1];
-          const std::vector<T>& y = node_stack_[sp];
-          affine_tag& p = affine_[sp - 1];
-          const affine_tag& q = affine_[sp];
-          for (std::size_t j = 0; j < n; ++j) {
-            if (s.op == expression_op::add) x[j] += y[j];
-            else if (s.op == expression_op::sub) x[j] -= y[j];
-            else if (s.op == expression_op::mul) x[j] *= y[j];
-            else x[j] /= y[j];
-          }
-          if (s.op == expression_op::add || s.op == expression_op::sub) {
-            p.known = p.known && q.known;
-            if (p.known) {
-              const bool add = s.op == expression_op::add;
-              T sum, error, scratch;
-              two_sum(p.a, add ? q.a : T(-q.a), sum, error, scratch);
-              p.lo = add ? T(p.lo + q.lo) : T(p.lo - q.lo);
-              p.lo += error;
-              p.a = sum;
-              p.b = add ? T(p.b + q.b) : T(p.b - q.b);
-            }
-          } else if (s.op == expression_op::mul && p.known && q.known && (p.b == 0 || q.b == 0)) {
-            T a, rounding;  // a + rounding = p.a q.a exactly
-            if constexpr (std::is_same_v<T, quad>) {
-              two_product(p.a, q.a, a, rounding);
-            } else {
-              a = p.a * q.a;
-              rounding = 0;
-            }
-            const T lo = p.lo * q.a + p.a * q.lo + rounding, b = p.b == 0 ? T(p.a * q.b) : T(p.b * q.a);
-            p = {true, a, lo, b};
-          } else if (s.op == expression_op::div && p.known && q.known && q.b == 0) {
-            const T a = p.a / q.a;
-            T rest = 0;  // p.a - a q.a, exactly (Sterbenz: a q.a is within an ulp of p.a)
-            if constexpr (std::is_same_v<T, quad>) {
-              T hi, lo;
-              two_product(a, q.a, hi, lo);
-              rest = (p.a - hi) - lo;
-            }
-            p = {true, a, T((p.lo + rest - a * q.lo) / q.a), T(p.b / q.a)};
-          } else {
-            p.known = false;
-          }
+          binary_at_nodes(s.op, sp, n);
           break;
-        }
-        case expression_op::neg:
-          for (T& x : node_stack_[sp - 1]) detail::negate_in_place(x);
-          if (affine_[sp - 1].known) {
-            detail::negate_in_place(affine_[sp - 1].a);
-            detail::negate_in_place(affine_[sp - 1].lo);
-            detail::negate_in_place(affine_[sp - 1].b);
-          }
-          break;
-        case expression_op::pow: elementwise(sp - 1, [&](T& x) { integer_power(x, s.arg); }); break;
-        case expression_op::sin:
-        case expression_op::cos: {
-          const bool cosine = s.op == expression_op::cos;
-          affine_tag& p = affine_[sp - 1];
-          if (p.known && p.b != 0 && affine_sine(p.a, p.lo, p.b, cosine, node_stack_[sp - 1])) {
-            p.known = false;
-            break;
-          }
-          elementwise(sp - 1, [&](T& x) {
-            s1_ = cosine ? cos(x) : sin(x);
-            std::swap(x, s1_);
-          });
-          break;
-        }
-        default:
-          elementwise(sp - 1, [&](T& x) {
-            function_value(s.op, x);
-            std::swap(x, s1_);
-          });
-          break;
+        default: function_at_nodes(s, sp - 1, affine_sine); break;
       }
     }
     out = node_stack_[0];
@@ -318,6 +240,107 @@ class compiled_expression {
   }
 
  private:
+  // values_at_nodes: whether a stack entry is a + b s (known).
+  struct affine_tag {
+    bool known = false;
+    T a, lo, b;  // a + lo + b s
+  };
+
+  // values_at_nodes: f on every node value of slot i; a constant's tag stays one, no other.
+  template <class F>
+  void elementwise_at_nodes(std::size_t i, F&& f) const {
+    for (T& x : node_stack_[i]) f(x);
+    affine_[i].known = affine_[i].known && affine_[i].b == 0 && affine_[i].lo == 0;  // a constant stays one
+    if (affine_[i].known) affine_[i].a = node_stack_[i][0];
+  }
+
+  // values_at_nodes: slot sp - 1 op slot sp (the popped top) into slot sp - 1, values and tags.
+  void binary_at_nodes(expression_op op, std::size_t sp, std::size_t n) const {
+    std::vector<T>& x = node_stack_[sp - 1];
+    const std::vector<T>& y = node_stack_[sp];
+    for (std::size_t j = 0; j < n; ++j) {
+      if (op == expression_op::add) x[j] += y[j];
+      else if (op == expression_op::sub) x[j] -= y[j];
+      else if (op == expression_op::mul) x[j] *= y[j];
+      else x[j] /= y[j];
+    }
+    combine_affine(op, affine_[sp - 1], affine_[sp]);
+  }
+
+  // The tag of p op q into p: a sum or difference of affine values, or a product or quotient by a
+  // constant, stays affine (a_lo by TwoSum and, in quad, Dekker's product); nothing else does.
+  static void combine_affine(expression_op op, affine_tag& p, const affine_tag& q) {
+    if (op == expression_op::add || op == expression_op::sub) {
+      p.known = p.known && q.known;
+      if (p.known) {
+        const bool add = op == expression_op::add;
+        T sum, error, scratch;
+        two_sum(p.a, add ? q.a : T(-q.a), sum, error, scratch);
+        p.lo = add ? T(p.lo + q.lo) : T(p.lo - q.lo);
+        p.lo += error;
+        p.a = sum;
+        p.b = add ? T(p.b + q.b) : T(p.b - q.b);
+      }
+    } else if (op == expression_op::mul && p.known && q.known && (p.b == 0 || q.b == 0)) {
+      T a, rounding;  // a + rounding = p.a q.a exactly
+      if constexpr (std::is_same_v<T, quad>) {
+        two_product(p.a, q.a, a, rounding);
+      } else {
+        a = p.a * q.a;
+        rounding = 0;
+      }
+      const T lo = p.lo * q.a + p.a * q.lo + rounding, b = p.b == 0 ? T(p.a * q.b) : T(p.b * q.a);
+      p = {true, a, lo, b};
+    } else if (op == expression_op::div && p.known && q.known && q.b == 0) {
+      const T a = p.a / q.a;
+      T rest = 0;  // p.a - a q.a, exactly (Sterbenz: a q.a is within an ulp of p.a)
+      if constexpr (std::is_same_v<T, quad>) {
+        T hi, lo;
+        two_product(a, q.a, hi, lo);
+        rest = (p.a - hi) - lo;
+      }
+      p = {true, a, T((p.lo + rest - a * q.lo) / q.a), T(p.b / q.a)};
+    } else {
+      p.known = false;
+    }
+  }
+
+  // values_at_nodes: the unary step s (negation, power or function) on slot i; a sine or cosine
+  // of an affine argument goes whole to affine_sine when it takes it.
+  template <class AffineSine>
+  void function_at_nodes(const expression_step& s, std::size_t i, AffineSine& affine_sine) const {
+    using std::cos;
+    using std::sin;
+    affine_tag& p = affine_[i];
+    switch (s.op) {
+      case expression_op::neg:
+        for (T& x : node_stack_[i]) detail::negate_in_place(x);
+        if (p.known)
+          for (T* v : {&p.a, &p.lo, &p.b}) detail::negate_in_place(*v);
+        break;
+      case expression_op::pow: elementwise_at_nodes(i, [&](T& x) { integer_power(x, s.arg); }); break;
+      case expression_op::sin:
+      case expression_op::cos: {
+        const bool cosine = s.op == expression_op::cos;
+        if (p.known && p.b != 0 && affine_sine(p.a, p.lo, p.b, cosine, node_stack_[i])) {
+          p.known = false;
+          break;
+        }
+        elementwise_at_nodes(i, [&](T& x) {
+          s1_ = cosine ? cos(x) : sin(x);
+          std::swap(x, s1_);
+        });
+        break;
+      }
+      default:
+        elementwise_at_nodes(i, [&](T& x) {
+          function_value(s.op, x);
+          std::swap(x, s1_);
+        });
+        break;
+    }
+  }
+
   // Slot `slot` of a variable step: the time, a state component or (q given) an attitude one.
   static const T& slot_value(int slot, const T& t, const vec3<T>& y, const attitude_values* q) {
     if (slot == expression::time_slot) return t;
@@ -569,11 +592,7 @@ class compiled_expression {
   mutable std::vector<partials> partials_;
   mutable std::size_t count_ = 3;  // the partials in use: 3, or 7 with q
   mutable T s1_, s2_, s3_;
-  // values_at_nodes: the stack of node values, and whether each entry is a + b s (known).
-  struct affine_tag {
-    bool known = false;
-    T a, lo, b;  // a + lo + b s
-  };
+  // values_at_nodes: the stack of node values, and their tags.
   mutable std::vector<std::vector<T>> node_stack_;
   mutable std::vector<affine_tag> affine_;
 };
