@@ -19,6 +19,18 @@ CLI::Option* add_switch(CLI::App& sub, const flag_def& flag, bool& on) {
   return sub.add_flag(flag.name, on, flag.help);
 }
 
+void add_required_text_flag(CLI::App& sub, const flag_def& flag, std::optional<std::string>& text) {
+  add_text_flag(sub, flag, text)->required();
+}
+
+void add_required_positional(CLI::App& sub, const flag_def& arg, std::string& value) {
+  sub.add_option(arg.name, value, arg.help)->required()->type_name(arg.value_name);
+}
+
+void add_positional_list(CLI::App& sub, const flag_def& arg, std::vector<std::string>& values) {
+  sub.add_option(arg.name, values, arg.help)->type_name(arg.value_name);
+}
+
 std::string command_line_text(const flag_def& flag, const std::optional<std::string>& text) {
   return text ? fmt::format(" {} {}", flag.name, shell_word(*text)) : "";
 }

@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace eulervop::app {
 
@@ -25,6 +26,12 @@ struct flag_def {
 
 CLI::Option* add_text_flag(CLI::App& sub, const flag_def& flag, std::optional<std::string>& text);
 CLI::Option* add_switch(CLI::App& sub, const flag_def& flag, bool& on);
+// A flag the command needs.
+void add_required_text_flag(CLI::App& sub, const flag_def& flag, std::optional<std::string>& text);
+// A positional argument the command needs (its value_name names it in the help), and one that
+// takes every remaining word.
+void add_required_positional(CLI::App& sub, const flag_def& arg, std::string& value);
+void add_positional_list(CLI::App& sub, const flag_def& arg, std::vector<std::string>& values);
 
 // " --name value" (the value one word for sh), or "" for a flag not given: the flag as a command
 // line that the program writes states it.

@@ -32,12 +32,10 @@
 #include <functional>
 #include <optional>
 #include <string>
-#include <thread>
 #include <variant>
 #include <vector>
 
 #include <mpfr.h>
-#include <sched.h>
 
 namespace eulervop::app {
 
@@ -53,27 +51,6 @@ inline mpfr_prec_t certify_bits(const eulervop::precision& p) {
 inline bool takes_fast_path(const scene& s) {
   return !s.has_torque_law() && !s.has_attitude() && !s.gravity_gradient && !s.is_coefficient_form() &&
          !uses_direct_form(s);
-}
-
-// --certify takes every scene in quad and MPFR; a double reference is refused (an input_error,
-// exit 2): the joins step needs each segment's end, its start plus twice its half-length, to be
-// the next segment's start exactly, which the double integrator does not guarantee
-// (docs/certified.md, "What is not covered").
-inline void require_certifiable(const eulervop::precision& p) {
-  if (p.type == eulervop::precision::kind::binary64)
-    throw input_error("--certify: precision double is not certified (its segments do not join exactly in double; "
-                      "use quad or mpfr:BITS)");
-}
-
-// The threads that prepare a certificate's segments (certify_pipeline.hpp): the cores this
-// process may run on (its affinity, so that `taskset -c 0` means one), at most 4, as the
-// integration and the in-order part then set the pace; none on one core, where the certificate
-// runs in the integration's thread.
-inline unsigned certify_workers() {
-  unsigned cores = std::thread::hardware_concurrency();
-  cpu_set_t allowed;
-  if (sched_getaffinity(0, sizeof allowed, &allowed) == 0) cores = static_cast<unsigned>(CPU_COUNT(&allowed));
-  return cores >= 2 ? std::min(cores, 4u) : 0;
 }
 
 // An upper bound as a decimal with three significant digits, rounded up ("2.35e-27").
@@ -105,11 +82,12 @@ inline std::string upper_text(const ball& x) {
 }
 
 
-// The certificate of one streamed run: created at the first segment (which tells the degree).
-// With `workers` > 0 it runs on threads (certify_pipeline.hpp); rows then go through row().
-class run_certificate {
+// The certificate of one streamed run, the body of run_certificate (run_certificate.hpp): created
+// at the first segment (which tells the degree). With `workers` > 0 it runs on threads
+// (certify_pipeline.hpp); rows then go through row().
+class certificate_of_run {
  public:
-  run_certificate(const scene& s, const eulervop::precision& p, unsigned workers)
+  certificate_of_run(const scene& s, const eulervop::precision& p, unsigned workers)
       : scene_(s), precision_(p), bits_(certify_bits(p)), workers_(workers), fast_(takes_fast_path(s)) {
     if (fast_ && s.is_physical()) omega_.emplace(exact_scaling_of(s, bits_));
   }
@@ -188,7 +166,7 @@ class run_certificate {
 };
 
 template <scalar T, std::size_t D>
-void run_certificate::add_segment(const chebyshev_segment<T, D>& seg, const std::vector<T>& nodes) {
+void certificate_of_run::add_segment(const chebyshev_segment<T, D>& seg, const std::vector<T>& nodes) {
   if (fast_) {
     if constexpr (D == 3) {
       if (!fast_cert_) {
@@ -215,7 +193,7 @@ void run_certificate::add_segment(const chebyshev_segment<T, D>& seg, const std:
 }
 
 template <scalar T>
-certified_radii run_certificate::radii(const T& tau, const T& t, const certified_cells& cells) {
+certified_radii certificate_of_run::radii(const T& tau, const T& t, const certified_cells& cells) {
   certified_radii out = fast_ ? fast_radii(tau, t, cells) : general_radii(tau, t, cells);
   raise(max_.state, out.state);
   if (out.omega) raise(max_.omega, *out.omega);
@@ -224,7 +202,7 @@ certified_radii run_certificate::radii(const T& tau, const T& t, const certified
 }
 
 template <scalar T>
-certified_radii run_certificate::fast_radii(const T& tau, const T& t, const certified_cells& cells) {
+certified_radii certificate_of_run::fast_radii(const T& tau, const T& t, const certified_cells& cells) {
   certified_radii out;
   const row_enclosure at = fast_cert_->enclose(tau);
   out.state = upper_text(fast_cert_->row_radius(at, cells.state));
@@ -233,7 +211,7 @@ certified_radii run_certificate::fast_radii(const T& tau, const T& t, const cert
 }
 
 template <scalar T>
-certified_radii run_certificate::general_radii(const T& tau, const T& t, const certified_cells& cells) {
+certified_radii certificate_of_run::general_radii(const T& tau, const T& t, const certified_cells& cells) {
   const certification_problem& p = general_->problem();
   const slong prec = p.prec;
   const ball_row row = general_->enclose(tau);

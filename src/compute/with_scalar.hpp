@@ -3,6 +3,7 @@
 #pragma once
 
 #include <eulervop/core/scalar.hpp>
+#include <eulervop/model/wide_formula_cells.hpp>
 
 #include <stdexcept>
 #include <utility>

@@ -20,6 +20,13 @@
 
 namespace eulervop::scene {
 
+scene::scene() = default;
+scene::scene(const scene&) = default;
+scene::scene(scene&&) noexcept = default;
+scene& scene::operator=(const scene&) = default;
+scene& scene::operator=(scene&&) noexcept = default;
+scene::~scene() = default;
+
 namespace detail {
 
 scene scene_reader::read() {

@@ -327,7 +327,7 @@ class compiled_expression {
           break;
         }
         elementwise_at_nodes(i, [&](T& x) {
-          s1_ = cosine ? cos(x) : sin(x);
+          s1_ = cosine ? T(cos(x)) : T(sin(x));  // T(...): MPFR's two expression types
           std::swap(x, s1_);
         });
         break;

@@ -332,4 +332,16 @@ expression_torque<U, OfState> convert_torque(const expression_torque<T, OfState>
   return out;
 }
 
+// The formula types of one scalar T, compiled once in the kernels (kernels/cells.hpp) for double,
+// quad and MPFR: EXTERN is `extern` to declare them, empty to define them. Every unit that builds
+// or evaluates a formula torque would otherwise compile its own copy of each member. Declared
+// extern for double here; for quad and MPFR in model/wide_formula_cells.hpp.
+#define EULERVOP_FORMULA_CELL(EXTERN, T)       \
+  EXTERN template class compiled_expression<T>; \
+  EXTERN template class expression_torque<T, false>; \
+  EXTERN template class expression_torque<T, true>;
+#ifdef EULERVOP_COMPILED_KERNELS
+EULERVOP_FORMULA_CELL(extern, double)
+#endif
+
 }  // namespace eulervop

@@ -9,6 +9,7 @@
 #include <eulervop/kernels/cells.hpp>
 #include <eulervop/model/coupled_problem.hpp>
 #include <eulervop/model/expression_torque.hpp>
+#include <eulervop/model/wide_formula_cells.hpp>
 #include <eulervop/reference/attitude_cascade.hpp>
 #include <eulervop/reference/chebyshev_picard.hpp>
 

@@ -58,6 +58,15 @@ struct step_spec {
 };
 
 struct scene {
+  // Made, copied, moved and destroyed in the scene library (src/scene/scene.cpp), once, rather
+  // than in every unit that passes scenes around.
+  scene();
+  scene(const scene&);
+  scene(scene&&) noexcept;
+  scene& operator=(const scene&);
+  scene& operator=(scene&&) noexcept;
+  ~scene();
+
   std::string name;
   std::string description;
   std::string origin;       // the path it was loaded from, or the embedded default's origin

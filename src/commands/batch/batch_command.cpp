@@ -8,7 +8,6 @@
 #include "compute/scene_library.hpp"
 #include "io/progress_line.hpp"
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -86,8 +85,8 @@ std::vector<scene_outcome> run_scenes(const batch_settings& s, const std::vector
 }  // namespace
 
 void add_batch_flags(CLI::App& sub, batch_options& o) {
-  sub.add_option("scenes", o.scenes, "Scene files (TOML)")->type_name("SCENE...");
-  add_text_flag(sub, {"--out-dir", "DIR", "Output directory (created if missing)"}, o.out_dir)->required();
+  add_positional_list(sub, {"scenes", "SCENE...", "Scene files (TOML)"}, o.scenes);
+  add_required_text_flag(sub, {"--out-dir", "DIR", "Output directory (created if missing)"}, o.out_dir);
   add_text_flag(sub, {"--jobs", "N", "Scenes run at once on this many threads (default 1)"}, o.jobs);
   add_text_flag(sub, {"--shard", "I/N", "Run only share I of N: the scenes, sorted by path, whose index % N == I-1"},
                 o.shard);

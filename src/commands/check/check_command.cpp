@@ -7,18 +7,17 @@
 #include "commands/check/check_output.hpp"
 #include "compute/scene_time.hpp"
 
-#include <CLI/CLI.hpp>
-
 namespace eulervop::app {
 
 void add_check_flags(CLI::App& sub, check_options& o) {
-  sub.add_option("reference", o.reference, "A scene (.toml), or a reference CSV written by `eulervop reference`")
-      ->required()
-      ->type_name("SCENE_OR_REFERENCE");
-  sub.add_option("trajectory", o.trajectory,
-                 "The trajectory: CSV with header tau,Omega1,Omega2,Omega3 (or t,omega1..3), and q0..q3 for an attitude")
-      ->required()
-      ->type_name("TRAJECTORY");
+  add_required_positional(
+      sub, {"reference", "SCENE_OR_REFERENCE", "A scene (.toml), or a reference CSV written by `eulervop reference`"},
+      o.reference);
+  add_required_positional(sub,
+                          {"trajectory", "TRAJECTORY",
+                           "The trajectory: CSV with header tau,Omega1,Omega2,Omega3 (or t,omega1..3), and q0..q3 for "
+                           "an attitude"},
+                          o.trajectory);
   add_text_flag(sub,
                 {"--columns", "MAP", "Column names of the file: tau=time,Omega1=w1,... (default: the canonical names)"},
                 o.columns);

@@ -10,6 +10,7 @@
 
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/model/physical_scaling.hpp>
+#include <eulervop/model/wide_formula_cells.hpp>
 
 #include <memory>
 #include <string>

@@ -1,8 +1,8 @@
 #include "commands/reference/reference_job.hpp"
 
 #include "cli/scene_overrides.hpp"
-#include "compute/certified_reference.hpp"
 #include "compute/reference_compute.hpp"
+#include "compute/run_certificate.hpp"
 #include "compute/scene_time.hpp"
 #include "compute/verify.hpp"
 #include "compute/with_scalar.hpp"
