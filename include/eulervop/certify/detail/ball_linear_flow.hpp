@@ -46,7 +46,12 @@ class ball_linear_flow {
 
   // The Jacobian's models (D x D, row-major; an empty model is 0) and the weights of the norm
   // (powers of two): W J W^-1 on the grids of the two residuals, and as doubles for the iterations.
-  void load_jacobian(std::vector<chebyshev_model> J, const std::vector<double>& weight);
+  void load_jacobian(std::vector<chebyshev_model> J, const std::vector<double>& weight) {
+    load_jacobian_in_place(J, weight);
+  }
+  // The same, working in J itself (its models are left scaled and cut, their storage kept for
+  // the caller's next segment).
+  void load_jacobian_in_place(std::vector<chebyshev_model>& J, const std::vector<double>& weight);
   // Phi_num on nodes chosen for |J| h (jh), and the bound of its residual in the weighted norm
   // (|W R W^-1|, weights powers of two). false when the iteration does not converge to a finite
   // value.
@@ -120,7 +125,8 @@ class ball_linear_flow {
   chebyshev_model ui_;
 };
 
-inline void ball_linear_flow::load_jacobian(std::vector<chebyshev_model> Jc, const std::vector<double>& weight) {
+inline void ball_linear_flow::load_jacobian_in_place(std::vector<chebyshev_model>& Jc,
+                                                     const std::vector<double>& weight) {
   // Everything below works on W J W^-1, W Phi W^-1 and W u (exact shifts): each entry's grid and
   // accuracy then follow its weight in the norm the residuals are bounded in.
   w_.resize(D_);
