@@ -115,6 +115,9 @@ class ball_segment_check {
   std::vector<ball> X0_;
   detail::weighted_jacobian_bounds jacobian_bounds_;
   std::vector<ball> tube_;  // tube_bounds' box
+  // field_and_residual's jets (the state along P, the field), kept so that their models' storage
+  // serves every segment.
+  std::vector<detail::series_jet> x_, F_;
 
  public:
   ~ball_segment_check() { arb_mat_clear(coefficients_); }
@@ -151,9 +154,8 @@ void ball_segment_check::prepare(const chebyshev_segment<T, Dim>& seg) {
   residual_sup();
   tube_bounds();
   breakpoints.compute(*this);
-  // 4. Phi and u.
-  flow.load_jacobian(std::move(J), weight);
-  J.assign(D * D, detail::chebyshev_model());
+  // 4. Phi and u. (J's models keep their storage for the next segment's field.)
+  flow.load_jacobian_in_place(J, weight);
   const double jh = mag_get_d(jmax.m) * arf_get_d(arb_midref(h.get()), ARF_RND_UP);
   if (!flow.variational(hl, jh)) fail(outcome_kind::certify_non_finite);
   if (!flow.integral_term(r, hl)) fail(outcome_kind::certify_non_finite);
@@ -198,17 +200,16 @@ inline void ball_segment_check::polynomial() {
 // F along P (its Jacobian into J), r = P(-1) + hl int F(P) - P and r(1).
 inline void ball_segment_check::field_and_residual() {
   const slong prec = problem->prec;
-  std::vector<detail::series_jet> F;
+  std::vector<detail::series_jet>& F = F_;
   try {
     set = formula_set(*problem, a, b);
     const detail::series_algebra alg(prec, D);
     detail::chebyshev_model t(2);
     arb_add(t.coeff(0), a.get(), hl.get(), prec);
     arb_set(t.coeff(1), hl.get());
-    std::vector<detail::series_jet> x;
-    x.reserve(D);
-    for (std::size_t k = 0; k < D; ++k) x.push_back(alg.variable(P[k], k));
-    field(*problem, set, alg, alg.independent(std::move(t)), x, F);
+    x_.resize(D);
+    for (std::size_t k = 0; k < D; ++k) alg.set_variable(x_[k], P[k], k);
+    field(*problem, set, alg, alg.independent(std::move(t)), x_, F);
   } catch (const std::domain_error& e) {
     fail(outcome_kind::certify_formula, 0, e.what());
   }
@@ -219,7 +220,7 @@ inline void ball_segment_check::field_and_residual() {
     arb_zero(r1[i].get());
     for (slong k = 0; k < r[i].length(); ++k) arb_add(r1[i].get(), r1[i].get(), r[i].coeff(k), prec);
     arb_add_error_mag(r1[i].get(), r[i].remainder());
-    for (std::size_t k = 0; k < D; ++k) J[i * D + k] = std::move(F[i].d[k]);
+    for (std::size_t k = 0; k < D; ++k) J[i * D + k].swap(F[i].d[k]);  // F's jets take J's old storage
   }
 }
 

@@ -276,7 +276,8 @@ void field(const certification_problem& p, std::size_t set, const Algebra& alg, 
   static constexpr int pair[3][2] = {{1, 2}, {2, 0}, {0, 1}};
   F.resize(p.dimension);
   for (int i = 0; i < 3; ++i) {
-    F[i] = detail::product(alg, x[pair[i][0]], x[pair[i][1]]);
+    F[i] = x[pair[i][0]];  // a copy into F's own storage (a caller's F may be reused)
+    alg.mul(F[i], x[pair[i][1]]);
     if (p.unit_a[i] == -1)
       alg.neg(F[i]);
     else if (p.unit_a[i] != 1)

@@ -3,7 +3,8 @@
 //   - the variational matrix Phi' = hl J Phi, Phi(-1) = I;
 //   - the signed integral term u' = hl J (u + r), u(-1) = 0, r the Picard residual, so that
 //     u(tau) = int_a^tau Phi(tau, s) J(s) r(s) ds.
-// Each is computed in double by Picard iteration on Lobatto nodes, where no rounding matters:
+// Each is computed in double on Lobatto nodes, where no rounding matters (Phi by Picard iteration,
+// u by variation of constants with Phi_num where Phi's condition allows, else by iteration):
 // the result is a polynomial with exact coefficients (Phi_num, u_num, on a binary grid), which
 // defines it. What is proven is the distance to the exact solution, from the residual of that
 // polynomial:
@@ -46,7 +47,12 @@ class ball_linear_flow {
 
   // The Jacobian's models (D x D, row-major; an empty model is 0) and the weights of the norm
   // (powers of two): W J W^-1 on the grids of the two residuals, and as doubles for the iterations.
-  void load_jacobian(std::vector<chebyshev_model> J, const std::vector<double>& weight);
+  void load_jacobian(std::vector<chebyshev_model> J, const std::vector<double>& weight) {
+    load_jacobian_in_place(J, weight);
+  }
+  // The same, working in J itself (its models are left scaled and cut, their storage kept for
+  // the caller's next segment).
+  void load_jacobian_in_place(std::vector<chebyshev_model>& J, const std::vector<double>& weight);
   // Phi_num on nodes chosen for |J| h (jh), and the bound of its residual in the weighted norm
   // (|W R W^-1|, weights powers of two). false when the iteration does not converge to a finite
   // value.
@@ -83,6 +89,8 @@ class ball_linear_flow {
   static constexpr slong grid_bits = 56;
   // The residuals' integrals and sums: a bound needs no more.
   static constexpr slong residual_prec = 64;
+  // u by variation of constants up to this |J| h (Phi's condition below exp(16), about 1e7).
+  static constexpr double variation_jh = 8;
 
   void jacobian_at_nodes(const chebyshev_basis<double>& b);
   void find_live_entries();
@@ -90,6 +98,7 @@ class ball_linear_flow {
   void bound_phi_residual(const ball& hl);
   slong scale_residual(const std::vector<chebyshev_model>& r);
   void residual_at_nodes(const chebyshev_basis<double>& b, slong len);
+  void phi_at_nodes(const chebyshev_basis<double>& b);
   slong u_from_nodes(const chebyshev_basis<double>& b);
   void bound_u_residual(const ball& hl, slong e);
 
@@ -100,13 +109,14 @@ class ball_linear_flow {
   std::vector<chebyshev_model> phi_, u_;  // Phi_num (D x D) and u_num (D, unscaled), exact
   std::vector<integer_poly> phi_grid_, u_grid_;
   slong phi_e_ = 0;
+  double jh_ = 0;  // variational()'s |J| h
   std::vector<int> w_;  // log2 of the weights
   long u_exp_ = 0;  // u and r scaled by 2^u_exp_ in the iteration
   std::vector<ball> Phi1_, u1_;
   mag_value phi_res_, u_res_;
   // Scratch, kept from segment to segment so that a segment allocates little.
   node_picard picard_;
-  std::vector<double> Jn_, Y_, rn_, rc_;
+  std::vector<double> Jn_, Y_, rn_, rc_, Pn_;
   std::vector<char> live_;
   std::vector<std::size_t> entries_;  // the live (i, j) of Phi as i * D + j
   std::vector<std::vector<std::size_t>> through_;  // for a live (i, j): the k with J_ik != 0, Phi_kj live
@@ -120,7 +130,8 @@ class ball_linear_flow {
   chebyshev_model ui_;
 };
 
-inline void ball_linear_flow::load_jacobian(std::vector<chebyshev_model> Jc, const std::vector<double>& weight) {
+inline void ball_linear_flow::load_jacobian_in_place(std::vector<chebyshev_model>& Jc,
+                                                     const std::vector<double>& weight) {
   // Everything below works on W J W^-1, W Phi W^-1 and W u (exact shifts): each entry's grid and
   // accuracy then follow its weight in the norm the residuals are bounded in.
   w_.resize(D_);
@@ -191,6 +202,7 @@ inline void ball_linear_flow::find_live_entries() {
 inline bool ball_linear_flow::variational(const ball& hl, double jh) {
   // Nodes for about twelve digits of Phi: a degree well above e |J| h / 2 (the Taylor bound of
   // the solution's coefficients; jh bounds |J| h by the Frobenius norm, which overestimates).
+  jh_ = jh;
   const std::size_t m = jh <= 4.5 ? 15 : jh <= 6 ? 17 : jh <= 10 ? 25 : jh <= 16 ? 33 : jh <= 24 ? 49 : 65;
   const chebyshev_basis<double>& b = lobatto_basis(m);
   const double hld = arf_get_d(arb_midref(hl.get()), ARF_RND_NEAR);
@@ -279,7 +291,14 @@ inline bool ball_linear_flow::integral_term(const std::vector<chebyshev_model>& 
   const double hld = arf_get_d(arb_midref(hl.get()), ARF_RND_NEAR);
   jacobian_at_nodes(b);
   residual_at_nodes(b, len);
-  if (!picard_.integral_term_sweeps(b, Jn_.data(), rn_.data(), D_, hld, Y_)) return false;
+  // By variation of constants with Phi_num where Phi's condition (at most exp(2 |J| h)) leaves
+  // u a few digits in double; by the sweeps where it may not, or where Phi_num is singular.
+  bool done = false;
+  if (jh_ <= variation_jh) {
+    phi_at_nodes(b);
+    done = picard_.integral_term_by_variation(b, Jn_.data(), rn_.data(), Pn_.data(), D_, hld, Y_);
+  }
+  if (!done && !picard_.integral_term_sweeps(b, Jn_.data(), rn_.data(), D_, hld, Y_)) return false;
   const slong e = u_from_nodes(b);
   bound_u_residual(hl, e);
   return mag_is_finite(u_res_.m);
@@ -312,6 +331,22 @@ inline slong ball_linear_flow::scale_residual(const std::vector<chebyshev_model>
   }
   rg_.load(rs_, grid_bits);
   return len;
+}
+
+// Pn_[l * D^2 + q] = Phi_num's entry q (weighted) at node l, in double.
+inline void ball_linear_flow::phi_at_nodes(const chebyshev_basis<double>& b) {
+  const std::size_t m = b.nodes.size(), DD = D_ * D_;
+  std::size_t n = 1;
+  for (const integer_poly& p : phi_grid_) n = std::max(n, static_cast<std::size_t>(p.p->length));
+  picard_.chebyshev_at_nodes(b, n);
+  Pn_.assign(m * DD, 0.0);
+  for (std::size_t q = 0; q < DD; ++q) {
+    const fmpz_poly_struct* p = phi_grid_[q].p;
+    if (p->length == 0) continue;
+    rc_.resize(static_cast<std::size_t>(p->length));
+    for (slong k = 0; k < p->length; ++k) rc_[k] = std::ldexp(fmpz_get_d(p->coeffs + k), static_cast<int>(phi_e_));
+    picard_.series_at_nodes(rc_.data(), rc_.size(), m, Pn_.data() + q, DD);
+  }
 }
 
 // rn_[l * D + i] = rg_'s polynomial i at node l, in double.

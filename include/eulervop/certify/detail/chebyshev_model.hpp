@@ -36,7 +36,7 @@ class chebyshev_model {
   chebyshev_model(chebyshev_model&& o) noexcept : chebyshev_model() { swap(o); }
   chebyshev_model& operator=(const chebyshev_model& o) {
     if (this == &o) return *this;
-    resize(o.len_);
+    reserve_length(o.len_);
     _arb_vec_set(c_, o.c_, o.len_);
     mag_set(rem_, o.rem_);
     return *this;
@@ -66,6 +66,14 @@ class chebyshev_model {
 
   // The length becomes n; new coefficients are zero. The remainder is kept.
   void resize(slong n) {
+    const slong old = len_;
+    reserve_length(n);
+    for (slong k = old; k < n; ++k) arb_zero(c_ + k);
+  }
+  // The length becomes n, the new coefficients unspecified: for a caller that sets every one.
+  // Unlike resize(), it leaves the coefficients' storage alone (zeroing an Arb number frees its
+  // limbs, which the caller's next set would allocate again).
+  void reserve_length(slong n) {
     if (n > alloc_) {
       const slong grown = std::max<slong>(n, 2 * alloc_);
       arb_ptr c = _arb_vec_init(grown);
@@ -76,7 +84,6 @@ class chebyshev_model {
       c_ = c;
       alloc_ = grown;
     }
-    for (slong k = len_; k < n; ++k) arb_zero(c_ + k);
     len_ = n;
   }
   void set_zero() {
@@ -261,7 +268,7 @@ inline void grid_product(fmpz_poly_t c, const fmpz_poly_t A, const fmpz_poly_t B
 
 // The model of 2^e sum n_k T_k (exact coefficients) with remainder `rem`.
 inline void from_grid(chebyshev_model& out, const fmpz_poly_t n, slong e, const mag_t rem) {
-  out.resize(n->length);
+  out.reserve_length(n->length);
   for (slong k = 0; k < n->length; ++k) {
     set_fmpz_2exp(arb_midref(out.coeff(k)), n->coeffs + k, e);
     mag_zero(arb_radref(out.coeff(k)));
@@ -280,7 +287,7 @@ inline void multiply(chebyshev_model& out, const chebyshev_model& a, const cheby
   }
   // A constant factor (one coefficient, no remainder): a scaling, in balls at bits + 64.
   if (b.length() == 1 && mag_is_zero(b.remainder())) {
-    out.resize(a.length());
+    out.reserve_length(a.length());
     for (slong k = 0; k < a.length(); ++k) arb_mul(out.coeff(k), a.coeff(k), b.coeff(0), bits + 64);
     mag_t m;
     mag_init(m);

@@ -68,6 +68,13 @@ class series_algebra {
     v.d[k].set_constant(ball(1));
     return v;
   }
+  // The same into v, whose models keep their storage (a segment's check reuses its jets).
+  void set_variable(value& v, const chebyshev_model& f, std::size_t k) const {
+    v.f = f;
+    v.d.resize(n_);
+    for (chebyshev_model& d : v.d) d.set_zero();
+    v.d[k].set_constant(ball(1));
+  }
   // A model with no partials (the time).
   value independent(chebyshev_model f) const {
     value v;
@@ -172,7 +179,9 @@ class series_algebra {
   void invert(value& a) const { function(elementary::inverse, a); }
   // a = a b: (a b)' = a' b + a b'.
   void mul(value& a, const value& b) const {
-    chebyshev_model t, u;
+    // Scratch kept per thread: each product lands in t and is swapped into a, so a's old
+    // coefficients (and their limbs) serve the next product instead of going back to malloc.
+    thread_local chebyshev_model t, u;
     for (std::size_t k = 0; k < n_; ++k) {
       const bool da = !a.d[k].is_zero(), db = !b.d[k].is_zero();
       if (!da && !db) continue;

@@ -5,7 +5,8 @@
 //   Phi = I + hl S (J Phi)      (the variational matrix, D x D per node)
 //   u   = hl S (J (u + r))      (the signed integral term, D per node)
 // with S the integration matrix of chebyshev_basis.hpp ((S F)_l = int_{-1}^{s_l} of the
-// interpolant of F). Each sweep visits the nodes in order and updates J Y at a node as soon as Y
+// interpolant of F); u also by variation of constants, u = Phi S (Phi^-1 hl J r), in one pass
+// of the same sums. Each sweep visits the nodes in order and updates J Y at a node as soon as Y
 // is (Gauss-Seidel): the operator is a Volterra one, so this converges in a few sweeps where
 // Jacobi's takes about e |J| h of them. The rounding order of every sum is fixed here, whatever
 // the dimension, so that a run gives the same bits on any number of threads and in any build.
@@ -118,6 +119,12 @@ class node_picard {
   bool variational_sweeps(const chebyshev_basis<double>& b, const double* Jn, std::size_t D, double hl,
                           const std::vector<std::size_t>& entries,
                           const std::vector<std::vector<std::size_t>>& through, std::vector<double>& Y);
+  // u on the nodes of b into Y (m x D) by variation of constants, u(s) = Phi(s) int_{-1}^s
+  // Phi^-1 hl J r, from Jn, r at the nodes rn (m x D) and Phi at the nodes Pn (m x D x D): one
+  // pass where the sweeps below take several. false where a Phi is singular in double or a value
+  // is not finite.
+  bool integral_term_by_variation(const chebyshev_basis<double>& b, const double* Jn, const double* rn,
+                                  const double* Pn, std::size_t D, double hl, std::vector<double>& Y);
   // u on the nodes of b into Y (m x D), from Jn and r at the nodes rn (m x D).
   bool integral_term_sweeps(const chebyshev_basis<double>& b, const double* Jn, const double* rn, std::size_t D,
                             double hl, std::vector<double>& Y);
@@ -131,8 +138,71 @@ class node_picard {
   bool integral_term_kernel(const chebyshev_basis<double>& b, const double* Jn, const double* rn, std::size_t D,
                             double hl, std::vector<double>& Y);
 
-  std::vector<double> Tn_, v_, F_, acc_, c_;
+  std::vector<double> Tn_, v_, F_, acc_, c_, lu_;
 };
+
+// Solves A x = v in place (A: D x D row-major, overwritten; v: D), by Gaussian elimination with
+// partial pivoting in double. false where a pivot is zero or not finite.
+inline bool solve_in_place(double* A, double* v, std::size_t D) {
+  for (std::size_t c = 0; c < D; ++c) {
+    std::size_t p = c;
+    for (std::size_t r = c + 1; r < D; ++r)
+      if (std::abs(A[r * D + c]) > std::abs(A[p * D + c])) p = r;
+    if (!(std::abs(A[p * D + c]) > 0) || !std::isfinite(A[p * D + c])) return false;
+    if (p != c) {
+      for (std::size_t k = 0; k < D; ++k) std::swap(A[p * D + k], A[c * D + k]);
+      std::swap(v[p], v[c]);
+    }
+    for (std::size_t r = c + 1; r < D; ++r) {
+      const double f = A[r * D + c] / A[c * D + c];
+      for (std::size_t k = c; k < D; ++k) A[r * D + k] -= f * A[c * D + k];
+      v[r] -= f * v[c];
+    }
+  }
+  for (std::size_t c = D; c-- > 0;) {
+    double x = v[c];
+    for (std::size_t k = c + 1; k < D; ++k) x -= A[c * D + k] * v[k];
+    v[c] = x / A[c * D + c];
+  }
+  return true;
+}
+
+inline bool node_picard::integral_term_by_variation(const chebyshev_basis<double>& b, const double* Jn,
+                                                    const double* rn, const double* Pn, std::size_t D, double hl,
+                                                    std::vector<double>& Y) {
+  const std::size_t m = b.nodes.size(), DD = D * D;
+  F_.assign(m * D, 0.0);  // g = Phi^-1 hl J r at the nodes
+  lu_.resize(DD);
+  for (std::size_t l = 0; l < m; ++l) {
+    double* g = F_.data() + l * D;
+    for (std::size_t i = 0; i < D; ++i) {
+      double acc = 0;
+      for (std::size_t k = 0; k < D; ++k) acc += Jn[l * DD + i * D + k] * rn[l * D + k];
+      g[i] = hl * acc;
+    }
+    std::copy(Pn + l * DD, Pn + (l + 1) * DD, lu_.begin());
+    if (!solve_in_place(lu_.data(), g, D)) return false;
+  }
+  // w = S g (the integral from -1 at each node: one pass of the sweep's sums, g fixed), then
+  // u = Phi w.
+  Y.assign(m * D, 0.0);
+  bool finite = true;
+  const auto finish = [&](std::size_t l, const double* w) {
+    for (std::size_t i = 0; i < D; ++i) {
+      double u = 0;
+      for (std::size_t k = 0; k < D; ++k) u += Pn[l * DD + i * D + k] * w[k];
+      finite = finite && std::isfinite(u);
+      Y[l * D + i] = u;
+    }
+  };
+  if (D == 3)
+    gauss_seidel_sweep<3>(b.integral.data(), F_.data(), m, D, acc_, finish);
+  else if (D == 7)
+    gauss_seidel_sweep<7>(b.integral.data(), F_.data(), m, D, acc_, finish);
+  else
+    gauss_seidel_sweep<0>(b.integral.data(), F_.data(), m, D, acc_, finish);
+  return finite;
+}
 
 inline slong node_picard::grid_coefficients(const chebyshev_basis<double>& b, const double* values,
                                             std::size_t stride, std::size_t count, std::vector<integer_poly>& out,
