@@ -8,7 +8,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -293,4 +295,41 @@ TEST(Correction, PredictedStopStaysWithinItsTarget) {
     EXPECT_GT(size, 100 * floor) << "amplitude " << amplitude;  // the correction is not trivial
     EXPECT_LT(sweeps[1], sweeps[0]) << "amplitude " << amplitude;
   }
+}
+
+// The warm start evaluates its Clenshaw recurrences eight nodes side by side and its coefficients
+// four rows side by side: each must give the bits of one clenshaw<double> per node on the
+// coefficients summed row by row (the order of operations it documents). A segment of degree 41
+// through smooth values, extrapolated to a segment 1.3 times as long.
+TEST(WarmStart, SideBySideIsClenshawsBits) {
+  const std::size_t N = 41, n1 = N + 1;
+  const eulervop::detail::picard_matrices<quad> m(N, 113);
+  eulervop::chebyshev_segment<quad, 3> prev;
+  prev.half_length = quad(0.05);
+  prev.values.resize(n1);
+  for (std::size_t j = 0; j < n1; ++j)
+    for (int i = 0; i < 3; ++i) prev.values[j][i] = sin(quad(0.3 + i) * (m.basis.nodes[j] + 1)) / (i + 1);
+  const quad hl_new = prev.half_length * quad(1.3);
+  eulervop::detail::warm_start<quad, 3> start(N);
+  std::array<std::vector<double>, 3> warm;
+  for (auto& v : warm) v.resize(n1);
+  start(m, &prev, hl_new, warm);
+  const double ratio = static_cast<double>(hl_new / prev.half_length);
+  for (int i = 0; i < 3; ++i) {
+    std::vector<double> b(n1 + 1, 0.0);
+    double cmax = 0;
+    for (std::size_t k = 0; k < n1; ++k) {
+      for (std::size_t j = 0; j < n1; ++j) b[k] += m.C_d[k * n1 + j] * static_cast<double>(prev.values[j][i]);
+      cmax = std::max(cmax, std::abs(b[k]));
+    }
+    for (std::size_t k = 1; k < n1; ++k)
+      if (std::abs(b[k]) < 1e-15 * cmax) b[k] = 0;
+    const double p1 = eulervop::detail::clenshaw<double>(b.data(), n1, 1, 1.0);
+    for (std::size_t j = 0; j < n1; ++j) {
+      const double s = 1.0 + ratio * (static_cast<double>(m.basis.nodes[j]) + 1.0);
+      const double expected = eulervop::detail::clenshaw<double>(b.data(), n1, 1, s) - p1;
+      EXPECT_EQ(std::memcmp(&expected, &warm[i][j], sizeof expected), 0) << "component " << i << " node " << j;
+    }
+  }
+  EXPECT_NE(warm[0][n1 - 1], 0.0);  // the extrapolation ran (not the cold start's zeros)
 }
