@@ -333,3 +333,43 @@ TEST(WarmStart, SideBySideIsClenshawsBits) {
   }
   EXPECT_NE(warm[0][n1 - 1], 0.0);  // the extrapolation ran (not the cold start's zeros)
 }
+
+// The sweeps compiled for AVX (where the processor has it) against the baseline build of the same
+// source: AVX brings no fused multiply-add, so each sweep must give the same bits. A workspace as
+// in PredictedStopStaysWithinItsTarget, ten sweeps each, every delta and g compared bit for bit.
+TEST(Correction, AvxSweepsAreTheBaselinesBits) {
+#if EULERVOP_SWEEP_AVX
+  if (!eulervop::detail::sweeps_use_avx()) GTEST_SKIP() << "no AVX on this processor";
+  using P = eulervop::euler_problem<quad>;
+  P problem;
+  problem.torque.G = {quad(1), quad(1), quad(1)};
+  const std::size_t N = 41, n1 = N + 1;
+  const eulervop::detail::picard_matrices<quad> m(N, 113);
+  std::array<eulervop::detail::picard_workspace<P>, 2> w{eulervop::detail::picard_workspace<P>(n1),
+                                                         eulervop::detail::picard_workspace<P>(n1)};
+  for (auto& v : w) {
+    v.field = eulervop::detail::field_of<P>(problem);
+    for (std::size_t j = 0; j < n1; ++j) {
+      const double s = static_cast<double>(m.basis.nodes[j]);
+      v.Xd[0][j] = 30 * std::cos(2 * s);
+      v.Xd[1][j] = 30 * std::sin(2 * s);
+      v.Xd[2][j] = 40;
+      for (int i = 0; i < 3; ++i) v.r[i][j] = v.delta[i][j] = j == 0 ? 0.0 : 1e-3 * std::sin(3 * s + i);
+    }
+    eulervop::detail::increments(v);
+  }
+  for (int sweep = 0; sweep < 10; ++sweep) {
+    double dmax[2] = {0, 0};
+    const double diff0 = eulervop::detail::correction_sweep(m, w[0], 0.025, dmax[0]);
+    const double diff1 = eulervop::detail::correction_sweep_avx(m, w[1], 0.025, dmax[1]);
+    ASSERT_EQ(std::memcmp(&diff0, &diff1, sizeof diff0), 0) << "sweep " << sweep;
+    ASSERT_EQ(std::memcmp(&dmax[0], &dmax[1], sizeof dmax[0]), 0) << "sweep " << sweep;
+    for (int i = 0; i < 3; ++i) {
+      ASSERT_EQ(std::memcmp(w[0].delta[i].data(), w[1].delta[i].data(), n1 * sizeof(double)), 0) << sweep;
+      ASSERT_EQ(std::memcmp(w[0].g[i].data(), w[1].g[i].data(), n1 * sizeof(double)), 0) << sweep;
+    }
+  }
+#else
+  GTEST_SKIP() << "the sweeps have no AVX build here";
+#endif
+}
