@@ -373,3 +373,38 @@ TEST(Correction, AvxSweepsAreTheBaselinesBits) {
   GTEST_SKIP() << "the sweeps have no AVX build here";
 #endif
 }
+
+// The double-double product computes four rows side by side in blocks, the rows before the
+// blocks one by one (also those of a block that first_row cuts): both must give the bits of Dot2's
+// sum for each row. The Picard matrix at degree 41 (42 rows: row 1 alone, then blocks from row
+// 2) times a vector of mixed magnitudes; rows 3 to 5 come one by one with first_row = 3 and
+// from a block with first_row = 2.
+TEST(DoubleDoubleMatrix, BlocksAreTheRowsBits) {
+  const std::size_t N = 41, n1 = N + 1;
+  eulervop::detail::picard_matrices<quad> m(N, 113);
+  std::vector<double> x_hi(n1), x_lo(n1);
+  for (std::size_t k = 0; k < n1; ++k) {
+    x_hi[k] = std::ldexp(std::sin(1.0 + 7.0 * k), static_cast<int>(k % 9) - 4);
+    x_lo[k] = x_hi[k] * 0x1p-60 * std::cos(3.0 * k);
+  }
+  std::array<std::vector<double>, 2> y_hi{std::vector<double>(n1), std::vector<double>(n1)}, y_lo = y_hi;
+  m.S_dd.multiply(x_hi.data(), x_lo.data(), y_hi[0].data(), y_lo[0].data(), 2);
+  m.S_dd.multiply(x_hi.data(), x_lo.data(), y_hi[1].data(), y_lo[1].data(), 3);
+  for (std::size_t r = 3; r < n1; ++r) {
+    EXPECT_EQ(std::memcmp(&y_hi[0][r], &y_hi[1][r], sizeof(double)), 0) << "row " << r;
+    EXPECT_EQ(std::memcmp(&y_lo[0][r], &y_lo[1][r], sizeof(double)), 0) << "row " << r;
+  }
+  // And the sum is the product's: Dot2's bound (Ogita, Rump & Oishi 2005, Theorem 4.4) in
+  // double-double is gamma_n^2 sum |a x|, (42 u)^2 < 2^-95 for u = 2^-53, plus 2^-106 sum |a x|
+  // for the entries split into double-double and as much for the sum in quad it is checked with.
+  for (std::size_t r = 2; r < n1; ++r) {
+    quad exact = 0, size = 0;
+    for (std::size_t k = 0; k < n1; ++k) {
+      const quad a = m.basis.integral[r * n1 + k], x = quad(x_hi[k]) + quad(x_lo[k]);
+      exact += a * x;
+      size += abs(a * x);
+    }
+    const quad got = quad(y_hi[0][r]) + quad(y_lo[0][r]);
+    EXPECT_LE(static_cast<double>(abs(got - exact)), std::ldexp(static_cast<double>(size), -94)) << "row " << r;
+  }
+}
