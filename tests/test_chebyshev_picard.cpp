@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -406,5 +407,22 @@ TEST(DoubleDoubleMatrix, BlocksAreTheRowsBits) {
     }
     const quad got = quad(y_hi[0][r]) + quad(y_lo[0][r]);
     EXPECT_LE(static_cast<double>(abs(got - exact)), std::ldexp(static_cast<double>(size), -94)) << "row " << r;
+  }
+}
+
+// The workspace's double-to-binary128 conversion from bit patterns against the compiler's: the
+// same bits for normal doubles across the exponent range and both signs, and the edge cases it
+// hands to the compiler (zeros, subnormals, infinities).
+TEST(Workspace, ExactBinary128IsTheConversion) {
+  using W = eulervop::detail::picard_workspace<eulervop::euler_problem<quad>>;
+  std::vector<double> values = {0.0, -0.0, 0x1p-1074, -0x1p-1074, 0x1.fffffffffffffp-1023, 0x1p-1022,
+                                std::numeric_limits<double>::max(), std::numeric_limits<double>::infinity(),
+                                -std::numeric_limits<double>::infinity()};
+  for (int e = -1022; e <= 1023; e += 7)
+    for (const double m : {1.0, 1.5, 1.9999999999999998, 1.2345678901234567})
+      for (const double sign : {1.0, -1.0}) values.push_back(sign * std::ldexp(m, e));
+  for (const double d : values) {
+    const __float128 got = W::exact_binary128(d), expected = static_cast<__float128>(d);
+    EXPECT_EQ(std::memcmp(&got, &expected, sizeof got), 0) << d;
   }
 }
