@@ -15,7 +15,6 @@
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/reference/detail/double4.hpp>
 
-#include <algorithm>
 #include <cstddef>
 #include <cstring>
 #include <vector>
