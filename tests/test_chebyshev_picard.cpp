@@ -8,7 +8,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -292,5 +295,134 @@ TEST(Correction, PredictedStopStaysWithinItsTarget) {
     EXPECT_LE(worst, 1.25 * floor) << "amplitude " << amplitude;
     EXPECT_GT(size, 100 * floor) << "amplitude " << amplitude;  // the correction is not trivial
     EXPECT_LT(sweeps[1], sweeps[0]) << "amplitude " << amplitude;
+  }
+}
+
+// The warm start evaluates its Clenshaw recurrences eight nodes side by side and its coefficients
+// four rows side by side: each must give the bits of one clenshaw<double> per node on the
+// coefficients summed row by row (the order of operations it documents). A segment of degree 41
+// through smooth values, extrapolated to a segment 1.3 times as long.
+TEST(WarmStart, SideBySideIsClenshawsBits) {
+  const std::size_t N = 41, n1 = N + 1;
+  const eulervop::detail::picard_matrices<quad> m(N, 113);
+  eulervop::chebyshev_segment<quad, 3> prev;
+  prev.half_length = quad(0.05);
+  prev.values.resize(n1);
+  for (std::size_t j = 0; j < n1; ++j)
+    for (int i = 0; i < 3; ++i) prev.values[j][i] = sin(quad(0.3 + i) * (m.basis.nodes[j] + 1)) / (i + 1);
+  const quad hl_new = prev.half_length * quad(1.3);
+  eulervop::detail::warm_start<quad, 3> start(N);
+  std::array<std::vector<double>, 3> warm;
+  for (auto& v : warm) v.resize(n1);
+  start(m, &prev, hl_new, warm);
+  const double ratio = static_cast<double>(hl_new / prev.half_length);
+  for (int i = 0; i < 3; ++i) {
+    std::vector<double> b(n1 + 1, 0.0);
+    double cmax = 0;
+    for (std::size_t k = 0; k < n1; ++k) {
+      for (std::size_t j = 0; j < n1; ++j) b[k] += m.C_d[k * n1 + j] * static_cast<double>(prev.values[j][i]);
+      cmax = std::max(cmax, std::abs(b[k]));
+    }
+    for (std::size_t k = 1; k < n1; ++k)
+      if (std::abs(b[k]) < 1e-15 * cmax) b[k] = 0;
+    const double p1 = eulervop::detail::clenshaw<double>(b.data(), n1, 1, 1.0);
+    for (std::size_t j = 0; j < n1; ++j) {
+      const double s = 1.0 + ratio * (static_cast<double>(m.basis.nodes[j]) + 1.0);
+      const double expected = eulervop::detail::clenshaw<double>(b.data(), n1, 1, s) - p1;
+      EXPECT_EQ(std::memcmp(&expected, &warm[i][j], sizeof expected), 0) << "component " << i << " node " << j;
+    }
+  }
+  EXPECT_NE(warm[0][n1 - 1], 0.0);  // the extrapolation ran (not the cold start's zeros)
+}
+
+// The sweeps compiled for AVX (where the processor has it) against the baseline build of the same
+// source: AVX brings no fused multiply-add, so each sweep must give the same bits. A workspace as
+// in PredictedStopStaysWithinItsTarget, ten sweeps each, every delta and g compared bit for bit.
+TEST(Correction, AvxSweepsAreTheBaselinesBits) {
+#if EULERVOP_SWEEP_AVX
+  if (!eulervop::detail::sweeps_use_avx()) GTEST_SKIP() << "no AVX on this processor";
+  using P = eulervop::euler_problem<quad>;
+  P problem;
+  problem.torque.G = {quad(1), quad(1), quad(1)};
+  const std::size_t N = 41, n1 = N + 1;
+  const eulervop::detail::picard_matrices<quad> m(N, 113);
+  std::array<eulervop::detail::picard_workspace<P>, 2> w{eulervop::detail::picard_workspace<P>(n1),
+                                                         eulervop::detail::picard_workspace<P>(n1)};
+  for (auto& v : w) {
+    v.field = eulervop::detail::field_of<P>(problem);
+    for (std::size_t j = 0; j < n1; ++j) {
+      const double s = static_cast<double>(m.basis.nodes[j]);
+      v.Xd[0][j] = 30 * std::cos(2 * s);
+      v.Xd[1][j] = 30 * std::sin(2 * s);
+      v.Xd[2][j] = 40;
+      for (int i = 0; i < 3; ++i) v.r[i][j] = v.delta[i][j] = j == 0 ? 0.0 : 1e-3 * std::sin(3 * s + i);
+    }
+    eulervop::detail::increments(v);
+  }
+  for (int sweep = 0; sweep < 10; ++sweep) {
+    double dmax[2] = {0, 0};
+    const double diff0 = eulervop::detail::correction_sweep(m, w[0], 0.025, dmax[0]);
+    const double diff1 = eulervop::detail::correction_sweep_avx(m, w[1], 0.025, dmax[1]);
+    ASSERT_EQ(std::memcmp(&diff0, &diff1, sizeof diff0), 0) << "sweep " << sweep;
+    ASSERT_EQ(std::memcmp(&dmax[0], &dmax[1], sizeof dmax[0]), 0) << "sweep " << sweep;
+    for (int i = 0; i < 3; ++i) {
+      ASSERT_EQ(std::memcmp(w[0].delta[i].data(), w[1].delta[i].data(), n1 * sizeof(double)), 0) << sweep;
+      ASSERT_EQ(std::memcmp(w[0].g[i].data(), w[1].g[i].data(), n1 * sizeof(double)), 0) << sweep;
+    }
+  }
+#else
+  GTEST_SKIP() << "the sweeps have no AVX build here";
+#endif
+}
+
+// The double-double product computes four rows side by side in blocks, the rows before the
+// blocks one by one (also those of a block that first_row cuts): both must give the bits of Dot2's
+// sum for each row. The Picard matrix at degree 41 (42 rows: row 1 alone, then blocks from row
+// 2) times a vector of mixed magnitudes; rows 3 to 5 come one by one with first_row = 3 and
+// from a block with first_row = 2.
+TEST(DoubleDoubleMatrix, BlocksAreTheRowsBits) {
+  const std::size_t N = 41, n1 = N + 1;
+  eulervop::detail::picard_matrices<quad> m(N, 113);
+  std::vector<double> x_hi(n1), x_lo(n1);
+  for (std::size_t k = 0; k < n1; ++k) {
+    x_hi[k] = std::ldexp(std::sin(1.0 + 7.0 * k), static_cast<int>(k % 9) - 4);
+    x_lo[k] = x_hi[k] * 0x1p-60 * std::cos(3.0 * k);
+  }
+  std::array<std::vector<double>, 2> y_hi{std::vector<double>(n1), std::vector<double>(n1)}, y_lo = y_hi;
+  m.S_dd.multiply(x_hi.data(), x_lo.data(), y_hi[0].data(), y_lo[0].data(), 2);
+  m.S_dd.multiply(x_hi.data(), x_lo.data(), y_hi[1].data(), y_lo[1].data(), 3);
+  for (std::size_t r = 3; r < n1; ++r) {
+    EXPECT_EQ(std::memcmp(&y_hi[0][r], &y_hi[1][r], sizeof(double)), 0) << "row " << r;
+    EXPECT_EQ(std::memcmp(&y_lo[0][r], &y_lo[1][r], sizeof(double)), 0) << "row " << r;
+  }
+  // And the sum is the product's: Dot2's bound (Ogita, Rump & Oishi 2005, Theorem 4.4) in
+  // double-double is gamma_n^2 sum |a x|, (42 u)^2 < 2^-95 for u = 2^-53, plus 2^-106 sum |a x|
+  // for the entries split into double-double and as much for the sum in quad it is checked with.
+  for (std::size_t r = 2; r < n1; ++r) {
+    quad exact = 0, size = 0;
+    for (std::size_t k = 0; k < n1; ++k) {
+      const quad a = m.basis.integral[r * n1 + k], x = quad(x_hi[k]) + quad(x_lo[k]);
+      exact += a * x;
+      size += abs(a * x);
+    }
+    const quad got = quad(y_hi[0][r]) + quad(y_lo[0][r]);
+    EXPECT_LE(static_cast<double>(abs(got - exact)), std::ldexp(static_cast<double>(size), -94)) << "row " << r;
+  }
+}
+
+// The workspace's double-to-binary128 conversion from bit patterns against the compiler's: the
+// same bits for normal doubles across the exponent range and both signs, and the edge cases it
+// hands to the compiler (zeros, subnormals, infinities).
+TEST(Workspace, ExactBinary128IsTheConversion) {
+  using W = eulervop::detail::picard_workspace<eulervop::euler_problem<quad>>;
+  std::vector<double> values = {0.0, -0.0, 0x1p-1074, -0x1p-1074, 0x1.fffffffffffffp-1023, 0x1p-1022,
+                                std::numeric_limits<double>::max(), std::numeric_limits<double>::infinity(),
+                                -std::numeric_limits<double>::infinity()};
+  for (int e = -1022; e <= 1023; e += 7)
+    for (const double m : {1.0, 1.5, 1.9999999999999998, 1.2345678901234567})
+      for (const double sign : {1.0, -1.0}) values.push_back(sign * std::ldexp(m, e));
+  for (const double d : values) {
+    const __float128 got = W::exact_binary128(d), expected = static_cast<__float128>(d);
+    EXPECT_EQ(std::memcmp(&got, &expected, sizeof got), 0) << d;
   }
 }

@@ -1,7 +1,7 @@
 // Two doubles in one SSE register (GCC/Clang vector extension; element-wise IEEE arithmetic, so
 // each lane rounds exactly as the scalar code would). Used where two polynomials share their
-// argument (the kernels of special/jacobi_theta.hpp and special/detail/sincos_double.hpp), and for
-// the correction's dot products (reference/detail/picard_correction.hpp).
+// argument (the kernels of special/jacobi_theta.hpp and special/detail/sincos_double.hpp); the
+// reference's sweeps and double-double products use four lanes (reference/detail/double4.hpp).
 #pragma once
 
 #include <cstring>

@@ -32,9 +32,10 @@ template <scalar T>
 std::vector<T> lobatto_to_chebyshev(std::size_t N, const std::vector<T>& cosines) {
   const std::size_t n1 = N + 1;
   std::vector<T> a(n1 * n1, T(0));
+  const T two_over_N = T(2) / T(N);
   for (std::size_t k = 0; k < n1; ++k)
     for (std::size_t j = 0; j < n1; ++j) {
-      T w = T(2) / T(N);
+      T w = two_over_N;
       if (j == 0 || j == N) w /= 2;
       if (k == 0 || k == N) w /= 2;
       const T& c = cosines[(k * j) % (2 * N)];
@@ -64,12 +65,10 @@ struct chebyshev_basis {
   std::vector<T> coeffs;     // values -> Chebyshev coefficients a_k of p, row-major (N+1)x(N+1)
 
   explicit chebyshev_basis(std::size_t N) : degree(N) {
-    using std::cos;
     const std::size_t n1 = N + 1;
-    const T pi = boost::math::constants::pi<T>();
-    nodes.resize(n1);
-    for (std::size_t j = 0; j < n1; ++j) nodes[j] = -cos(pi * T(j) / T(N));
     const std::vector<T> cosines = lobatto_cosines<T>(N);
+    nodes.resize(n1);
+    for (std::size_t j = 0; j < n1; ++j) nodes[j] = -cosines[j];  // -cos(pi j / N), the same expression
     auto Tk = [&](std::size_t k, std::size_t j) {
       const T& c = cosines[(k * j) % (2 * N)];
       return (k % 2) ? T(-c) : c;

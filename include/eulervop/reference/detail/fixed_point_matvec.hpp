@@ -59,13 +59,16 @@ class fixed_point_matrix<quad> {
     // Each row by its own largest entry: rows of the Picard matrix near the segment's start are
     // small (integrals over short intervals) and keep their relative accuracy.
     a_shift_.resize(rows);
+    // The largest entry and the integers from the bit patterns, as for x in multiply(): the
+    // same integers as nearest_integer(a 2^shift), without soft-float operations (a third of the
+    // matrices' start-up in quad).
     for (std::size_t r = 0; r < rows; ++r) {
-      quad amax = 0;
-      for (std::size_t k = 0; k < cols; ++k) amax = std::max(amax, quad(abs(a[r * cols + k])));
-      a_shift_[r] = amax > 0 ? shift_for(amax) : 0;
-      const quad scale = ldexp(quad(1), a_shift_[r]);
+      unsigned __int128 max_bits = 0;
+      for (std::size_t k = 0; k < cols; ++k) max_bits = std::max(max_bits, magnitude_bits(a[r * cols + k]));
+      if (max_bits >= infinity_bits) throw std::invalid_argument("fixed_point_matrix: an entry is not finite");
+      a_shift_[r] = max_bits > 0 ? shift_for(from_bits(max_bits)) : 0;
       for (std::size_t k = 0; k < cols; ++k)
-        split(nearest_integer(a[r * cols + k] * scale), hi_[r * cols + k], lo_[r * cols + k]);  // exact scaling
+        split(scaled_integer(a[r * cols + k], a_shift_[r]), hi_[r * cols + k], lo_[r * cols + k]);
     }
   }
 
@@ -97,10 +100,10 @@ class fixed_point_matrix<quad> {
       // y = (H 2^128 + M 2^64) 2^-(a_shift + x_shift), with H and M exact integer sums.
       const std::int64_t* ah = &hi_[r * cols_];
       const std::uint64_t* al = &lo_[r * cols_];
-      __int128 H = 0, M = 0;
-      for (std::size_t k = 0; k < cols_; ++k) add_product(ah[k], al[k], xh_[k], xl_[k], H, M);
+      product_sum sum;
+      for (std::size_t k = 0; k < cols_; ++k) sum.add(ah[k], al[k], xh_[k], xl_[k]);
       // Carry the middle sum's high half into H: y = (H 2^64 + m_low) 2^(64 - a_shift - x_shift).
-      H += M >> 64;
+      const __int128 M = sum.middle(), H = sum.H + (M >> 64);
       y[r] = rounded(H, static_cast<std::uint64_t>(M), 64 - a_shift_[r] - x_shift);
     }
   }
@@ -124,15 +127,15 @@ class fixed_point_matrix<quad> {
       return rounded(sum >> 64, static_cast<std::uint64_t>(sum), -a_shift);
     }
     const int b_shift = shift_for(from_bits(b_bits));
-    __int128 H = 0, M = 0;
+    product_sum sum;
     for (std::size_t k = 0; k < n; ++k) {
       std::int64_t ah, bh;
       std::uint64_t al, bl;
       split(scaled_integer(a[k], a_shift), ah, al);
       split(scaled_integer(b[k * b_stride], b_shift), bh, bl);
-      add_product(ah, al, bh, bl, H, M);
+      sum.add(ah, al, bh, bl);
     }
-    H += M >> 64;
+    const __int128 M = sum.middle(), H = sum.H + (M >> 64);
     return rounded(H, static_cast<std::uint64_t>(M), 64 - a_shift - b_shift);
   }
 
@@ -210,14 +213,25 @@ class fixed_point_matrix<quad> {
 
  private:
   static constexpr unsigned __int128 infinity_bits = static_cast<unsigned __int128>(0x7fff) << 112;
-  // H 2^128 + M 2^64 += (ah 2^64 + al)(bh 2^64 + bl), the low half of al bl dropped (below
-  // 2^64 in these units).
-  [[gnu::always_inline]] static void add_product(std::int64_t ah, std::uint64_t al, std::int64_t bh, std::uint64_t bl,
-                                                 __int128& H, __int128& M) {
-    H += static_cast<__int128>(ah) * bh;
-    M += static_cast<__int128>(ah) * static_cast<__int128>(bl) + static_cast<__int128>(bh) * static_cast<__int128>(al) +
-         static_cast<__int128>((static_cast<unsigned __int128>(al) * bl) >> 64);
-  }
+  // H 2^128 + M 2^64 = sum of (ah 2^64 + al)(bh 2^64 + bl), the low half of each al bl dropped
+  // (below 2^64 in these units). A signed half times an unsigned one, ah bl, is the product of
+  // their 64-bit patterns less 2^64 bl when ah < 0: one unsigned multiply and a masked sum (C)
+  // instead of the two multiplies of a 128-bit signed product. The same integers, so the same
+  // results; M is formed once as U - 2^64 C modulo 2^128, exact since |M| < 2^127.
+  struct product_sum {
+    __int128 H = 0;
+    unsigned __int128 U = 0, C = 0;
+    [[gnu::always_inline]] void add(std::int64_t ah, std::uint64_t al, std::int64_t bh, std::uint64_t bl) {
+      using u128 = unsigned __int128;
+      H += static_cast<__int128>(ah) * bh;
+      U += static_cast<u128>(static_cast<std::uint64_t>(ah)) * bl;
+      U += static_cast<u128>(static_cast<std::uint64_t>(bh)) * al;
+      U += (static_cast<u128>(al) * bl) >> 64;
+      C += static_cast<std::uint64_t>(ah >> 63) & bl;
+      C += static_cast<std::uint64_t>(bh >> 63) & al;
+    }
+    __int128 middle() const { return static_cast<__int128>(U - (C << 64)); }
+  };
   static quad from_bits(unsigned __int128 bits) {
     __float128 f;
     std::memcpy(&f, &bits, sizeof f);
