@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -186,6 +187,34 @@ TEST(FixedPointMatvec, NonFiniteEntriesGiveNaNAndSignsDoNotSetTheScale) {
     for (std::size_t k = 0; k < 9; ++k) sum += to_exact(basis.integral[r * 9 + k]) * to_exact(x[k]);
     const double err = static_cast<double>(abs(to_exact(y[r]) - sum));
     EXPECT_LE(err, 18 * std::ldexp(1.0, -116) * 1e6 + 4 * std::ldexp(static_cast<double>(abs(sum)), -112)) << r;
+  }
+}
+
+// dots() forms the weights' integer images once for a sum and several dot products; it must give
+// the bits of the separate calls of dot() it replaces (evaluate_segment's output depends on them),
+// for random vectors over many binades and where a vector is zero or not finite.
+TEST(FixedPointMatvec, DotsGiveTheBitsOfSeparateDots) {
+  using fx = eulervop::detail::fixed_point_matrix<quad>;
+  constexpr std::size_t n = 42, D = 3;
+  std::mt19937_64 rng(20261128);
+  std::uniform_real_distribution<double> mantissa(-1, 1);
+  std::uniform_int_distribution<int> exponent(-40, 40);
+  auto random_quad = [&] { return ldexp(quad(mantissa(rng)) + quad(mantissa(rng)) * 0x1p-60, exponent(rng)); };
+  auto same_bits = [](const quad& a, const quad& b) { return (isnan(a) && isnan(b)) || (a == b && signbit(a) == signbit(b)); };
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<quad> a(n), b(n * D);
+    for (quad& v : a) v = random_quad();
+    for (quad& v : b) v = random_quad();
+    if (trial == 1) std::fill(a.begin(), a.end(), quad(0));
+    if (trial == 2) for (std::size_t k = 0; k < n; ++k) b[k * D + 1] = 0;
+    if (trial == 3) a[7] = std::numeric_limits<quad>::infinity();
+    if (trial == 4) b[5 * D + 2] = std::numeric_limits<quad>::quiet_NaN();
+    if (trial == 5) for (std::size_t k = 0; k < n; ++k) b[k * D] = 0, a[3] = -std::numeric_limits<quad>::infinity();
+    std::array<quad, D + 1> sums;
+    fx::dots(a.data(), b.data(), D, D, n, sums.data());
+    EXPECT_TRUE(same_bits(sums[0], fx::dot(a.data(), nullptr, 0, n))) << "trial " << trial;
+    for (std::size_t i = 0; i < D; ++i)
+      EXPECT_TRUE(same_bits(sums[1 + i], fx::dot(a.data(), b.data() + i, D, n))) << "trial " << trial << " i " << i;
   }
 }
 

@@ -251,7 +251,7 @@ class chebyshev_picard {
   void set_node_times(const T& tau, const T& hl) {
     if constexpr (torque_traits<typename P::torque_type>::depends_on_time)
       for (std::size_t j = 0; j < n1_; ++j) {
-        work_.t[j] = tau + hl * (matrices_.basis.nodes[j] + 1);
+        work_.t[j] = tau + hl * matrices_.nodes_plus_one[j];
         work_.t_d[j] = to_d(work_.t[j]);
       }
     if constexpr (torque_traits<typename P::torque_type>::depends_on_time) {

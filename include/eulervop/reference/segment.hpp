@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstring>
 #include <type_traits>
 #include <vector>
 
@@ -49,28 +50,36 @@ std::array<T, D> evaluate_segment(const chebyshev_segment<T, D>& seg, const std:
   const std::size_t n1 = nodes.size();
   T s = (tau - seg.tau_begin) / seg.half_length - 1;
   if (detail::greater_value(s, T(1))) s = 1;
-  std::size_t hit = n1;
-  if (detail::equal_values(tau, seg.tau_begin)) hit = 0;  // the segment's start is known exactly
-  for (std::size_t j = 0; j < n1 && hit == n1; ++j)
-    if (detail::equal_values(s, nodes[j])) hit = j;
-  if (hit < n1) {
-    for (std::size_t i = 0; i < D; ++i) out[i] = seg.base[i] + (seg.base_lo[i] + seg.values[hit][i]);
+  auto at_node = [&](std::size_t j) {
+    for (std::size_t i = 0; i < D; ++i) out[i] = seg.base[i] + (seg.base_lo[i] + seg.values[j][i]);
     return out;
-  }
+  };
+  if (detail::equal_values(tau, seg.tau_begin)) return at_node(0);  // the segment's start is known exactly
   if constexpr (std::is_same_v<T, quad>) {
-    // The sums as exact integer sums of the weights' and values' images, each rounded once
-    // (fixed_point_matvec.hpp): seven of a node's nine soft-float operations, and more accurate.
+    // The differences s - s_j first: one is zero exactly where s is that node (in IEEE
+    // arithmetic x - y = 0 only for x = y, subnormals included), so they serve as the node
+    // search, by their bit patterns, and then as the weights' divisors.
     std::vector<T> w(n1);
     for (std::size_t j = 0; j < n1; ++j) {
-      w[j] = 1 / (s - nodes[j]);
+      w[j] = s - nodes[j];
+      unsigned __int128 bits;
+      std::memcpy(&bits, &w[j].backend().value(), sizeof bits);
+      if ((bits << 1) == 0) return at_node(j);
+    }
+    for (std::size_t j = 0; j < n1; ++j) {
+      w[j] = 1 / w[j];
       if (j % 2) w[j] = -w[j];
       if (j == 0 || j + 1 == n1) w[j] /= 2;
     }
-    const T den = detail::fixed_point_matrix<quad>::dot(w.data(), nullptr, 0, n1);
-    for (std::size_t i = 0; i < D; ++i)
-      out[i] = seg.base[i] + (seg.base_lo[i] + detail::fixed_point_matrix<quad>::dot(w.data(), &seg.values[0][i], D, n1) / den);
+    // The sums as exact integer sums of the weights' and values' images, each rounded once
+    // (fixed_point_matvec.hpp): seven of a node's nine soft-float operations, and more accurate.
+    std::array<T, D + 1> sums;
+    detail::fixed_point_matrix<quad>::dots(w.data(), &seg.values[0][0], D, D, n1, sums.data());
+    for (std::size_t i = 0; i < D; ++i) out[i] = seg.base[i] + (seg.base_lo[i] + sums[1 + i] / sums[0]);
     return out;
   }
+  for (std::size_t j = 0; j < n1; ++j)
+    if (detail::equal_values(s, nodes[j])) return at_node(j);
   T den = 0;
   std::array<T, D> num;
   num.fill(T(0));

@@ -139,6 +139,48 @@ class fixed_point_matrix<quad> {
     return rounded(H, static_cast<std::uint64_t>(M), 64 - a_shift - b_shift);
   }
 
+  // sums[0] = dot(a, nullptr, 0, n) and sums[1 + i] = dot(a, b + i, b_stride, n) for i < count:
+  // the same integers, so the same results, with a's integer images formed once instead of
+  // count + 1 times (evaluate_segment's barycentric formula takes a denominator and D numerators
+  // from the same weights at every sample).
+  static void dots(const quad* a, const quad* b, std::size_t b_stride, std::size_t count, std::size_t n,
+                   quad* sums) {
+    unsigned __int128 a_bits = 0;
+    for (std::size_t k = 0; k < n; ++k) a_bits = std::max(a_bits, magnitude_bits(a[k]));
+    const bool a_finite = a_bits < infinity_bits;
+    const int a_shift = a_bits > 0 && a_finite ? shift_for(from_bits(a_bits)) : 0;
+    std::vector<__int128> images(a_bits > 0 && a_finite ? n : 0);
+    __int128 sum = 0;
+    for (std::size_t k = 0; k < images.size(); ++k) sum += images[k] = scaled_integer(a[k], a_shift);
+    sums[0] = a_bits == 0 ? quad(0)
+              : !a_finite ? std::numeric_limits<quad>::quiet_NaN()
+                          : rounded(sum >> 64, static_cast<std::uint64_t>(sum), -a_shift);
+    for (std::size_t i = 0; i < count; ++i) {
+      const quad* bi = b + i;
+      unsigned __int128 b_bits = 0;
+      for (std::size_t k = 0; k < n; ++k) b_bits = std::max(b_bits, magnitude_bits(bi[k * b_stride]));
+      if (a_bits == 0 || b_bits == 0) {
+        sums[1 + i] = 0;
+        continue;
+      }
+      if (!a_finite || b_bits >= infinity_bits) {
+        sums[1 + i] = std::numeric_limits<quad>::quiet_NaN();
+        continue;
+      }
+      const int b_shift = shift_for(from_bits(b_bits));
+      product_sum ps;
+      for (std::size_t k = 0; k < n; ++k) {
+        std::int64_t ah, bh;
+        std::uint64_t al, bl;
+        split(images[k], ah, al);
+        split(scaled_integer(bi[k * b_stride], b_shift), bh, bl);
+        ps.add(ah, al, bh, bl);
+      }
+      const __int128 M = ps.middle(), H = ps.H + (M >> 64);
+      sums[1 + i] = rounded(H, static_cast<std::uint64_t>(M), 64 - a_shift - b_shift);
+    }
+  }
+
   // v 2^shift rounded to the nearest integer, halves towards zero (as nearest_integer), from v's
   // bit pattern: a normal binary128 number is (2^112 + m) 2^(e - 16495), so this is an integer
   // shift and a comparison of the bits shifted out, with no soft-float operation (six of them

@@ -18,6 +18,7 @@ template <scalar T>
 struct picard_matrices {
   std::size_t N, n1;            // the degree, and the number of nodes N + 1
   chebyshev_basis<T> basis;     // S (integral), Q (to_coeffs), C (coeffs) and the nodes, in T
+  std::vector<T> nodes_plus_one;  // s_j + 1 in T, for the node times tau + hl (s_j + 1) of every segment
   std::vector<double> S_d, S_dt;  // S in double, and transposed: column k contiguous
   std::vector<double> Q_d, C_d;  // Q and C in double
   double_double_matrix S_dd;    // S in double-double (wide T)
@@ -37,6 +38,8 @@ struct picard_matrices {
 
   // `product_bits`: the bits the MPFR products must resolve (the run's effective bits).
   picard_matrices(std::size_t degree, unsigned product_bits) : N(degree), n1(degree + 1), basis(degree) {
+    nodes_plus_one.resize(n1);
+    for (std::size_t j = 0; j < n1; ++j) nodes_plus_one[j] = basis.nodes[j] + 1;
     S_d.resize(n1 * n1);
     for (std::size_t k = 0; k < n1 * n1; ++k) S_d[k] = static_cast<double>(basis.integral[k]);
     S_dt.resize(n1 * n1);
