@@ -92,8 +92,6 @@ class certificate_of_run {
     if (fast_ && s.is_physical()) omega_.emplace(exact_scaling_of(s, bits_));
   }
 
-  bool fast() const { return fast_; }
-
   template <scalar T, std::size_t D>
   void add_segment(const chebyshev_segment<T, D>& seg, const std::vector<T>& nodes);
   // Runs `task` (a row: it may call radii) once every segment added before it is checked, and

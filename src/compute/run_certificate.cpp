@@ -29,8 +29,6 @@ run_certificate::run_certificate(const scene& s, const eulervop::precision& p, u
     : body_(std::make_unique<certificate_of_run>(s, p, workers)) {}
 run_certificate::~run_certificate() = default;
 
-bool run_certificate::fast() const { return body_->fast(); }
-
 template <scalar T, std::size_t D>
 void run_certificate::add_segment(const chebyshev_segment<T, D>& seg, const std::vector<T>& nodes) {
   body_->add_segment(seg, nodes);

@@ -42,7 +42,6 @@ class run_certificate {
   run_certificate(const run_certificate&) = delete;
   run_certificate& operator=(const run_certificate&) = delete;
 
-  bool fast() const;
   template <scalar T, std::size_t D>
   void add_segment(const chebyshev_segment<T, D>& seg, const std::vector<T>& nodes);
   // Runs `task` (a row: it may call radii) once every segment added before it is checked, and
