@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -424,5 +425,40 @@ TEST(Workspace, ExactBinary128IsTheConversion) {
   for (const double d : values) {
     const __float128 got = W::exact_binary128(d), expected = static_cast<__float128>(d);
     EXPECT_EQ(std::memcmp(&got, &expected, sizeof got), 0) << d;
+  }
+}
+
+// A binary128 split into double-double from its bit pattern (core/error_free.hpp) against the
+// soft-float way it replaces, hi = double(v), lo = double(v - hi): the same bits for both zeros,
+// for significands whose 60 low bits are zero (lo = +0), for ties at the 53rd bit (round to even
+// up and down), and for random patterns over the exponent range it takes (|e| <= 900).
+TEST(DoubleDouble, SplitFromBitsIsTheSoftFloatSplit) {
+  const auto soft = [](const __float128& v) {
+    const double hi = static_cast<double>(v);
+    return eulervop::double_double{hi, static_cast<double>(v - static_cast<__float128>(hi))};
+  };
+  const auto from_bits = [](unsigned __int128 bits) {
+    __float128 v;
+    std::memcpy(&v, &bits, sizeof v);
+    return v;
+  };
+  const unsigned __int128 one = 1;
+  std::vector<unsigned __int128> patterns = {0, one << 127};
+  std::mt19937_64 rng(20261128);
+  for (int k = 0; k < 200000; ++k) {
+    const unsigned __int128 fraction = ((static_cast<unsigned __int128>(rng()) << 64) | rng()) & ((one << 112) - 1);
+    const auto exponent = static_cast<unsigned __int128>(16383 - 900 + static_cast<int>(rng() % 1801));
+    const unsigned __int128 sign = static_cast<unsigned __int128>(rng() & 1) << 127;
+    patterns.push_back(sign | (exponent << 112) | fraction);
+    patterns.push_back(sign | (exponent << 112) | (fraction & ~((one << 60) - 1)));  // rest 0
+    patterns.push_back(sign | (exponent << 112) | (fraction & ~((one << 60) - 1)) | (one << 59));  // a tie
+  }
+  for (const unsigned __int128 bits : patterns) {
+    const __float128 v = from_bits(bits);
+    eulervop::double_double got;
+    ASSERT_TRUE(eulervop::detail::binary128_to_double_double(v, got));
+    const eulervop::double_double expected = soft(v);
+    ASSERT_EQ(std::memcmp(&got.hi, &expected.hi, sizeof(double)), 0) << static_cast<double>(v);
+    ASSERT_EQ(std::memcmp(&got.lo, &expected.lo, sizeof(double)), 0) << static_cast<double>(v);
   }
 }

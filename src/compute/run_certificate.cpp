@@ -1,14 +1,20 @@
 #include "compute/run_certificate.hpp"
 
-#include "compute/certified_reference.hpp"
-
-#include <eulervop/model/wide_formula_cells.hpp>
-
 #include <algorithm>
+#include <atomic>
+#include <filesystem>
+#include <stdexcept>
+#include <system_error>
 #include <thread>
-#include <utility>
 
+#include <dlfcn.h>
 #include <sched.h>
+
+// The install layout's path from the program's directory to the certificate module (set by
+// CMakeLists.txt, as the plot scripts' is).
+#ifndef EULERVOP_MODULES_FROM_BINDIR
+#define EULERVOP_MODULES_FROM_BINDIR "../lib/eulervop"
+#endif
 
 namespace eulervop::app {
 
@@ -25,37 +31,51 @@ unsigned certify_workers() {
   return cores >= 2 ? std::min(cores, 4u) : 0;
 }
 
-run_certificate::run_certificate(const scene& s, const eulervop::precision& p, unsigned workers)
-    : body_(std::make_unique<certificate_of_run>(s, p, workers)) {}
-run_certificate::~run_certificate() = default;
+namespace {
 
-template <scalar T, std::size_t D>
-void run_certificate::add_segment(const chebyshev_segment<T, D>& seg, const std::vector<T>& nodes) {
-  body_->add_segment(seg, nodes);
+std::atomic<run_certificate_factory> linked_factory{nullptr};
+
+// The module beside the program (its own path from /proc/self/exe): installed, or in a build tree.
+// Loaded once and never unloaded; its symbols stay local, and those it takes from the program (the
+// scene, the formulas, the integrator's types) resolve to the program's own (linked with
+// ENABLE_EXPORTS), so that both share one copy of everything.
+run_certificate_factory load_certificate_module() {
+  namespace fs = std::filesystem;
+  const char* name = "eulervop_certificate.so";
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec || exe.empty()) throw std::runtime_error(std::string("--certify: the certificate module ") + name +
+                                                  " is found beside the program, whose own path is unknown");
+  const fs::path dir = exe.parent_path();
+  std::string searched, failure;
+  for (const fs::path& p : {(dir / EULERVOP_MODULES_FROM_BINDIR / name).lexically_normal(),
+                            (dir / "lib" / "eulervop" / name).lexically_normal()}) {
+    searched += (searched.empty() ? "" : " or ") + p.string();
+    if (!fs::is_regular_file(p, ec)) continue;
+    if (void* module = dlopen(p.c_str(), RTLD_NOW | RTLD_LOCAL)) {
+      if (void* make = dlsym(module, "eulervop_make_run_certificate"))
+        return reinterpret_cast<run_certificate_factory>(make);
+      failure = p.string() + " has no eulervop_make_run_certificate";
+    } else {
+      failure = dlerror();
+    }
+    break;
+  }
+  throw std::runtime_error("--certify: cannot load the certificate module " + std::string(name) + ": " +
+                           (failure.empty() ? "not found at " + searched : failure));
 }
 
-void run_certificate::row(std::function<void()> task) { body_->row(std::move(task)); }
-void run_certificate::finish() { body_->finish(); }
-void run_certificate::close() { body_->close(); }
+}  // namespace
 
-template <scalar T>
-certified_radii run_certificate::radii(const T& tau, const T& t, const certified_cells& cells) {
-  return body_->radii(tau, t, cells);
+void link_run_certificate(run_certificate_factory make) { linked_factory = make; }
+
+std::unique_ptr<run_certificate> make_run_certificate(const scene& s, const eulervop::precision& p, unsigned workers) {
+  run_certificate_factory make = linked_factory;
+  if (!make) {
+    static const run_certificate_factory loaded = load_certificate_module();
+    make = loaded;
+  }
+  return std::unique_ptr<run_certificate>(make(s, p, workers));
 }
-
-const certified_maxima& run_certificate::maxima() const { return body_->maxima(); }
-std::string run_certificate::method() const { return body_->method(); }
-
-// The precisions a reference runs in (a double run is refused before it starts, by
-// require_certifiable, but its code calls these too), each with the rates alone and with the
-// rates and the attitude as one problem.
-#define EULERVOP_RUN_CERTIFICATE_FOR(T)                                                                   \
-  template void run_certificate::add_segment<T, 3>(const chebyshev_segment<T, 3>&, const std::vector<T>&); \
-  template void run_certificate::add_segment<T, 7>(const chebyshev_segment<T, 7>&, const std::vector<T>&); \
-  template certified_radii run_certificate::radii<T>(const T&, const T&, const certified_cells&);
-EULERVOP_RUN_CERTIFICATE_FOR(double)
-EULERVOP_RUN_CERTIFICATE_FOR(quad)
-EULERVOP_RUN_CERTIFICATE_FOR(mpfr_real)
-#undef EULERVOP_RUN_CERTIFICATE_FOR
 
 }  // namespace eulervop::app

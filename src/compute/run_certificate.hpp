@@ -1,7 +1,8 @@
 // `--certify` of a streamed reference run, as the reference job sees it: the segments go in as the
 // integrator makes them, and each row's radii come out. Its body (certified_reference.hpp, the
-// certifiers of include/eulervop/certify/) is compiled once, in run_certificate.cpp, so that the
-// units which run references do not compile the certificate too.
+// certifiers of include/eulervop/certify/) is compiled once, in certificate_module.cpp, which the
+// program loads only for --certify (a module of its own, linked with Arb, FLINT and MPFI), so that
+// every other run starts without loading those libraries (docs/design.md, "The certificate module").
 #pragma once
 
 #include "compute/certified_row.hpp"
@@ -30,35 +31,44 @@ void require_certifiable(const eulervop::precision& p);
 // runs in the integration's thread.
 unsigned certify_workers();
 
-class certificate_of_run;
-
 // The certificate of one streamed run: created at the first segment (which tells the degree).
-// With `workers` > 0 it runs on threads; rows then go through row(). T is double, quad or
-// mpfr_real, D is 3 (the rates) or 7 (the rates and the attitude as one problem).
+// With `workers` > 0 it runs on threads; rows then go through row(). The segments come in double,
+// quad or MPFR, with the rates alone (3 states) or the rates and the attitude as one problem (7).
+// An interface, implemented in the certificate module (certificate_module.cpp).
 class run_certificate {
  public:
-  run_certificate(const scene& s, const eulervop::precision& p, unsigned workers);
-  ~run_certificate();
-  run_certificate(const run_certificate&) = delete;
-  run_certificate& operator=(const run_certificate&) = delete;
+  virtual ~run_certificate() = default;
 
-  template <scalar T, std::size_t D>
-  void add_segment(const chebyshev_segment<T, D>& seg, const std::vector<T>& nodes);
+  virtual void add_segment(const chebyshev_segment<double, 3>& seg, const std::vector<double>& nodes) = 0;
+  virtual void add_segment(const chebyshev_segment<double, 7>& seg, const std::vector<double>& nodes) = 0;
+  virtual void add_segment(const chebyshev_segment<quad, 3>& seg, const std::vector<quad>& nodes) = 0;
+  virtual void add_segment(const chebyshev_segment<quad, 7>& seg, const std::vector<quad>& nodes) = 0;
+  virtual void add_segment(const chebyshev_segment<mpfr_real, 3>& seg, const std::vector<mpfr_real>& nodes) = 0;
+  virtual void add_segment(const chebyshev_segment<mpfr_real, 7>& seg, const std::vector<mpfr_real>& nodes) = 0;
   // Runs `task` (a row: it may call radii) once every segment added before it is checked, and
   // before any added after it.
-  void row(std::function<void()> task);
+  virtual void row(std::function<void()> task) = 0;
   // Waits for every segment and row (rethrowing the first failure).
-  void finish();
+  virtual void finish() = 0;
   // Stops the threads, dropping what has not run (for a run that is abandoned).
-  void close();
+  virtual void close() = 0;
   // The radii of a row at tau (and t, a physical scene's time) printed as `cells`.
-  template <scalar T>
-  certified_radii radii(const T& tau, const T& t, const certified_cells& cells);
-  const certified_maxima& maxima() const;
-  std::string method() const;
-
- private:
-  std::unique_ptr<certificate_of_run> body_;
+  virtual certified_radii radii(const double& tau, const double& t, const certified_cells& cells) = 0;
+  virtual certified_radii radii(const quad& tau, const quad& t, const certified_cells& cells) = 0;
+  virtual certified_radii radii(const mpfr_real& tau, const mpfr_real& t, const certified_cells& cells) = 0;
+  virtual const certified_maxima& maxima() const = 0;
+  virtual std::string method() const = 0;
 };
+
+// The certificate of a run of scene `s` in precision `p`: from the certificate module, loaded at
+// the first call (from beside the program: <bindir>/../lib/eulervop or, in a build tree,
+// <bindir>/lib/eulervop), or linked in (the Python module links it). A module that cannot be
+// found or loaded is a std::runtime_error naming the places searched.
+std::unique_ptr<run_certificate> make_run_certificate(const scene& s, const eulervop::precision& p, unsigned workers);
+
+// What the certificate module defines under the name `eulervop_make_run_certificate`, and what it
+// registers when linked into a program or module (certificate_module.cpp).
+using run_certificate_factory = run_certificate* (*)(const scene&, const eulervop::precision&, unsigned);
+void link_run_certificate(run_certificate_factory make);
 
 }  // namespace eulervop::app

@@ -15,6 +15,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <bit>
 #include <cstring>
 #include <type_traits>
 
@@ -100,19 +101,26 @@ namespace detail {
 
 // v = hi + lo, v normal with hi and lo normal doubles: hi is the 113-bit significand rounded to
 // 53 bits, lo the exact rest (at most 60 bits) rounded (four soft-float operations otherwise).
+// A zero gives (+-0, +0), as the soft-float way does (-0 - -0 is +0).
 inline bool binary128_to_double_double(const __float128& v, double_double& out) {
   unsigned __int128 bits;
   std::memcpy(&bits, &v, sizeof bits);
+  const double sign = (bits >> 127) ? -1.0 : 1.0;
+  if ((bits << 1) == 0) {
+    out = {sign * 0.0, 0.0};
+    return true;
+  }
   const int e = (static_cast<int>(bits >> 112) & 0x7fff) - 16383;  // v = 1.f 2^e
-  if (e < -900 || e > 1000) return false;  // near double's limits, zero, subnormal, inf, NaN
+  if (e < -900 || e > 1000) return false;  // near double's limits, subnormal, inf, NaN
   const unsigned __int128 one = 1;
   const unsigned __int128 significand = (bits & ((one << 112) - 1)) | (one << 112);
   const auto hi = static_cast<double>(significand);  // an integer below 2^114: exact back
   const auto rest = static_cast<std::int64_t>(static_cast<__int128>(significand) -
                                               static_cast<__int128>(static_cast<unsigned __int128>(hi)));
-  const double sign = (bits >> 127) ? -1.0 : 1.0;
-  out.hi = sign * std::ldexp(hi, e - 112);
-  out.lo = rest == 0 ? 0.0 : sign * std::ldexp(static_cast<double>(rest), e - 112);  // +0 as v - hi gives
+  // 2^(e - 112) is a normal double (e >= -900), and so are both products: exact, as ldexp.
+  const double scale = sign * std::bit_cast<double>(static_cast<std::uint64_t>(e - 112 + 1023) << 52);
+  out.hi = hi * scale;
+  out.lo = rest == 0 ? 0.0 : static_cast<double>(rest) * scale;  // +0 as v - hi gives
   return true;
 }
 

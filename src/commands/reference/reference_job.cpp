@@ -265,13 +265,13 @@ reference_metadata run_in(const reference_job& job, reference_row_sink& sink) {
   // the number of samples (never with the span). Without it nothing is kept.
   std::vector<vec3<T>> kept;
   std::vector<quaternion<T>> kept_q;
-  std::optional<run_certificate> certificate;
-  if (job.certify) certificate.emplace(job.scn, job.precision, job.certify_workers);
+  std::unique_ptr<run_certificate> certificate;
+  if (job.certify) certificate = make_run_certificate(job.scn, job.precision, job.certify_workers);
   const bool attitude = job.scn.has_attitude();
-  row_emitter<T> emit(job, sink, certificate ? &*certificate : nullptr);
+  row_emitter<T> emit(job, sink, certificate.get());
   const reference_run run = stream_rows<T>(job, tau_end, times, emit, job.verify ? &kept : nullptr,
                                            job.verify && attitude ? &kept_q : nullptr,
-                                           certificate ? &*certificate : nullptr);
+                                           certificate.get());
   reference_metadata m = metadata_of(job, run);
   if (job.binary_times) m.times = binary_times_note;
   if (certificate) add_certificate(job, *certificate, m);
