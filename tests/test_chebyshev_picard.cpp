@@ -428,6 +428,26 @@ TEST(Workspace, ExactBinary128IsTheConversion) {
   }
 }
 
+// log|x| of a binary128 from its bit pattern (reference/detail/length_control.hpp) against the
+// library way it replaces, log(double(frexp(|x|))) + e ln 2: the same bits on random patterns of
+// both signs over the whole exponent range, and on significands that round up to 1.
+TEST(LengthControl, LogAbsFromBitsIsFrexps) {
+  std::mt19937_64 rng(1128);
+  const unsigned __int128 one = 1;
+  for (int k = 0; k < 100000; ++k) {
+    unsigned __int128 fraction = ((static_cast<unsigned __int128>(rng()) << 64) | rng()) & ((one << 112) - 1);
+    if (k % 10 == 0) fraction |= ((one << 112) - 1) & ~((one << 58) - 1);  // rounds up to 2^113
+    const auto exponent = static_cast<unsigned __int128>(1 + rng() % 0x7ffe);
+    const unsigned __int128 bits = (static_cast<unsigned __int128>(rng() & 1) << 127) | (exponent << 112) | fraction;
+    __float128 v;
+    std::memcpy(&v, &bits, sizeof v);
+    int e = 0;
+    const double expected = std::log(static_cast<double>(frexpq(fabsq(v), &e))) + e * 0.69314718055994531;
+    const double got = eulervop::detail::log_abs(quad(v));
+    ASSERT_EQ(std::memcmp(&got, &expected, sizeof got), 0) << static_cast<double>(v);
+  }
+}
+
 // A binary128 split into double-double from its bit pattern (core/error_free.hpp) against the
 // soft-float way it replaces, hi = double(v), lo = double(v - hi): the same bits for both zeros,
 // for significands whose 60 low bits are zero (lo = +0), for ties at the 53rd bit (round to even
