@@ -79,9 +79,9 @@ struct run_result {
   std::string out, err;
 };
 
-// Runs the binary in `dir` with `args`, capturing stdout and stderr.
-inline run_result run(const fs::path& dir, const std::vector<std::string>& args) {
-  std::string cmd = "cd " + shell_quote(dir.string()) + " && " + shell_quote(binary);
+// Runs the binary (or `program`) in `dir` with `args`, capturing stdout and stderr.
+inline run_result run(const fs::path& dir, const std::vector<std::string>& args, const std::string& program = binary) {
+  std::string cmd = "cd " + shell_quote(dir.string()) + " && " + shell_quote(program);
   for (const auto& a : args) cmd += " " + shell_quote(a);
   cmd += " > .stdout 2> .stderr < /dev/null";
   const int status = std::system(cmd.c_str());

@@ -118,6 +118,27 @@ TEST(Certify, InitialElementsWithUAreEnclosed) {
   }
 }
 
+// The certificate is a module the program loads only for --certify (run_certificate.hpp): the
+// program copied alone runs a reference, and --certify then fails with one line naming the module
+// and the places searched, and writes no file.
+TEST(Certify, TheProgramAloneRunsAndNamesTheMissingModule) {
+  temp_dir dir;
+  const fs::path alone = dir.path() / "bin" / "eulervop";
+  fs::create_directories(alone.parent_path());
+  fs::copy_file(binary, alone);
+  const run_result plain = run(dir.path(), {"reference", "--tau-end", "1", "--samples", "3", "--out", "p.csv"}, alone);
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  const run_result r = run(dir.path(), {"reference", "--certify", "--tau-end", "1", "--samples", "3", "--out", "c.csv"},
+                           alone);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(lines_of(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("cannot load the certificate module eulervop_certificate.so: not found at "), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find((alone.parent_path() / "lib" / "eulervop" / "eulervop_certificate.so").string()), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir.path() / "c.csv"));
+}
+
 TEST(Certify, ABoundThatDoesNotCloseExitsThreeWithTheTauAndNoFile) {
   temp_dir dir;
   // At 32 bits the proven bound passes 2^-20 of the state near the separatrix by tau ~ 14.

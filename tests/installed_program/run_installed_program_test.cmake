@@ -5,8 +5,9 @@
 # installed copy cannot reach the build tree's scripts either way.
 # The installed program must not need the tree it was built from: configures and builds the
 # `eulervop` target in WORK_DIR/build, installs it to WORK_DIR/prefix, deletes the build tree,
-# then runs the installed bin/eulervop from another directory and checks that `report` drew
-# fig1.png with the plot script installed in share/eulervop. Where matplotlib is missing (the
+# then runs the installed bin/eulervop from another directory: `reference --certify` with the
+# installed certificate module, and `report`, which must draw fig1.png with the plot script
+# installed in share/eulervop. Where matplotlib is missing (the
 # script was found and ran, but cannot draw) it prints "SKIPPED: ...", which CTest reports as a
 # skip (SKIP_REGULAR_EXPRESSION); any other outcome without fig1.png is a failure.
 include(${CMAKE_CURRENT_LIST_DIR}/../cmake_script_support.cmake)
@@ -35,6 +36,13 @@ foreach(script plot_fig1.py plot_work_precision.py plot_regime_map.py plot_commo
 endforeach()
 
 file(MAKE_DIRECTORY ${run_dir})
+# --certify loads the certificate module installed beside the program (lib*/eulervop).
+execute_process(COMMAND ${prefix}/bin/eulervop reference --certify --tau-end 1 --samples 3 --out certified.csv
+                WORKING_DIRECTORY ${run_dir} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+file(READ ${run_dir}/certified.csv certified)
+if(NOT rc EQUAL 0 OR NOT certified MATCHES "# certified_max_error: ")
+  message(FATAL_ERROR "installed eulervop reference --certify failed (${rc}):\n${out}\n${err}")
+endif()
 execute_process(COMMAND ${prefix}/bin/eulervop report --tau-end 20 --out-dir out
                 WORKING_DIRECTORY ${run_dir} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
