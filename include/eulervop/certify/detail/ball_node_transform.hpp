@@ -27,7 +27,8 @@ class ball_node_transform {
   std::size_t nodes() const { return n1_; }
   // The node values: entry (j, i) is component i at node j (exact balls).
   arb_ptr value(std::size_t j, std::size_t i) { return arb_mat_entry(values_, j, i); }
-  // The coefficients from the values: entry (k, i) of `out` (n1 x components).
+  // The coefficients from the values: entry (k, i) of `out` (n1 x components; its old entries
+  // become scratch).
   void apply(arb_mat_t out);
 
  private:
@@ -120,10 +121,12 @@ inline void ball_node_transform::apply(arb_mat_t out) {
   fold();
   arb_mat_mul(c_even_, M_even_, plus_, prec_);
   if (odd_ > 0) arb_mat_mul(c_odd_, M_odd_, minus_, prec_);
+  // Swapped, not copied: the products overwrite c_even_ and c_odd_ on the next call, and the
+  // numbers' storage (at the working precision, on the heap) goes round instead of being copied.
   for (std::size_t k = 0; k < n1_; ++k)
     for (std::size_t i = 0; i < D_; ++i)
-      arb_set(arb_mat_entry(out, static_cast<slong>(k), static_cast<slong>(i)),
-              arb_mat_entry(k % 2 ? c_odd_ : c_even_, static_cast<slong>(k / 2), static_cast<slong>(i)));
+      arb_swap(arb_mat_entry(out, static_cast<slong>(k), static_cast<slong>(i)),
+               arb_mat_entry(k % 2 ? c_odd_ : c_even_, static_cast<slong>(k / 2), static_cast<slong>(i)));
 }
 
 }  // namespace eulervop::detail
