@@ -200,7 +200,8 @@ void ball_node_transform::load_folds(std::size_t i, slong& exponent, mag_t plus_
   exponent = (top == WORD_MIN ? 0 : top) - G;  // |v| 2^-exponent < 2^G
   mp_limb_t a[L], b[L], a_neg = 0, b_neg = 0;
   const auto load = [&](std::size_t j, mp_limb_t* out, mp_limb_t& negative) {
-    arf_get_fmpz_fixed_si(z_, arb_midref(arb_mat_entry(values_, static_cast<slong>(j), static_cast<slong>(i))), exponent);
+    arb_srcptr v = arb_mat_entry(values_, static_cast<slong>(j), static_cast<slong>(i));
+    arf_get_fmpz_fixed_si(z_, arb_midref(v), exponent);
     negative = fmpz_sgn(z_) < 0 ? ~mp_limb_t(0) : 0;
     fmpz_abs(z_, z_);
     fmpz_get_ui_array(out, static_cast<slong>(L), z_);

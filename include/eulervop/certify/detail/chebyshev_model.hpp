@@ -381,7 +381,8 @@ class chebyshev_values {
         arb_mul(T_ + k, T_ + k - 1, x.get(), prec);
         arb_mul_2exp_si(T_ + k, T_ + k, 1);
         arb_sub(T_ + k, T_ + k, T_ + k - 2, prec);
-        if (!inside_unit(T_ + k) && !arb_contains(unit.get(), T_ + k)) arb_intersection(T_ + k, T_ + k, unit.get(), prec);
+        if (!inside_unit(T_ + k) && !arb_contains(unit.get(), T_ + k))
+          arb_intersection(T_ + k, T_ + k, unit.get(), prec);
       }
     }
   }
