@@ -191,8 +191,8 @@ inline void ball_segment_check::polynomial() {
   for (std::size_t i = 0; i < D; ++i) {
     P[i].resize(static_cast<slong>(n1));
     mag_zero(P[i].remainder());
-    for (std::size_t k = 0; k < n1; ++k)
-      arb_set(P[i].coeff(static_cast<slong>(k)), arb_mat_entry(coefficients_, static_cast<slong>(k), static_cast<slong>(i)));
+    for (std::size_t k = 0; k < n1; ++k)  // swapped: coefficients_ is scratch for the next segment
+      arb_swap(P[i].coeff(static_cast<slong>(k)), arb_mat_entry(coefficients_, static_cast<slong>(k), static_cast<slong>(i)));
     arb_add(P[i].coeff(0), P[i].coeff(0), X0_[i].get(), prec);
   }
 }
