@@ -1,5 +1,7 @@
 #include "cli/command_flags.hpp"
 
+#include "cli/command_line.hpp"
+#include "cli/exit_codes.hpp"
 #include "compute/ladders.hpp"
 #include "compute/run_names.hpp"
 #include "io/shell_word.hpp"
@@ -104,6 +106,57 @@ void add_grid_flags(CLI::App& sub, grid_flags& f, const grid_flag_defaults& d) {
                 {"--repeat", "N", fmt::format("Timed runs per case; the minimum time is kept (default: {})", d.repeat)},
                 f.repeat);
   add_text_flag(sub, {"--jobs", "N", "Cases run in parallel (default: 1; above 1 the timings are less pure)"}, f.jobs);
+}
+
+// ---- the program's command line ---------------------------------------------------------------------
+
+namespace {
+
+void add_progress_flags(CLI::App& sub, progress_mode& mode) {
+  CLI::Option* on = sub.add_flag_callback(
+      "--progress", [&mode] { mode = progress_mode::on; },
+      "Show progress on stderr (t or tau reached, segments, time left) even when it is not a terminal or the run is "
+      "short (default: on a terminal, after a second)");
+  CLI::Option* off = sub.add_flag_callback("--quiet", [&mode] { mode = progress_mode::off; }, "Show no progress on stderr");
+  on->excludes(off);
+}
+
+// Runs CLI11's parser; the outcome when the program ends here (help, version, bad flags).
+std::optional<parsed_command_line> parse(CLI::App& app, const std::string& version, int argc, char** argv) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return parsed_command_line{std::nullopt, app.exit(e), ""};
+  } catch (const CLI::CallForAllHelp& e) {
+    return parsed_command_line{std::nullopt, app.exit(e), ""};
+  } catch (const CLI::CallForVersion&) {
+    fmt::print("eulervop {}\n", version);  // CLI11 2.1 prints it without a newline
+    return parsed_command_line{std::nullopt, exit_success, ""};
+  } catch (const CLI::ParseError& e) {
+    return parsed_command_line{std::nullopt, exit_bad_input, e.what()};
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+parsed_command_line parse_command_line(const program_def& program, progress_mode& mode, int argc, char** argv) {
+  CLI::App app{program.description};
+  app.set_version_flag("--version", program.version);
+  app.footer(program.footer);
+  app.require_subcommand(1);
+  std::vector<CLI::App*> subcommands;
+  for (const subcommand_def& c : program.subcommands) {
+    CLI::App* sub = app.add_subcommand(c.name, c.description);
+    c.add_flags(*sub);
+    if (c.progress_flags) add_progress_flags(*sub, mode);
+    sub->footer(c.footer);
+    subcommands.push_back(sub);
+  }
+  if (std::optional<parsed_command_line> ended = parse(app, program.version, argc, argv)) return *ended;
+  for (std::size_t i = 0; i < subcommands.size(); ++i)
+    if (subcommands[i]->parsed()) return {i, exit_success, ""};
+  return {};
 }
 
 }  // namespace eulervop::app

@@ -4,6 +4,7 @@
 
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/model/wide_formula_cells.hpp>
+#include <eulervop/scene/wide_scene_problems.hpp>
 
 #include <stdexcept>
 #include <utility>

@@ -166,7 +166,7 @@ std::vector<std::string> reference_columns(const reference_metadata& m, referenc
 std::string reference_csv_header(const reference_metadata& m, reference_layout layout) {
   fmt::memory_buffer out;
   auto line = [&]<class... Args>(fmt::format_string<Args...> format, Args&&... args) {
-    fmt::format_to(std::back_inserter(out), format, std::forward<Args>(args)...);
+    format_into(out, format, std::forward<Args>(args)...);
     out.push_back('\n');
   };
   line("# eulervop {}", EULERVOP_VERSION);

@@ -9,6 +9,7 @@
 
 #include "compute/scene_library.hpp"
 #include "io/csv_rows.hpp"
+#include "io/text_buffer.hpp"
 
 #include <eulervop/core/quaternion.hpp>
 #include <eulervop/core/scalar_traits.hpp>
@@ -142,12 +143,11 @@ class reference_csv_row_writer {
  private:
   template <scalar T>
   void cells(const T& time, const vec3<T>& v) {
-    fmt::format_to(std::back_inserter(buffer_), "{},{},{},{}", to_text(time), to_text(v[0]), to_text(v[1]),
-                   to_text(v[2]));
+    format_into(buffer_, "{},{},{},{}", to_text(time), to_text(v[0]), to_text(v[1]), to_text(v[2]));
   }
   template <scalar T>
   void quaternion_cells(const quaternion<T>& q) {
-    fmt::format_to(std::back_inserter(buffer_), ",{},{},{},{}", to_text(q.w), to_text(q.x), to_text(q.y), to_text(q.z));
+    format_into(buffer_, ",{},{},{},{}", to_text(q.w), to_text(q.x), to_text(q.y), to_text(q.z));
   }
   void end_row();
 

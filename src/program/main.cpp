@@ -7,14 +7,14 @@
 // `batch` runs every scene and then exits 2 if any scene had bad input, else 3 if any had a
 // numerical failure (batch_command.hpp).
 #include "program/command_registry.hpp"
+#include "cli/command_line.hpp"
 #include "cli/command_text.hpp"
 #include "cli/exit_codes.hpp"
-#include "compute/scene_library.hpp"
 #include "io/progress_line.hpp"
 
 #include <eulervop/core/numerical_failure.hpp>
+#include <eulervop/scene/input_error.hpp>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include <cstdio>
@@ -31,34 +31,15 @@ namespace {
 namespace ev = eulervop::app;
 
 int report(int code, const std::string& prefix, const std::string& message) {
-  fmt::print(stderr, "eulervop: {}{}\n", prefix, ev::input_error::one_line(message));
+  fmt::print(stderr, "eulervop: {}{}\n", prefix, eulervop::scene::input_error::one_line(message));
   return code;
-}
-
-// Parses the command line; an exit code when the program ends here (help, version, bad flags).
-std::optional<int> parse(CLI::App& app, int argc, char** argv, const std::string& commands) {
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion&) {
-    fmt::print("eulervop {}\n", EULERVOP_VERSION);  // CLI11 2.1 prints it without a newline
-    return ev::exit_success;
-  } catch (const CLI::ParseError& e) {
-    std::string message = e.what();
-    if (message == "A subcommand is required") message += fmt::format(" (expected: {}; see eulervop --help)", commands);
-    return report(ev::exit_bad_input, "error: ", message);
-  }
-  return std::nullopt;
 }
 
 // Runs the command given, mapping what it throws to an exit code and one line on stderr.
 int run(const ev::command& c, const std::string& command_line) {
   try {
     return c.run(std::cout, command_line);
-  } catch (const ev::input_error& e) {
+  } catch (const eulervop::scene::input_error& e) {
     return report(ev::exit_bad_input, "error: ", e.what());
   } catch (const eulervop::numerical_failure& e) {
     return report(ev::exit_numerical_failure, "", e.what());  // "numerical failure at tau=X: why"
@@ -67,15 +48,15 @@ int run(const ev::command& c, const std::string& command_line) {
   }
 }
 
-// --progress and --quiet, which every command takes.
-void add_progress_flags(CLI::App& sub, ev::progress_mode& mode) {
-  CLI::Option* on = sub.add_flag_callback(
-      "--progress", [&mode] { mode = ev::progress_mode::on; },
-      "Show progress on stderr (t or tau reached, segments, time left) even when it is not a terminal or the run is "
-      "short (default: on a terminal, after a second)");
-  CLI::Option* off =
-      sub.add_flag_callback("--quiet", [&mode] { mode = ev::progress_mode::off; }, "Show no progress on stderr");
-  on->excludes(off);
+// The program's command line: every command, with --progress and --quiet for those that compute.
+ev::program_def program_of(const std::vector<ev::command>& commands) {
+  ev::program_def program{"eulervop: Euler's equations by variation of parameters, and their high-precision reference",
+                          EULERVOP_VERSION,
+                          ev::help_footer("") + "\nEach command's --help lists its flags with their defaults.",
+                          {}};
+  for (const ev::command& c : commands)
+    program.subcommands.push_back({c.name, c.description, ev::help_footer(c.name), c.add_flags, c.computes});
+  return program;
 }
 
 }  // namespace
@@ -87,21 +68,10 @@ int main(int argc, char** argv) {
   ev::set_progress_display([&mode](const std::string& label, double total, const ev::progress_unit& unit) {
     return std::make_unique<ev::progress_line>(label, total, unit, mode);
   });
-  CLI::App app{"eulervop: Euler's equations by variation of parameters, and their high-precision reference"};
-  app.set_version_flag("--version", EULERVOP_VERSION);
-  app.footer(ev::help_footer("") + "\nEach command's --help lists its flags with their defaults.");
-  app.require_subcommand(1);
-
   const std::vector<ev::command> commands = ev::all_commands();
-  std::vector<CLI::App*> subcommands;
   std::string names;
   bool known = false;
   for (const ev::command& c : commands) {
-    CLI::App* sub = app.add_subcommand(c.name, c.description);
-    c.add_flags(*sub);
-    if (c.computes) add_progress_flags(*sub, mode);
-    sub->footer(ev::help_footer(c.name));
-    subcommands.push_back(sub);
     names += (names.empty() ? "" : ", ") + c.name;
     known = known || (argc >= 2 && std::string_view(argv[1]) == c.name);
   }
@@ -109,8 +79,12 @@ int main(int argc, char** argv) {
   if (argc >= 2 && argv[1][0] != '-' && !known)
     return report(ev::exit_bad_input, "error: ", fmt::format("unknown command `{}` (expected: {})", argv[1], names));
 
-  if (const std::optional<int> code = parse(app, argc, argv, names)) return *code;
-  for (std::size_t i = 0; i < commands.size(); ++i)
-    if (subcommands[i]->parsed()) return run(commands[i], ev::command_text(argc, argv));
-  return ev::exit_success;
+  const ev::parsed_command_line parsed = ev::parse_command_line(program_of(commands), mode, argc, argv);
+  if (!parsed.error.empty()) {
+    std::string message = parsed.error;
+    if (message == "A subcommand is required") message += fmt::format(" (expected: {}; see eulervop --help)", names);
+    return report(parsed.exit_code, "error: ", message);
+  }
+  if (!parsed.subcommand) return parsed.exit_code;
+  return run(commands[*parsed.subcommand], ev::command_text(argc, argv));
 }

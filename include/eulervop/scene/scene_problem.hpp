@@ -277,3 +277,28 @@ sample_times<T> sample_times_of(const scene& s) {
 }
 
 }  // namespace eulervop::scene
+
+// The conversions of a scene into the problems of one scalar T, compiled once in the kernels
+// (src/kernels/CMakeLists.txt, the cell scene_problems) for double, quad and MPFR, as the formula
+// types are (model/expression_torque.hpp): EXTERN is `extern` to declare them, empty to define
+// them. Most of the program's units convert a scene, each in up to three scalars, and would
+// otherwise each compile every conversion they call. Declared extern for double here; for quad
+// and MPFR in scene/wide_scene_problems.hpp.
+#define EULERVOP_SCENE_PROBLEM_CELL(EXTERN, T)                                                                     \
+  EXTERN template T eulervop::scene::decimal::to_scalar<T>() const;                                               \
+  EXTERN template eulervop::physical_scaling<T> eulervop::scene::scaling_of<T>(const eulervop::scene::scene&);    \
+  EXTERN template eulervop::vec3<T> eulervop::scene::Omega_of_elements<T>(const eulervop::scene::initial_elements&); \
+  EXTERN template eulervop::euler_problem<T> eulervop::scene::to_problem<T>(const eulervop::scene::scene&);       \
+  EXTERN template eulervop::vec3<T> eulervop::scene::initial_state_of<T>(const eulervop::scene::scene&);          \
+  EXTERN template eulervop::euler_problem<T, eulervop::expression_torque<T, false>>                               \
+  eulervop::scene::to_problem_with_law<T, false>(const eulervop::scene::scene&);                                   \
+  EXTERN template eulervop::euler_problem<T, eulervop::expression_torque<T, true>>                                \
+  eulervop::scene::to_problem_with_law<T, true>(const eulervop::scene::scene&);                                    \
+  EXTERN template eulervop::quaternion<T> eulervop::scene::attitude_of<T>(const eulervop::scene::scene&);         \
+  EXTERN template eulervop::body_rates<T> eulervop::scene::body_rates_of<T>(const eulervop::scene::scene&);       \
+  EXTERN template eulervop::coupled_problem<T> eulervop::scene::to_coupled_problem<T>(const eulervop::scene::scene&); \
+  EXTERN template T eulervop::scene::tau_end_of<T>(const eulervop::scene::scene&);                                \
+  EXTERN template eulervop::scene::sample_times<T> eulervop::scene::sample_times_of<T>(const eulervop::scene::scene&);
+#ifdef EULERVOP_COMPILED_KERNELS
+EULERVOP_SCENE_PROBLEM_CELL(extern, double)
+#endif
