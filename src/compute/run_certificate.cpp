@@ -44,8 +44,9 @@ run_certificate_factory load_certificate_module() {
   const char* name = "eulervop_certificate.so";
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (ec || exe.empty()) throw std::runtime_error(std::string("--certify: the certificate module ") + name +
-                                                  " is found beside the program, whose own path is unknown");
+  if (ec || exe.empty())
+    throw std::runtime_error(std::string("--certify: cannot load the certificate module ") + name +
+                             ": it lies beside the program, whose own path (/proc/self/exe) is unknown");
   const fs::path dir = exe.parent_path();
   std::string searched, failure;
   for (const fs::path& p : {(dir / EULERVOP_MODULES_FROM_BINDIR / name).lexically_normal(),

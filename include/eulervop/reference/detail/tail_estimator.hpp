@@ -88,9 +88,11 @@ class tail_estimator {
                           const std::array<std::vector<double>, D>* dF, const T& hl, std::size_t tail_from) {
     const double hl_d = static_cast<double>(hl);
     std::fill(coeff_log_.begin(), coeff_log_.end(), -std::numeric_limits<double>::infinity());
-    // The head's largest |b_k| over the components first, then one log per k: the log of the
-    // largest is the largest log (log rounds monotonically here, checked on the shipped scenes'
-    // outputs, which are unchanged), at a third of the logs.
+    // The head's largest |b_k| over the components first, then one log per k, a third of the logs:
+    // mathematically the largest log. A log not correctly rounded could differ from the largest
+    // of the separate logs in its last bit; these logs only fit the decay's slope and set the
+    // segment's length, and every shipped scene's output is byte-identical to the one-log-per-
+    // component way (tools/golden_outputs.sh).
     std::fill(head_abs_.begin(), head_abs_.end(), 0.0);
     for (std::size_t i = 0; i < D; ++i) {
       for (std::size_t j = 0; j < n1_; ++j) Fd_[j] = static_cast<double>(F[i][j]) + (dF ? (*dF)[i][j] : 0.0);
