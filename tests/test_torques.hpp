@@ -13,7 +13,6 @@ template <class T>
 struct damping_torque {
   static constexpr bool depends_on_time = false;
   static constexpr bool depends_on_state = true;
-  static constexpr bool attitude_runs = false;  // rate-only runs (model/torque.hpp)
   T D;
   vec3<T> value(const T&, const vec3<T>& y) const { return {-D * y[0], -D * y[1], -D * y[2]}; }
   void add_jacobian(const T&, const vec3<T>&, std::array<vec3<T>, 3>& J) const {

@@ -20,7 +20,6 @@ template <class T>
 struct draining_torque {
   static constexpr bool depends_on_time = true;
   static constexpr bool depends_on_state = false;
-  static constexpr bool attitude_runs = false;  // rate-only runs (model/torque.hpp)
   vec3<T> value(const T& t, const vec3<T>&) const {
     using std::cos;
     using std::sin;

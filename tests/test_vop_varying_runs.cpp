@@ -82,16 +82,61 @@ TEST(VopVaryingTorque, DampingTorqueOfTheState) {
   EXPECT_LE(err[2], 0.01 * err[0]);
 }
 
-// A torque that compiles no attitude runs (attitude_runs = false, model/torque.hpp) refuses a run
-// asked to carry q, with a reason, instead of silently dropping the attitude.
-TEST(VopVaryingTorque, ATorqueWithoutAttitudeRunsRefusesAnAttitude) {
+// A torque type of our own runs in the drivers compiled for every torque (runs/varying_torque.hpp)
+// with or without the attitude; with it, q rides on the same stages and the rates are bit for bit
+// those of the run without it (runs/comparison_run.hpp), at a fixed step and under error control.
+TEST(VopVaryingTorque, ATorqueOfOurOwnCarriesTheAttitudeWithTheSameRates) {
   const auto p = problem<double>(damping_torque<double>{0.05}, paper_Omega0);
-  eulervop::fixed_run_settings s{0.01, 10, 1};
-  s.attitude = eulervop::attitude_settings{};
-  EXPECT_THROW((void)eulervop::run_fixed(formulation::euler, eulervop::rk::method::rk4, p, s), std::invalid_argument);
-  s.attitude.reset();
-  EXPECT_EQ(eulervop::run_fixed(formulation::euler, eulervop::rk::method::rk4, p, s).steps, 10u);
+  eulervop::fixed_run_settings fixed{0.01, 500, 10};
+  eulervop::adaptive_run_settings adaptive;
+  adaptive.tau_end = 5;
+  adaptive.atol = adaptive.rtol = 1e-10;
+  for (const formulation f : {formulation::euler, formulation::vop, formulation::vop_theta}) {
+    const auto rates = eulervop::run_fixed(f, eulervop::rk::method::rk4, p, fixed);
+    const auto rates_adaptive = eulervop::run_adaptive(f, eulervop::rk::method::dp45, p, adaptive);
+    fixed.attitude = adaptive.attitude = eulervop::attitude_settings{};
+    const auto both = eulervop::run_fixed(f, eulervop::rk::method::rk4, p, fixed);
+    const auto both_adaptive = eulervop::run_adaptive(f, eulervop::rk::method::dp45, p, adaptive);
+    fixed.attitude.reset();
+    adaptive.attitude.reset();
+    EXPECT_TRUE(rates.q.empty());
+    ASSERT_EQ(both.q.size(), both.Omega.size());
+    EXPECT_EQ(both.Omega, rates.Omega);
+    ASSERT_EQ(both_adaptive.q.size(), both_adaptive.Omega.size());
+    EXPECT_EQ(both_adaptive.Omega, rates_adaptive.Omega);
+    // q stays a unit quaternion to the method's accuracy (rk4 at h = 0.01, |Omega| ~ 1).
+    const auto& q = both.q.back();
+    EXPECT_NEAR(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z, 1.0, 1e-9);
+  }
 }
 
+// A torque of our own that reads the attitude (it has set_attitude): its runs carry q, and a run
+// without it is refused with a reason rather than run at the initial attitude.
+struct attitude_reading_torque {
+  static constexpr bool depends_on_time = true;
+  static constexpr bool depends_on_state = true;
+  mutable eulervop::quaternion<double> q{1, 0, 0, 0};
+  void set_attitude(const eulervop::quaternion<double>& x) const { q = x; }
+  vec3<double> value(double, const vec3<double>&) const { return {0.01 * q.x, 0.01 * q.y, 0.01 * q.z}; }
+  void add_jacobian(double, const vec3<double>&, std::array<vec3<double>, 3>&) const {}
+};
+template <class U>
+[[maybe_unused]] attitude_reading_torque convert_torque(const attitude_reading_torque& g) {
+  return g;
+}
+
+TEST(VopVaryingTorque, ATorqueThatReadsTheAttitudeRefusesARunWithoutIt) {
+  const auto p = problem<double>(attitude_reading_torque{}, paper_Omega0);
+  eulervop::fixed_run_settings s{0.01, 10, 1};
+  EXPECT_THROW((void)eulervop::run_fixed(formulation::euler, eulervop::rk::method::rk4, p, s), std::invalid_argument);
+  s.attitude = eulervop::attitude_settings{eulervop::body_rates<double>{}, {0.5, 0.5, 0.5, 0.5}};
+  const auto r = eulervop::run_fixed(formulation::euler, eulervop::rk::method::rk4, p, s);
+  EXPECT_EQ(r.steps, 10u);
+  // The torque saw the attitude: with q0 = (1/2)(1, 1, 1, 1) its G is 0.005 (1, 1, 1), so the rates
+  // leave the torque-free motion within the first step.
+  const auto free = eulervop::run_fixed(formulation::euler, eulervop::rk::method::rk4,
+                                        problem<double>(eulervop::constant_torque<double>{}, paper_Omega0), s);
+  EXPECT_NE(r.Omega.back(), free.Omega.back());
+}
 
 }  // namespace

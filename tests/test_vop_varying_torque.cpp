@@ -76,7 +76,6 @@ template <class T>
 struct constant_valued_time_torque {
   static constexpr bool depends_on_time = true;
   static constexpr bool depends_on_state = false;
-  static constexpr bool attitude_runs = false;  // rate-only runs (model/torque.hpp)
   vec3<T> G;
   vec3<T> value(const T&, const vec3<T>&) const { return G; }
 };

@@ -1,8 +1,7 @@
 // What the tests of the VOP formulations under a torque of time or state share
 // (test_vop_varying_*.cpp): the test torques (the interface of model/torque.hpp), the same laws as
-// the scene's formulas, and the error of a run against the quad reference. The tests are split
-// over several files so that each compiles in well under a minute: every torque type of a test
-// instantiates its own Runge-Kutta drivers (the compiled kernels hold only the program's).
+// the scene's formulas, and the error of a run against the quad reference. The test torques run
+// in the compiled run drivers (runs/varying_torque.hpp holds any torque type).
 #pragma once
 
 #include <eulervop/core/outcome_text.hpp>
@@ -46,7 +45,6 @@ template <class T>
 struct wobble_torque {
   static constexpr bool depends_on_time = true;
   static constexpr bool depends_on_state = false;
-  static constexpr bool attitude_runs = false;  // rate-only runs (model/torque.hpp)
   T a;
   vec3<T> value(const T& t, const vec3<T>&) const {
     using std::cos;
@@ -67,7 +65,6 @@ template <class T>
 struct mixed_torque {
   static constexpr bool depends_on_time = true;
   static constexpr bool depends_on_state = true;
-  static constexpr bool attitude_runs = false;  // rate-only runs (model/torque.hpp)
   vec3<T> value(const T& t, const vec3<T>& y) const {
     using std::cos;
     using std::sin;
@@ -92,7 +89,6 @@ template <class T, bool Pieces>
 struct switched_torque {
   static constexpr bool depends_on_time = true;
   static constexpr bool depends_on_state = false;
-  static constexpr bool attitude_runs = false;  // rate-only runs (model/torque.hpp)
   T a, b;
   std::vector<T> breaks;                      // {b}
   mutable std::optional<std::size_t> pinned;  // the interval a run pinned, in its own copy

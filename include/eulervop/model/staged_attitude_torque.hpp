@@ -4,8 +4,8 @@
 // before it evaluates it (runs/detail/attitude.hpp, docs/attitude-runs.md). The coupled problem
 // is thereby what each run's method integrates on all seven components.
 //
-// Only runs that carry q can use it (rate_runs = false): without q the torque would stay at the
-// initial attitude.
+// Only runs that carry q can use it (its set_attitude says so: runs/varying_torque.hpp,
+// reads_attitude): without q the torque would stay at the initial attitude.
 #pragma once
 
 #include <eulervop/core/quaternion.hpp>
@@ -23,7 +23,6 @@ class staged_attitude_torque {
  public:
   static constexpr bool depends_on_time = true;
   static constexpr bool depends_on_state = true;
-  static constexpr bool rate_runs = false;
 
   staged_attitude_torque() = default;
   staged_attitude_torque(attitude_torque<T> g, const quaternion<T>& q0) : g_(std::move(g)) { set_attitude(q0); }

@@ -19,10 +19,9 @@
 //   interval_at(t), pin(interval) const, unpin() const: the integrators end every segment and step
 //   at a breakpoint, and pin the interval they work in, so that a segment ending on a
 //   breakpoint sees the formulas of its own side there.
-// A torque type may also say `static constexpr bool attitude_runs = false`: the double-precision
-// comparison runs (runs/comparison_run.hpp) then compile no attitude variants for it, half the
-// code of its runs. The tests' own torques, which never drive an attitude, say so. A torque that
-// reads the attitude says `rate_runs = false`: its runs always carry q.
+// The double-precision comparison runs (runs/comparison_run.hpp) are compiled once, for the
+// constant torque and for one type that holds any other torque (runs/varying_torque.hpp): a
+// torque type of the user's own runs there without instantiating drivers of its own.
 #pragma once
 
 #include <eulervop/core/vec3.hpp>
@@ -53,15 +52,6 @@ concept torque = requires(const G& g, const T& t, const vec3<T>& y, std::array<v
 // True when the torque is one vector for the whole run.
 template <class Torque>
 inline constexpr bool is_constant_torque_v = torque_traits<Torque>::is_constant;
-
-// Whether the comparison runs compile their attitude variants for this torque (see above).
-template <class Torque>
-inline constexpr bool compiles_attitude_runs = !requires { requires !Torque::attitude_runs; };
-
-// Whether they compile their rate-only variants: not for a torque that reads the attitude
-// (staged_attitude_torque.hpp, `static constexpr bool rate_runs = false`), which needs q beside.
-template <class Torque>
-inline constexpr bool compiles_rate_runs = !requires { requires !Torque::rate_runs; };
 
 // A torque whose formulas change at breakpoints (see above).
 template <class Torque>

@@ -23,8 +23,10 @@
 // those of the run without it. The rate-only runs are separate instantiations.
 //
 // Each (formulation, fixed or adaptive, rates or attitude) is a cell (detail/run_cells.hpp) of the
-// constant torque or of varying_torque (every torque of time, state or attitude, its kind data:
-// varying_torque.hpp), compiled in kernels/cells.hpp and declared extern below with the kernels.
+// constant torque or of varying_torque (every torque of time, state or attitude, of the program's
+// types or of any other, its kind data: varying_torque.hpp), compiled in kernels/cells.hpp and
+// declared extern below with the kernels. A problem with any other torque type runs as one of
+// those two (detail::as_compiled), so no torque type instantiates drivers of its own.
 #pragma once
 
 #include <eulervop/core/vec3.hpp>
@@ -64,16 +66,25 @@ void require_normalized(formulation f, const Problem& p) {
                             "form of Eq. 1 (two moments equal or nearly so)");
 }
 
-// The torque kinds of varying_torque.hpp: their runs are those of the problem under that type.
+// The two torque types the run drivers are compiled for (kernels/cells.hpp): the paper's constant
+// G, and varying_torque, whose kind is data. Every other torque type runs as one of them.
 template <class Torque>
-concept varying_kind = std::same_as<Torque, time_torque<double>> || std::same_as<Torque, state_torque<double>> ||
-                       std::same_as<Torque, staged_attitude_torque<double>>;
+concept compiled_run_torque = std::same_as<Torque, constant_torque<double>> || std::same_as<Torque, varying_torque<double>>;
 
-// The same problem with its torque as a varying_torque (a copy: the run pins and evaluates its own).
+// The same problem with its torque as one of the compiled types: a constant torque as its one
+// vector, any other as a varying_torque of its kind (a copy: the run pins and evaluates its own).
 template <class Torque>
-euler_problem<double, varying_torque<double>> as_varying(const euler_problem<double, Torque>& p) {
-  euler_problem<double, varying_torque<double>> q;
-  q.torque = varying_torque<double>(p.torque);
+auto as_compiled(const euler_problem<double, Torque>& p) {
+  using G = std::conditional_t<is_constant_torque_v<Torque>, constant_torque<double>, varying_torque<double>>;
+  euler_problem<double, G> q;
+  if constexpr (is_constant_torque_v<Torque>) {
+    q.torque.G = p.torque.value(p.tau0, p.Omega0);
+  } else if constexpr (std::same_as<Torque, time_torque<double>> || std::same_as<Torque, state_torque<double>> ||
+                       std::same_as<Torque, staged_attitude_torque<double>>) {
+    q.torque = varying_torque<double>(p.torque);
+  } else {
+    q.torque = varying_torque<double>(detail::erased_torque<double>(p.torque));
+  }
   q.Omega0 = p.Omega0;
   q.tau0 = p.tau0;
   q.form = p.form;
@@ -82,20 +93,18 @@ euler_problem<double, varying_torque<double>> as_varying(const euler_problem<dou
 }
 
 // Calls cell(std::integral_constant<formulation, F>, std::bool_constant<Attitude>) for the
-// formulation f, with the attitude when `attitude` is set (and the torque type compiles attitude
-// runs: model/torque.hpp, compiles_attitude_runs; std::invalid_argument otherwise).
+// formulation f, with the attitude when `attitude` is set. A torque that reads the attitude runs
+// only with it (std::invalid_argument otherwise).
 template <class Problem, class Cell>
 void dispatch_cell(formulation f, const Problem& p, bool attitude, Cell&& cell) {
   const auto with_attitude = [&](auto form) {
-    bool rate_runs = compiles_rate_runs<typename Problem::torque_type>;
-    if constexpr (requires { p.torque.reads_attitude(); }) rate_runs = !p.torque.reads_attitude();
-    if (!attitude) [[likely]] {
-      if (!rate_runs) throw std::invalid_argument("this torque reads the attitude: its runs carry q (attitude settings)");
-      if constexpr (compiles_rate_runs<typename Problem::torque_type>) cell(form, std::false_type{});
-    } else if constexpr (compiles_attitude_runs<typename Problem::torque_type>) {
+    bool reads_attitude = false;
+    if constexpr (requires { p.torque.reads_attitude(); }) reads_attitude = p.torque.reads_attitude();
+    if (attitude) {
       cell(form, std::true_type{});
     } else {
-      throw std::invalid_argument("this torque type compiles no attitude runs (its attitude_runs is false)");
+      if (reads_attitude) throw std::invalid_argument("this torque reads the attitude: its runs carry q (attitude settings)");
+      cell(form, std::false_type{});
     }
   };
   switch (f) {
@@ -108,12 +117,12 @@ void dispatch_cell(formulation f, const Problem& p, bool attitude, Cell&& cell) 
 }  // namespace detail
 
 // Integrates the problem with formulation `f` and method `m` at fixed step in double. A torque of
-// time or state runs as a varying_torque (varying_torque.hpp): one driver for every such kind.
+// time or state, of any type, runs as a varying_torque (varying_torque.hpp): one driver for all.
 template <class Problem>
 run_result run_fixed(formulation f, rk::method m, const Problem& p, const fixed_run_settings& s) {
   detail::require_comparison_problem<Problem>();
-  if constexpr (detail::varying_kind<typename Problem::torque_type>) {
-    return run_fixed(f, m, detail::as_varying(p), s);
+  if constexpr (!detail::compiled_run_torque<typename Problem::torque_type>) {
+    return run_fixed(f, m, detail::as_compiled(p), s);
   } else {
     run_result out;
     out.form = f;
@@ -134,8 +143,8 @@ run_result run_fixed(formulation f, rk::method m, const Problem& p, const fixed_
 template <class Problem>
 run_result run_adaptive(formulation f, rk::method m, const Problem& p, const adaptive_run_settings& s) {
   detail::require_comparison_problem<Problem>();
-  if constexpr (detail::varying_kind<typename Problem::torque_type>) {
-    return run_adaptive(f, m, detail::as_varying(p), s);
+  if constexpr (!detail::compiled_run_torque<typename Problem::torque_type>) {
+    return run_adaptive(f, m, detail::as_compiled(p), s);
   } else {
     run_result out;
     out.form = f;
