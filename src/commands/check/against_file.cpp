@@ -191,7 +191,7 @@ expected_names expected_of(const reference_table<T>& ref) {
 // The reference file's columns that a trajectory with columns `cols` is compared with, and the
 // variables of the comparison; the tally's flags (attitude, certified) set in `r`.
 template <scalar T>
-struct reference_columns {
+struct compared_columns {
   std::size_t time = 0;
   std::array<std::size_t, 3> state{};  // the integrator's state: Omega, omega (direct form) or y
   compared_variables<T> vars;
@@ -201,9 +201,9 @@ struct reference_columns {
 };
 
 template <scalar T>
-reference_columns<T> reference_columns_of(const check_job& job, const reference_table<T>& ref, const table_rows& rows,
+compared_columns<T> compared_columns_of(const check_job& job, const reference_table<T>& ref, const table_rows& rows,
                                           const trajectory_columns& cols, check_result& r) {
-  reference_columns<T> c;
+  compared_columns<T> c;
   // The reference's columns are always the canonical names of `eulervop reference`.
   c.time = cols.physical ? ref.required("t", " (the trajectory has physical times; the reference is normalized)")
                          : ref.required("tau");
@@ -240,7 +240,7 @@ check_result check_rows(const check_job& job, reference_table<T>& ref, const sce
   table_rows& rows = *trajectory;
   const trajectory_columns cols = find_columns(job, rows, expected_of(ref));
   check_result r;
-  const reference_columns<T> c = reference_columns_of<T>(job, ref, rows, cols, r);
+  const compared_columns<T> c = compared_columns_of<T>(job, ref, rows, cols, r);
   r.scene = scn ? scene_terms_of(*scn, cols) : unknown_scene_terms(form_of_columns(ref));
   if (cols.q)
     for (int k = 0; k < 4; ++k) r.q_columns[k] = rows.header()[(*cols.q)[k]];

@@ -130,7 +130,7 @@ std::vector<run_errors> adaptive_runs(const report_job& job, double tau_end) {
 }
 
 template <scalar T>
-void report_in(const report_job& job, std::ostream& standard_output) {
+void adaptive_report_in(const report_job& job, std::ostream& standard_output) {
   output_dir dir(job.out_dir, "errors.csv");
   const T tau_end = tau_end_of<T>(job.scn);
   std::vector<run_errors> runs = adaptive_runs(job, static_cast<double>(tau_end));
@@ -143,7 +143,7 @@ void report_in(const report_job& job, std::ostream& standard_output) {
 }  // namespace
 
 void run_adaptive_report(const report_job& job, std::ostream& standard_output) {
-  with_scalar(job.precision, [&](auto zero) { report_in<decltype(zero)>(job, standard_output); });
+  with_scalar(job.precision, [&](auto zero) { adaptive_report_in<decltype(zero)>(job, standard_output); });
 }
 
 }  // namespace eulervop::app

@@ -182,7 +182,7 @@ run_errors measure(const report_job& job, const run_spec& spec, const Problem& p
 }
 
 template <scalar T>
-void report_in(const report_job& job, std::ostream& standard_output) {
+void fixed_step_report_in(const report_job& job, std::ostream& standard_output) {
   // Everything that can be bad input is checked before the directory is touched.
   std::optional<reference_samples<T>> from_file;
   if (job.file) from_file = load_reference_file<T>(job);
@@ -204,7 +204,7 @@ void report_in(const report_job& job, std::ostream& standard_output) {
 
 void run_fixed_step_report(const report_job& job, std::ostream& standard_output) {
   const eulervop::precision p = job.file ? job.file->meta.reading_precision() : job.precision;
-  with_scalar(p, [&](auto zero) { report_in<decltype(zero)>(job, standard_output); });
+  with_scalar(p, [&](auto zero) { fixed_step_report_in<decltype(zero)>(job, standard_output); });
 }
 
 }  // namespace eulervop::app
