@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <type_traits>
+
 namespace {
 
 using namespace vop_varying;
@@ -85,6 +87,8 @@ TEST(VopVaryingTorque, DampingTorqueOfTheState) {
 // A torque type of our own runs in the drivers compiled for every torque (runs/varying_torque.hpp)
 // with or without the attitude; with it, q rides on the same stages and the rates are bit for bit
 // those of the run without it (runs/comparison_run.hpp), at a fixed step and under error control.
+// A type of our own is no kind of varying_torque: it runs behind the erased kind's virtual call.
+static_assert(!std::is_constructible_v<eulervop::varying_torque<double>::kinds, const damping_torque<double>&>);
 TEST(VopVaryingTorque, ATorqueOfOurOwnCarriesTheAttitudeWithTheSameRates) {
   const auto p = problem<double>(damping_torque<double>{0.05}, paper_Omega0);
   eulervop::fixed_run_settings fixed{0.01, 500, 10};

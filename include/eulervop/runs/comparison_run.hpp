@@ -79,8 +79,7 @@ auto as_compiled(const euler_problem<double, Torque>& p) {
   euler_problem<double, G> q;
   if constexpr (is_constant_torque_v<Torque>) {
     q.torque.G = p.torque.value(p.tau0, p.Omega0);
-  } else if constexpr (std::same_as<Torque, time_torque<double>> || std::same_as<Torque, state_torque<double>> ||
-                       std::same_as<Torque, staged_attitude_torque<double>>) {
+  } else if constexpr (std::is_constructible_v<varying_torque<double>::kinds, const Torque&>) {  // one of its kinds
     q.torque = varying_torque<double>(p.torque);
   } else {
     q.torque = varying_torque<double>(detail::erased_torque<double>(p.torque));
@@ -91,6 +90,11 @@ auto as_compiled(const euler_problem<double, Torque>& p) {
   q.a = p.a;
   return q;
 }
+
+// The program's torques are kinds of their own (no virtual call); any other type goes behind one.
+static_assert(std::is_constructible_v<varying_torque<double>::kinds, const time_torque<double>&> &&
+              std::is_constructible_v<varying_torque<double>::kinds, const state_torque<double>&> &&
+              std::is_constructible_v<varying_torque<double>::kinds, const staged_attitude_torque<double>&>);
 
 // Calls cell(std::integral_constant<formulation, F>, std::bool_constant<Attitude>) for the
 // formulation f, with the attitude when `attitude` is set. A torque that reads the attitude runs
