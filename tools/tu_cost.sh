@@ -27,7 +27,8 @@ src=\${@: -1}
 exec /usr/bin/time -a -o "$log" -f "%e %M \$src %U %S" "\$@"
 LAUNCH
 chmod +x "$launcher"
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER_LAUNCHER="$launcher" >/dev/null
+cmake -S "$root" -B "$build" -G "${CMAKE_GENERATOR:-Ninja}" -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_CXX_COMPILER_LAUNCHER="$launcher" >/dev/null
 targets=()
 for t in "$@"; do targets+=(--target "$t"); done
 start=$(date +%s.%N)

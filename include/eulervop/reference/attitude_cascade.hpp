@@ -69,40 +69,11 @@ class attitude_cascade {
 
   // Solves q on a candidate rates segment (not yet accepted); true when q converged on it and
   // its series is resolved, false when the segment is too long for q (or q does not converge).
-  bool try_segment(const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
-    if (!ready_) init(nodes);
-    std::vector<vec3<T>>& y = y_;
-    for (std::size_t j = 0; j < n1_; ++j)
-      for (std::size_t i = 0; i < 3; ++i) y[j][i] = seg.base[i] + (seg.base_lo[i] + seg.values[j][i]);
-    pending_ = solve_piece(y, seg.half_length);
-    if (!pending_) ++stats_.refused;
-    return pending_;
-  }
+  bool try_segment(const chebyshev_segment<T>& seg, const std::vector<T>& nodes);
 
   // The accepted segment `seg` (after a successful try_segment on it): the combined (y, q)
   // segment, valid until the next call; q moves to the segment's end.
-  const combined_segment& commit(const chebyshev_segment<T>& seg) {
-    if (!pending_) throw std::logic_error("attitude_cascade: commit without a successful try_segment");
-    pending_ = false;
-    combined_.tau_begin = seg.tau_begin;
-    combined_.tau_end = seg.tau_end;
-    combined_.half_length = seg.half_length;
-    for (std::size_t i = 0; i < 3; ++i) {
-      combined_.base[i] = seg.base[i];
-      combined_.base_lo[i] = seg.base_lo[i];
-    }
-    for (std::size_t i = 0; i < 4; ++i) {
-      combined_.base[3 + i] = q_[i];
-      combined_.base_lo[3 + i] = q_lo_[i];
-    }
-    combined_.values.resize(n1_);
-    for (std::size_t j = 0; j < n1_; ++j) {
-      for (std::size_t i = 0; i < 3; ++i) combined_.values[j][i] = seg.values[j][i];
-      for (std::size_t i = 0; i < 4; ++i) combined_.values[j][3 + i] = Yn_[i][j];
-    }
-    advance();
-    return combined_;
-  }
+  const combined_segment& commit(const chebyshev_segment<T>& seg);
 
  private:
   using quat4 = std::array<T, 4>;
@@ -413,5 +384,42 @@ class attitude_cascade {
   attitude_stats stats_;
   T acc_;
 };
+
+// Out of the class, so that a unit that declares the cascade extern (reference/integrate.hpp)
+// compiles none of its solver, which the compiled kernels hold once per scalar.
+template <scalar T>
+bool attitude_cascade<T>::try_segment(const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
+  if (!ready_) init(nodes);
+  std::vector<vec3<T>>& y = y_;
+  for (std::size_t j = 0; j < n1_; ++j)
+    for (std::size_t i = 0; i < 3; ++i) y[j][i] = seg.base[i] + (seg.base_lo[i] + seg.values[j][i]);
+  pending_ = solve_piece(y, seg.half_length);
+  if (!pending_) ++stats_.refused;
+  return pending_;
+}
+
+template <scalar T>
+auto attitude_cascade<T>::commit(const chebyshev_segment<T>& seg) -> const combined_segment& {
+  if (!pending_) throw std::logic_error("attitude_cascade: commit without a successful try_segment");
+  pending_ = false;
+  combined_.tau_begin = seg.tau_begin;
+  combined_.tau_end = seg.tau_end;
+  combined_.half_length = seg.half_length;
+  for (std::size_t i = 0; i < 3; ++i) {
+    combined_.base[i] = seg.base[i];
+    combined_.base_lo[i] = seg.base_lo[i];
+  }
+  for (std::size_t i = 0; i < 4; ++i) {
+    combined_.base[3 + i] = q_[i];
+    combined_.base_lo[3 + i] = q_lo_[i];
+  }
+  combined_.values.resize(n1_);
+  for (std::size_t j = 0; j < n1_; ++j) {
+    for (std::size_t i = 0; i < 3; ++i) combined_.values[j][i] = seg.values[j][i];
+    for (std::size_t i = 0; i < 4; ++i) combined_.values[j][3 + i] = Yn_[i][j];
+  }
+  advance();
+  return combined_;
+}
 
 }  // namespace eulervop

@@ -101,41 +101,7 @@ class chebyshev_picard {
   // numerical_failure when the segments cannot pass.
   void run_segments(const P& problem, const T& tau_end, const segment_sink<T, D>& sink,
                     const progress_callback& progress = {}, picard_stats* stats = nullptr,
-                    const segment_check<T, D>& check = {}) {
-    check_ = check ? &check : nullptr;
-    picard_stats st;
-    st.degree = static_cast<unsigned>(N_);
-    st.tolerance = std::exp(tol_log_);
-    work_.field = detail::field_of<P>(problem);
-    if (!(tau_end > problem.initial_time()))
-      throw std::invalid_argument("integrate_reference: tau_end must exceed tau0");
-    set_breakpoints(problem, tau_end);
-    origin at{problem.initial_state(), {}, problem.initial_time()};
-    at.x_lo.fill(T(0));
-    for (std::size_t i = 0; i < D; ++i)
-      if (!isfinite_(at.x[i])) throw numerical_failure({outcome_kind::initial_non_finite, to_d(at.tau)});
-    detail::segment_length_control length(first_length(at), N_);
-    bool have_previous = false;
-    std::size_t since_progress = 0;
-    while (at.tau < tau_end) {
-      bool last = false;
-      if (!next_segment(at, tau_end, length, have_previous, last, st)) continue;
-      have_previous = true;
-      sink(segment_, matrices_.basis.nodes);
-      if (++st.segments > settings_.max_segments)
-        throw numerical_failure(
-            {.kind = outcome_kind::segment_limit, .tau = to_d(at.tau), .count = settings_.max_segments});
-      // Every few segments: a display redraws at most ten times a second anyway, and a call
-      // costs far less than a segment.
-      if (progress && (++since_progress >= 4 || last)) {
-        progress(to_d(at.tau), st.segments);
-        since_progress = 0;
-      }
-      length.accepted();
-      if (last) break;
-    }
-    if (stats) *stats = st;
-  }
+                    const segment_check<T, D>& check = {});
 
   // The same, keeping every segment: the dense output on the whole span.
   dense_trajectory<T, D> run(const P& problem, const T& tau_end, const progress_callback& progress = {},
@@ -519,5 +485,46 @@ class chebyshev_picard {
   std::vector<T> breaks_;       // the torque's breakpoints in the span
   std::size_t next_break_ = 0;  // the first one not yet reached
 };
+
+// Out of the class, so that a unit that declares it extern (reference/integrate.hpp) compiles none
+// of the segment loop the compiled kernels hold.
+template <picard_problem P>
+void chebyshev_picard<P>::run_segments(const P& problem, const T& tau_end, const segment_sink<T, D>& sink,
+                                       const progress_callback& progress, picard_stats* stats,
+                                       const segment_check<T, D>& check) {
+  check_ = check ? &check : nullptr;
+  picard_stats st;
+  st.degree = static_cast<unsigned>(N_);
+  st.tolerance = std::exp(tol_log_);
+  work_.field = detail::field_of<P>(problem);
+  if (!(tau_end > problem.initial_time()))
+    throw std::invalid_argument("integrate_reference: tau_end must exceed tau0");
+  set_breakpoints(problem, tau_end);
+  origin at{problem.initial_state(), {}, problem.initial_time()};
+  at.x_lo.fill(T(0));
+  for (std::size_t i = 0; i < D; ++i)
+    if (!isfinite_(at.x[i])) throw numerical_failure({outcome_kind::initial_non_finite, to_d(at.tau)});
+  detail::segment_length_control length(first_length(at), N_);
+  bool have_previous = false;
+  std::size_t since_progress = 0;
+  while (at.tau < tau_end) {
+    bool last = false;
+    if (!next_segment(at, tau_end, length, have_previous, last, st)) continue;
+    have_previous = true;
+    sink(segment_, matrices_.basis.nodes);
+    if (++st.segments > settings_.max_segments)
+      throw numerical_failure(
+          {.kind = outcome_kind::segment_limit, .tau = to_d(at.tau), .count = settings_.max_segments});
+    // Every few segments: a display redraws at most ten times a second anyway, and a call
+    // costs far less than a segment.
+    if (progress && (++since_progress >= 4 || last)) {
+      progress(to_d(at.tau), st.segments);
+      since_progress = 0;
+    }
+    length.accepted();
+    if (last) break;
+  }
+  if (stats) *stats = st;
+}
 
 }  // namespace eulervop

@@ -206,8 +206,12 @@ dense_trajectory<T, 7> integrate_coupled(const coupled_problem<T>& problem, cons
 }
 
 // The cells of one scalar T and torque G<T> (kernels/cells.hpp): EXTERN is `extern` to declare
-// them, empty to define them. The rates alone:
+// them, empty to define them. The rates alone, with the integrator's segment loop, which the
+// attitude's cell of the same T and G calls rather than compiles again:
 #define EULERVOP_REFERENCE_CELL(EXTERN, T, G)                                                                   \
+  EXTERN template void chebyshev_picard<euler_problem<T, G<T>>>::run_segments(                                  \
+      const euler_problem<T, G<T>>&, const T&, const segment_sink<T>&, const progress_callback&, picard_stats*,  \
+      const segment_check<T>&);                                                                                 \
   EXTERN template dense_trajectory<T> integrate_reference(const euler_problem<T, G<T>>&, const T&,              \
                                                           const picard_settings&, const progress_callback&,    \
                                                           picard_stats*);                                      \
@@ -226,6 +230,10 @@ dense_trajectory<T, 7> integrate_coupled(const coupled_problem<T>& problem, cons
   EXTERN template dense_trajectory<T, 7> integrate_attitude(const euler_problem<T, G<T>>&, const body_rates<T>&, \
                                                             const quaternion<T>&, const T&, const picard_settings&, \
                                                             picard_stats*, attitude_stats*);
+// ... what the cells of one scalar share: the integrator's matrices and the attitude's solver:
+#define EULERVOP_REFERENCE_SHARED_CELL(EXTERN, T)  \
+  EXTERN template struct detail::picard_matrices<T>; \
+  EXTERN template class attitude_cascade<T>;
 // ... and the coupled problem of one scalar:
 #define EULERVOP_REFERENCE_COUPLED_CELL(EXTERN, T)                                                               \
   EXTERN template coupled_stats integrate_coupled_samples(                                                       \
@@ -240,7 +248,9 @@ dense_trajectory<T, 7> integrate_coupled(const coupled_problem<T>& problem, cons
   EULERVOP_REFERENCE_ATTITUDE_CELL(extern, T, G)
 EULERVOP_FOR_EACH_SCALAR_AND_TORQUE(EULERVOP_EXTERN_REFERENCE_CELLS_)
 #undef EULERVOP_EXTERN_REFERENCE_CELLS_
-#define EULERVOP_EXTERN_COUPLED_CELL_(T, ...) EULERVOP_REFERENCE_COUPLED_CELL(extern, T)
+#define EULERVOP_EXTERN_COUPLED_CELL_(T, ...) \
+  EULERVOP_REFERENCE_COUPLED_CELL(extern, T)   \
+  EULERVOP_REFERENCE_SHARED_CELL(extern, T)
 EULERVOP_KERNEL_SCALARS(EULERVOP_EXTERN_COUPLED_CELL_, )
 #undef EULERVOP_EXTERN_COUPLED_CELL_
 #endif

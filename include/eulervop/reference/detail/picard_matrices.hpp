@@ -37,31 +37,7 @@ struct picard_matrices {
   }
 
   // `product_bits`: the bits the MPFR products must resolve (the run's effective bits).
-  picard_matrices(std::size_t degree, unsigned product_bits) : N(degree), n1(degree + 1), basis(degree) {
-    nodes_plus_one.resize(n1);
-    for (std::size_t j = 0; j < n1; ++j) nodes_plus_one[j] = basis.nodes[j] + 1;
-    S_d.resize(n1 * n1);
-    for (std::size_t k = 0; k < n1 * n1; ++k) S_d[k] = static_cast<double>(basis.integral[k]);
-    S_dt.resize(n1 * n1);
-    for (std::size_t j = 0; j < n1; ++j)
-      for (std::size_t k = 0; k < n1; ++k) S_dt[k * n1 + j] = static_cast<double>(basis.integral[j * n1 + k]);
-    Q_d.resize((N + 2) * n1);
-    for (std::size_t k = 0; k < (N + 2) * n1; ++k) Q_d[k] = static_cast<double>(basis.to_coeffs[k]);
-    C_d.resize(n1 * n1);
-    for (std::size_t k = 0; k < n1 * n1; ++k) C_d[k] = static_cast<double>(basis.coeffs[k]);
-    if constexpr (!std::is_same_v<T, double>) S_dd = double_double_matrix(basis.integral, n1, n1);
-    if constexpr (std::is_same_v<T, quad>) {
-      S_fx = fixed_point_matrix<T>(basis.integral, n1, n1);
-      Q_fx = fixed_point_matrix<T>(basis.to_coeffs, N + 2, n1);
-    } else if constexpr (std::is_same_v<T, mpfr_real>) {
-      // The products resolve the bits the run must resolve and 24 more (the sums of N+1 terms
-      // lose a few): with a tolerance looser than the precision, fewer limbs per product.
-      const unsigned bits = std::min(significand_bits<T>(), product_bits + 24);
-      S_fx = fixed_point_matrix<T>(basis.integral, n1, n1, bits);
-      Q_fx = fixed_point_matrix<T>(basis.to_coeffs, N + 2, n1, bits);
-      if (bits > first_residual_bits) S_fx_first = fixed_point_matrix<T>(basis.integral, n1, n1, first_residual_bits);
-    }
-  }
+  picard_matrices(std::size_t degree, unsigned product_bits);
 
   // y_i = S g_i (rows 1..N) in double for each component. Column order (y += S[:,k] g[k])
   // keeps the rows independent, so the compiler vectorizes across them without reassociating
@@ -90,5 +66,35 @@ struct picard_matrices {
     }
   }
 };
+
+// Out of the class, so that a unit that declares the matrices extern (reference/integrate.hpp)
+// compiles none of their construction, which the compiled kernels hold once per scalar.
+template <scalar T>
+picard_matrices<T>::picard_matrices(std::size_t degree, unsigned product_bits)
+    : N(degree), n1(degree + 1), basis(degree) {
+  nodes_plus_one.resize(n1);
+  for (std::size_t j = 0; j < n1; ++j) nodes_plus_one[j] = basis.nodes[j] + 1;
+  S_d.resize(n1 * n1);
+  for (std::size_t k = 0; k < n1 * n1; ++k) S_d[k] = static_cast<double>(basis.integral[k]);
+  S_dt.resize(n1 * n1);
+  for (std::size_t j = 0; j < n1; ++j)
+    for (std::size_t k = 0; k < n1; ++k) S_dt[k * n1 + j] = static_cast<double>(basis.integral[j * n1 + k]);
+  Q_d.resize((N + 2) * n1);
+  for (std::size_t k = 0; k < (N + 2) * n1; ++k) Q_d[k] = static_cast<double>(basis.to_coeffs[k]);
+  C_d.resize(n1 * n1);
+  for (std::size_t k = 0; k < n1 * n1; ++k) C_d[k] = static_cast<double>(basis.coeffs[k]);
+  if constexpr (!std::is_same_v<T, double>) S_dd = double_double_matrix(basis.integral, n1, n1);
+  if constexpr (std::is_same_v<T, quad>) {
+    S_fx = fixed_point_matrix<T>(basis.integral, n1, n1);
+    Q_fx = fixed_point_matrix<T>(basis.to_coeffs, N + 2, n1);
+  } else if constexpr (std::is_same_v<T, mpfr_real>) {
+    // The products resolve the bits the run must resolve and 24 more (the sums of N+1 terms
+    // lose a few): with a tolerance looser than the precision, fewer limbs per product.
+    const unsigned bits = std::min(significand_bits<T>(), product_bits + 24);
+    S_fx = fixed_point_matrix<T>(basis.integral, n1, n1, bits);
+    Q_fx = fixed_point_matrix<T>(basis.to_coeffs, N + 2, n1, bits);
+    if (bits > first_residual_bits) S_fx_first = fixed_point_matrix<T>(basis.integral, n1, n1, first_residual_bits);
+  }
+}
 
 }  // namespace eulervop::detail
