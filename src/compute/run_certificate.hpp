@@ -1,6 +1,6 @@
 // `--certify` of a streamed reference run, as the reference job sees it: the segments go in as the
 // integrator makes them, and each row's radii come out. Its body (certified_reference.hpp, the
-// certifiers of include/eulervop/certify/) is compiled once, in certificate_module.cpp, which the
+// certifiers of include/eulervop/certify/) is compiled once, in certificate_module*.cpp, which the
 // program loads only for --certify (a module of its own, linked with Arb, FLINT and MPFI), so that
 // every other run starts without loading those libraries (docs/design.md, "The certificate module").
 #pragma once
@@ -34,7 +34,7 @@ unsigned certify_workers();
 // The certificate of one streamed run: created at the first segment (which tells the degree).
 // With `workers` > 0 it runs on threads; rows then go through row(). The segments come in double,
 // quad or MPFR, with the rates alone (3 states) or the rates and the attitude as one problem (7).
-// An interface, implemented in the certificate module (certificate_module.cpp).
+// An interface, implemented in the certificate module (certificate_module*.cpp).
 class run_certificate {
  public:
   virtual ~run_certificate() = default;

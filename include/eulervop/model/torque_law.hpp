@@ -1,5 +1,5 @@
 // A torque given by formulas (docs/scenes.md, "Torques of time and state"): three components,
-// each an expression of the time and the state (model/expression.hpp; a plain number is an
+// each an expression of the time and the state (model/expression_program.hpp; a plain number is an
 // expression with one constant), and pieces, time windows [from, to) in which other components
 // apply. Outside every piece the base components apply (zero when the scene gives none).
 //
@@ -7,7 +7,7 @@
 // the run's type, with the change of variables from the scene's form to the integrator's.
 #pragma once
 
-#include <eulervop/model/expression.hpp>
+#include <eulervop/model/expression_program.hpp>
 
 #include <algorithm>
 #include <array>

@@ -6,13 +6,21 @@
 #pragma once
 
 #include <eulervop/core/scalar_traits.hpp>
-#include <eulervop/model/expression.hpp>
+#include <eulervop/core/vec3.hpp>
+#include <eulervop/model/expression_program.hpp>
 
 #include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+
+namespace eulervop {
+// model/expression.hpp, which a unit that calls to_scalar includes: the scene's description parses
+// no scalar type of its own.
+template <scalar T>
+class compiled_expression;
+}  // namespace eulervop
 
 namespace eulervop::scene {
 

@@ -14,7 +14,7 @@
 // integer as written, so x^2 is the exact product x x in every number type.
 #pragma once
 
-#include <eulervop/model/expression.hpp>
+#include <eulervop/model/expression_program.hpp>
 
 #include <array>
 #include <cstddef>
