@@ -5,6 +5,17 @@
 #include "compute/certified_reference.hpp"
 #include "compute/run_certificate.hpp"
 
+#include <eulervop/model/wide_formula_cells.hpp>
+#include <eulervop/scene/scene_certification_problem.hpp>
+
+// The general path's problems (certificate_module_general.cpp), compiled here to share out the
+// module's work between its units.
+namespace eulervop::scene {
+EULERVOP_CERTIFICATION_PROBLEM_CELL(, double)
+EULERVOP_CERTIFICATION_PROBLEM_CELL(, quad)
+EULERVOP_CERTIFICATION_PROBLEM_CELL(, mpfr_real)
+}  // namespace eulervop::scene
+
 namespace eulervop::app {
 namespace {
 

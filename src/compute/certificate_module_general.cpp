@@ -14,6 +14,13 @@
 #include <string>
 #include <vector>
 
+namespace eulervop::scene {
+// In certificate_module.cpp.
+EULERVOP_CERTIFICATION_PROBLEM_CELL(extern, double)
+EULERVOP_CERTIFICATION_PROBLEM_CELL(extern, quad)
+EULERVOP_CERTIFICATION_PROBLEM_CELL(extern, mpfr_real)
+}  // namespace eulervop::scene
+
 namespace eulervop::app {
 namespace {
 

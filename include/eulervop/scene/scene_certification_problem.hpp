@@ -214,4 +214,10 @@ certification_problem certification_problem_of(const scene& s, slong prec) {
   return p;
 }
 
+// The conversion for a reference in T, declared extern (EXTERN = extern) where another unit
+// instantiates it (EXTERN empty): the program's certificate module does so in its entry unit, off
+// the general path's own, the program's slowest.
+#define EULERVOP_CERTIFICATION_PROBLEM_CELL(EXTERN, T) \
+  EXTERN template certification_problem certification_problem_of<T>(const scene&, slong);
+
 }  // namespace eulervop::scene
