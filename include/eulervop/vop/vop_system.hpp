@@ -42,7 +42,21 @@ class vop_system : public detail::vop_equations<T, Torque> {
 
   // Eqs. 13 and 16; for a torque of time or state with G(tau, Omega) of the stage, which is never
   // torque-free.
-  [[gnu::always_inline]] void operator()(const vec3<T>& y, vec3<T>& dy, const T& tau) {
+  [[gnu::always_inline]] void operator()(const vec3<T>& y, vec3<T>& dy, const T& tau)
+    requires(!base::varying)
+  {
+    rates(y, dy, tau);
+  }
+  // Out of line under a torque of time or state: its evaluation (a formula's program, behind a
+  // call already) outweighs one more call, and one copy serves every stage of every method.
+  [[gnu::noinline]] void operator()(const vec3<T>& y, vec3<T>& dy, const T& tau)
+    requires base::varying
+  {
+    rates(y, dy, tau);
+  }
+
+ private:
+  [[gnu::always_inline]] void rates(const vec3<T>& y, vec3<T>& dy, const T& tau) {
     const T& c1 = y[0];
     const T& c2 = y[1];
     const bool torque_free = !base::varying && this->torque_free_;
