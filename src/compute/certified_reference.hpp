@@ -147,8 +147,9 @@ class path_certificate final : public run_certificate {
     if (max.empty() || std::stod(text) > std::stod(max)) max = text;
   }
 
-  Path path_;
+  // Before the path: a row still running while the path's pipeline stops may raise the maxima.
   certified_maxima max_;
+  Path path_;
 };
 
 // The two paths' certificates (certificate_module_fast.cpp, certificate_module_general.cpp).
