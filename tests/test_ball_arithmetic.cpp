@@ -21,6 +21,7 @@
 #include <eulervop/certify/detail/chebyshev_composition.hpp>
 #include <eulervop/certify/detail/chebyshev_model.hpp>
 #include <eulervop/certify/detail/field_algebra.hpp>
+#include <eulervop/certify/detail/residual_model.hpp>
 #include <eulervop/certify/detail/short_integer_series.hpp>
 #include <eulervop/certify/jacobi_enclosure.hpp>
 #include <eulervop/core/scalar.hpp>
@@ -123,6 +124,24 @@ ball decimal(double x) {
   return b;
 }
 
+// int_{-1}^s f, f's polynomial part term by term (int T_0 = s + 1, int T_1 = (s^2 - 1)/2,
+// int T_k = T_{k+1}/(2(k+1)) - T_{k-1}/(2(k-1)) - the same at -1), its remainder by the
+// quadrature of 1000-bit MPFR's own sin: integral of sin(17 x + 1) = -cos(17 x + 1)/17.
+mpfr_real integral_of(const represented& f, const mpfr_real& s) {
+  const auto T = [](std::size_t k, const mpfr_real& x) { return cos(mpfr_real(k) * acos(x)); };
+  mpfr_real sum = 0;
+  for (std::size_t k = 0; k < f.c.size(); ++k) {
+    mpfr_real anti;
+    if (k == 0) anti = s + 1;
+    else if (k == 1) anti = (s * s - 1) / 2;
+    else
+      anti = (T(k + 1, s) - T(k + 1, mpfr_real(-1))) / (2 * (k + 1)) -
+             (T(k - 1, s) - T(k - 1, mpfr_real(-1))) / (2 * (k - 1));
+    sum += f.c[k] * anti;
+  }
+  return sum + f.rem * (cos(mpfr_real(-16)) - cos(17 * s + 1)) / 17;
+}
+
 ball point(const mpfr_real& s) {
   ball b;
   arb_set_interval_mpfr(b.get(), s.backend().data(), s.backend().data(), truth_bits);
@@ -144,7 +163,12 @@ TEST(ChebyshevModel, ProductsHoldEveryProductOfTheFunctionsTheyStandFor) {
     const slong la = 1 + static_cast<slong>(rng() % 45), lb = 1 + static_cast<slong>(rng() % 45);
     const double rho = trial % 3 == 0 ? 1.0 : 0.2 + 0.6 * static_cast<double>(rng() % 100) / 100;
     const chebyshev_model a = random_model(rng, la, rho, trial % 2 ? 100 : 0, trial % 4 == 0 ? 1e-20 : 0);
-    const chebyshev_model b = random_model(rng, lb, rho, trial % 3 ? 60 : 0, trial % 5 == 0 ? 1e-10 : 0);
+    chebyshev_model b = random_model(rng, lb, rho, trial % 3 ? 60 : 0, trial % 5 == 0 ? 1e-10 : 0);
+    if (trial % 7 == 6) {  // a signed power of two, as a variable's derivative (multiply's own branch)
+      b = chebyshev_model(1);
+      arb_set_si(b.coeff(0), rng() % 2 ? 1 : -1);
+      arb_mul_2exp_si(b.coeff(0), b.coeff(0), static_cast<slong>(rng() % 5) - 2);
+    }
     for (const slong bits : {56L, 177L}) {
       chebyshev_model c;
       eulervop::detail::multiply(c, a, b, bits);
@@ -219,25 +243,38 @@ TEST(ChebyshevModel, IntegralsHoldTheIntegralOfEveryFunction) {
     const represented f = pick(a, rng);
     const mpfr_real h = to_mpfr(arb_midref(hl.get()));
     for (const mpfr_real& s : points(rng)) {
-      // hl int_{-1}^s f, f's polynomial part term by term (int T_0 = s + 1, int T_1 = (s^2 - 1)/2,
-      // int T_k = T_{k+1}/(2(k+1)) - T_{k-1}/(2(k-1)) - the same at -1), its remainder by the
-      // quadrature of 1000-bit MPFR's own sin: integral of sin(17 x + 1) = -cos(17 x + 1)/17.
-      const auto T = [](std::size_t k, const mpfr_real& x) { return cos(mpfr_real(k) * acos(x)); };
-      mpfr_real sum = 0;
-      for (std::size_t k = 0; k < f.c.size(); ++k) {
-        mpfr_real anti;
-        if (k == 0) anti = s + 1;
-        else if (k == 1) anti = (s * s - 1) / 2;
-        else
-          anti = (T(k + 1, s) - T(k + 1, mpfr_real(-1))) / (2 * (k + 1)) -
-                 (T(k - 1, s) - T(k - 1, mpfr_real(-1))) / (2 * (k - 1));
-        sum += f.c[k] * anti;
-      }
-      sum += f.rem * (cos(mpfr_real(-16)) - cos(17 * s + 1)) / 17;
       ball v;
       eulervop::detail::evaluate(v, I, point(s), truth_bits);
-      ASSERT_TRUE(holds(v, h * sum)) << "trial " << trial << " at s = " << s;
+      ASSERT_TRUE(holds(v, h * integral_of(f, s))) << "trial " << trial << " at s = " << s;
     }
+  }
+}
+
+// The Picard residual start + hl int_{-1}^s F - P of every F and P the models stand for, and r(1),
+// against the same integral at 1000 bits.
+TEST(ChebyshevModel, PicardResidualsHoldEveryResidual) {
+  const eulervop::mpfr_precision_scope scope(truth_bits);
+  std::mt19937_64 rng(13);
+  for (int trial = 0; trial < 40; ++trial) {
+    const slong nf = 1 + static_cast<slong>(rng() % 84), np = 1 + static_cast<slong>(rng() % 42);
+    const chebyshev_model F = random_model(rng, nf, 0.7, trial % 2 ? 80 : 0, trial % 3 == 0 ? 1e-15 : 0);
+    const chebyshev_model P = random_model(rng, np, 0.5, trial % 4 ? 100 : 0, trial % 5 == 0 ? 1e-20 : 0);
+    ball hl, start = decimal(static_cast<double>(rng() % 2001) / 1000 - 1);
+    arb_set_d(hl.get(), 0.375 + static_cast<double>(rng() % 1000) / 333);
+    eulervop::detail::integral_weights w;
+    w.set(hl, nf, np, 177);
+    chebyshev_model r;
+    ball r1;
+    eulervop::detail::picard_residual_model(r, r1, F, hl, w, start, P, 177);
+    const represented f = pick(F, rng), p = pick(P, rng);
+    const mpfr_real h = to_mpfr(arb_midref(hl.get())), y0 = to_mpfr(arb_midref(start.get()));
+    const auto truth = [&](const mpfr_real& s) { return y0 + h * integral_of(f, s) - p(s); };
+    for (const mpfr_real& s : points(rng)) {
+      ball v;
+      eulervop::detail::evaluate(v, r, point(s), truth_bits);
+      ASSERT_TRUE(holds(v, truth(s))) << "trial " << trial << " at s = " << s;
+    }
+    ASSERT_TRUE(holds(r1, truth(mpfr_real(1)))) << "trial " << trial << ": r(1)";
   }
 }
 

@@ -32,6 +32,7 @@
 #include <eulervop/certify/detail/breakpoint_term.hpp>
 #include <eulervop/certify/detail/chebyshev_model.hpp>
 #include <eulervop/certify/detail/field_algebra.hpp>
+#include <eulervop/certify/detail/residual_model.hpp>
 #include <eulervop/certify/detail/weighted_jacobian_bounds.hpp>
 #include <eulervop/core/numerical_failure.hpp>
 #include <eulervop/core/scalar.hpp>
@@ -118,6 +119,7 @@ class ball_segment_check {
   // field_and_residual's jets (the state along P, the field), kept so that their models' storage
   // serves every segment.
   std::vector<detail::series_jet> x_, F_;
+  detail::integral_weights weights_;  // hl / (2k), shared by the components' residuals
 
  public:
   ~ball_segment_check() { arb_mat_clear(coefficients_); }
@@ -213,13 +215,11 @@ inline void ball_segment_check::field_and_residual() {
   } catch (const std::domain_error& e) {
     fail(outcome_kind::certify_formula, 0, e.what());
   }
+  slong n = 0;
+  for (std::size_t i = 0; i < D; ++i) n = std::max(n, F[i].f.length());
+  weights_.set(hl, n, static_cast<slong>(n1), prec);
   for (std::size_t i = 0; i < D; ++i) {
-    detail::integrate(r[i], F[i].f, hl, prec);
-    arb_add(r[i].coeff(0), r[i].coeff(0), start[i].get(), prec);
-    detail::subtract_from(r[i], P[i], prec);
-    arb_zero(r1[i].get());
-    for (slong k = 0; k < r[i].length(); ++k) arb_add(r1[i].get(), r1[i].get(), r[i].coeff(k), prec);
-    arb_add_error_mag(r1[i].get(), r[i].remainder());
+    detail::picard_residual_model(r[i], r1[i], F[i].f, hl, weights_, start[i], P[i], prec);
     for (std::size_t k = 0; k < D; ++k) J[i * D + k].swap(F[i].d[k]);  // F's jets take J's old storage
   }
 }

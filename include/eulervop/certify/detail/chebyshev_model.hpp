@@ -288,6 +288,18 @@ inline void multiply(chebyshev_model& out, const chebyshev_model& a, const cheby
   // A constant factor (one coefficient, no remainder): a scaling, in balls at bits + 64.
   if (b.length() == 1 && mag_is_zero(b.remainder())) {
     out.reserve_length(a.length());
+    const arf_struct* x = arb_midref(b.coeff(0));
+    if (arb_is_exact(b.coeff(0)) && !arf_is_zero(x) && arf_is_finite(x) && arf_bits(x) == 1) {
+      // A signed power of two (a variable's derivative, 1): the rounding alone.
+      const slong e = arf_abs_bound_lt_2exp_si(x) - 1;
+      for (slong k = 0; k < a.length(); ++k) {
+        arb_set_round(out.coeff(k), a.coeff(k), bits + 64);
+        arb_mul_2exp_si(out.coeff(k), out.coeff(k), e);
+        if (arf_sgn(x) < 0) arb_neg(out.coeff(k), out.coeff(k));
+      }
+      mag_mul_2exp_si(out.remainder(), a.remainder(), e);
+      return;
+    }
     for (slong k = 0; k < a.length(); ++k) arb_mul(out.coeff(k), a.coeff(k), b.coeff(0), bits + 64);
     mag_t m;
     mag_init(m);
