@@ -85,16 +85,25 @@ void gauss_seidel_sweep(const double* S, const double* F, std::size_t m, std::si
 class node_picard {
  public:
   // T_k at the nodes for k < n, by the recurrence run across all nodes at once (T_k(s_l) at
-  // [k m + l]).
+  // [k m + l]). Kept per basis (the bases live as long as the program: lobatto_basis()), so that a
+  // segment reuses the tables of the segments before it; the same values as recomputing them.
   void chebyshev_at_nodes(const chebyshev_basis<double>& b, std::size_t n) {
-    const std::size_t m = b.nodes.size();
-    Tn_.resize(std::max<std::size_t>(n, 2) * m);
-    for (std::size_t l = 0; l < m; ++l) {
-      Tn_[l] = 1;
-      Tn_[m + l] = b.nodes[l];
+    n = std::max<std::size_t>(n, 2);
+    auto t = std::find_if(tables_.begin(), tables_.end(), [&](const node_table& x) { return x.basis == &b; });
+    if (t == tables_.end()) t = tables_.insert(tables_.end(), node_table{&b, 0, {}});
+    if (t->n < n) {
+      const std::size_t m = b.nodes.size();
+      std::vector<double>& T = t->T;
+      T.resize(n * m);
+      for (std::size_t l = 0; l < m; ++l) {
+        T[l] = 1;
+        T[m + l] = b.nodes[l];
+      }
+      for (std::size_t k = 2; k < n; ++k)
+        for (std::size_t l = 0; l < m; ++l) T[k * m + l] = 2 * b.nodes[l] * T[(k - 1) * m + l] - T[(k - 2) * m + l];
+      t->n = n;
     }
-    for (std::size_t k = 2; k < n; ++k)
-      for (std::size_t l = 0; l < m; ++l) Tn_[k * m + l] = 2 * b.nodes[l] * Tn_[(k - 1) * m + l] - Tn_[(k - 2) * m + l];
+    Tn_ = t->T.data();
   }
 
   // sum_k c_k T_k at the m nodes, into out[l * stride] (chebyshev_at_nodes for at least c's length).
@@ -102,7 +111,7 @@ class node_picard {
     v_.assign(m, 0.0);
     for (std::size_t k = 0; k < length; ++k) {
       const double ck = c[k];
-      const double* T = Tn_.data() + k * m;
+      const double* T = Tn_ + k * m;
       for (std::size_t l = 0; l < m; ++l) v_[l] += ck * T[l];
     }
     for (std::size_t l = 0; l < m; ++l) out[l * stride] = v_[l];
@@ -138,7 +147,14 @@ class node_picard {
   bool integral_term_kernel(const chebyshev_basis<double>& b, const double* Jn, const double* rn, std::size_t D,
                             double hl, std::vector<double>& Y);
 
-  std::vector<double> Tn_, v_, F_, acc_, c_, lu_;
+  struct node_table {
+    const chebyshev_basis<double>* basis;
+    std::size_t n;  // T_0 .. T_{n-1}
+    std::vector<double> T;
+  };
+  std::vector<node_table> tables_;
+  const double* Tn_ = nullptr;  // chebyshev_at_nodes' table
+  std::vector<double> v_, F_, acc_, c_, lu_;
 };
 
 // Solves A x = v in place (A: D x D row-major, overwritten; v: D), by Gaussian elimination with
