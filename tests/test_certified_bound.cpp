@@ -1,10 +1,8 @@
 // The certificate of certify/certifier.hpp: every row's radius must hold the exact solution.
 //
 // Provenance of the exact values:
-//   - torque-free motion from Omega(0) = (c1, 0, c2): Eq. 12 in closed form by Boost.Math's
-//     jacobi_elliptic in MPFR at twice the certificate's working bits; for c1 > c2 the roles of
-//     the axes swap: Omega = (c1 dn v, c2 sn v, c2 cn v), v = c1 tau, modulus c2/c1 (derived by
-//     substituting into Eq. 5: each component's derivative matches);
+//   - torque-free motion from Omega(0) = (c1, 0, c2): Eq. 12 in closed form (torque_free_truth.hpp)
+//     in MPFR at twice the certificate's working bits;
 //   - torqued motion: the reference integrator itself in MPFR at 256 bits (its verified error is
 //     below 1e-70, about 1e40 times smaller than the radii tested here).
 // Each perturbation test also checks that the perturbation is visible in the rows (beyond the
@@ -12,9 +10,10 @@
 #include <eulervop/certify/certifier.hpp>
 #include <eulervop/reference/integrate.hpp>
 
-#include <boost/math/special_functions/jacobi_elliptic.hpp>
 #include <boost/math/special_functions/next.hpp>
 #include <gtest/gtest.h>
+
+#include "torque_free_truth.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -76,20 +75,7 @@ std::vector<certified_row> certified_rows(const eulervop::euler_problem<quad>& r
   return rows;
 }
 
-// Torque-free, Omega(0) = (c1, 0, c2): the exact solution at tau in MPFR (see the top).
-vec3<mpfr_real> torque_free_exact(const mpfr_real& c1, const mpfr_real& c2, const mpfr_real& tau) {
-  mpfr_real cn, dn;
-  if (c1 < c2) {
-    const mpfr_real k = c1 / c2;
-    const mpfr_real sn = boost::math::jacobi_elliptic(k, c2 * tau, &cn, &dn);
-    dn = sqrt(1 - k * k * sn * sn);  // Boost's dn is a ratio that degrades near odd K
-    return {c1 * cn, c1 * sn, c2 * dn};
-  }
-  const mpfr_real k = c2 / c1;
-  const mpfr_real sn = boost::math::jacobi_elliptic(k, c1 * tau, &cn, &dn);
-  dn = sqrt(1 - k * k * sn * sn);
-  return {c1 * dn, c2 * sn, c2 * cn};
-}
+using eulervop::test::torque_free_exact;
 
 mpfr_real distance(const std::array<std::string, 3>& cells, const vec3<mpfr_real>& exact) {
   mpfr_real s = 0;

@@ -4,8 +4,9 @@
 //
 // Truth: Enright and Pryce's B5 in closed form, (sn, cn, dn)(t | m = 0.51) (DLMF 22.13), from
 // Boost.Math's jacobi_elliptic in MPFR at 256 bits (dn as sqrt(1 - m sn^2), Boost's own dn being a
-// ratio; 256 bits put its error near 1e-75, far below the quad radii here); for the fast path's
-// scenes, the fast path's own radii (docs/certified.md).
+// ratio; 256 bits put its error near 1e-75, far below the quad radii here); torque-free motion
+// near the separatrix by Eq. 12 in closed form (torque_free_truth.hpp) at 354 bits; for the fast
+// path's scenes, the fast path's own radii (docs/certified.md).
 #include "compute/certified_reference.hpp"
 #include "compute/certify_pipeline.hpp"
 
@@ -21,6 +22,8 @@
 
 #include <boost/math/special_functions/jacobi_elliptic.hpp>
 #include <gtest/gtest.h>
+
+#include "torque_free_truth.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -159,6 +162,33 @@ TEST(GeneralCertifier, AgreesWithTheFastPathWithinASmallFactor) {
     EXPECT_GT(ratio, 1.0 / 16) << name;
     EXPECT_LT(ratio, 1.5) << name;
   }
+}
+
+// Near the separatrix (hard/near-separatrix-free.toml: Omega(0) = (0.999999, 0, 1), k = 1 - 1e-6,
+// where an error of the phase becomes an O(1) error of Omega every half period), every row holds
+// the closed form and the largest radius is within 10 times the largest true error (measured:
+// 7.06e-28 against 6.86e-28, 1.03 times, over 401 rows to tau = 100).
+TEST(GeneralCertifier, NearTheSeparatrixTheRadiusIsWithinTenTimesTheTrueError) {
+  const sc::scene s = scene_at("data/scenes/hard/near-separatrix-free.toml");
+  const std::vector<certified_row> rows = general_rows(s, equally_spaced(sc::tau_end_of<quad>(s), 401), 0);
+  const eulervop::mpfr_precision_scope scope(2 * working_bits);
+  const mpfr_real c1("0.999999"), c2(1);
+  double worst_radius = 0, worst_error = 0;
+  for (const certified_row& r : rows) {
+    const vec3<mpfr_real> exact = eulervop::test::torque_free_exact(c1, c2, mpfr_real(r.tau));
+    mpfr_real e2 = 0;
+    for (int i = 0; i < 3; ++i) {
+      const mpfr_real d = *eulervop::from_text<mpfr_real>(r.cells[i]) - exact[i];
+      e2 += d * d;
+    }
+    const double error = static_cast<double>(sqrt(e2)), radius = eulervop::magnitude_up(r.radius);
+    ASSERT_LE(error, radius) << "tau " << static_cast<double>(r.tau);
+    worst_radius = std::max(worst_radius, radius);
+    worst_error = std::max(worst_error, error);
+  }
+  std::printf("near the separatrix: worst radius %.3e, worst error %.3e, ratio %.2f\n", worst_radius, worst_error,
+              worst_radius / worst_error);
+  EXPECT_LE(worst_radius, 10 * worst_error);
 }
 
 // B5's exact solution at t (closed form, see the header), in MPFR at 256 bits.
