@@ -126,8 +126,7 @@ class ball_linear_flow {
   std::vector<mag_value> phi_mag_, w_mag_;  // sup |phi_kj|; sup |w_k| plus r's move to its grid
   std::vector<short_integer_series> phi_short_, w_short_;
   std::vector<wide_int> sums_;
-  std::vector<ball> factors_;
-  chebyshev_model ui_;
+  integral_residual integral_;
 };
 
 inline void ball_linear_flow::load_jacobian_in_place(std::vector<chebyshev_model>& Jc,
@@ -251,8 +250,7 @@ inline void ball_linear_flow::bound_phi_residual(const ball& hl) {
     phi_bits = std::max(phi_bits, phi_short_[q].bits);
   }
   short_path = short_path && fits(J_.short_bits(), phi_bits, phi_len, D_);
-  integral_factors(factors_, static_cast<slong>(J_.length() + phi_len) + 1, hl, J_.exponent() + phi_e_ - 1,
-                   residual_prec);
+  integral_.set_factors(static_cast<slong>(J_.length() + phi_len) + 1, hl, J_.exponent() + phi_e_ - 1, residual_prec);
   for (std::size_t i = 0; i < D_; ++i)
     for (std::size_t j = 0; j < D_; ++j) {
       fmpz_poly_zero(sum.p);
@@ -270,9 +268,9 @@ inline void ball_linear_flow::bound_phi_residual(const ball& hl) {
         mag_addmul(rem.m, J_.remainder(ik).m, phi_mag_[kj].m);  // |J - J_grid| sup|phi|
       }
       if (short_path)
-        integral_residual_sup(s.m, wide_sums{&sums_}, factors_, rem.m, hl, phi_[i * D_ + j], i == j, residual_prec);
+        integral_.sup(s.m, wide_sums{&sums_}, rem.m, phi_grid_[i * D_ + j].p, phi_e_, i == j);
       else
-        integral_residual_sup(s.m, flint_sums{sum.p}, factors_, rem.m, hl, phi_[i * D_ + j], i == j, residual_prec);
+        integral_.sup(s.m, flint_sums{sum.p}, rem.m, phi_grid_[i * D_ + j].p, phi_e_, i == j);
       mag_addmul(sum2.m, s.m, s.m);
     }
   mag_sqrt(phi_res_.m, sum2.m);
@@ -404,8 +402,7 @@ inline void ball_linear_flow::bound_u_residual(const ball& hl, slong e) {
     w_bits = std::max(w_bits, w_short_[k].bits);
   }
   short_path = short_path && fits(Ju_.short_bits(), w_bits, std::min(w_len, Ju_.short_length()), D_);
-  integral_factors(factors_, static_cast<slong>(Ju_.length() + w_len) + 1, hl, Ju_.exponent() + e - 1, residual_prec);
-  const mag_value none;
+  integral_.set_factors(static_cast<slong>(Ju_.length() + w_len) + 1, hl, Ju_.exponent() + e - 1, residual_prec);
   for (std::size_t i = 0; i < D_; ++i) {
     fmpz_poly_zero(sum.p);
     if (short_path) sums_.assign(Ju_.short_length() + w_len, 0);
@@ -423,11 +420,10 @@ inline void ball_linear_flow::bound_u_residual(const ball& hl, slong e) {
       mag_addmul(rem.m, Ju_.remainder(ik).m, w_mag_[k].m);
       mag_addmul(rem.m, Ju_.magnitude(ik).m, rg_.remainder(k).m);
     }
-    from_grid(ui_, u_grid_[i].p, e, none.m);
     if (short_path)
-      integral_residual_sup(t.m, wide_sums{&sums_}, factors_, rem.m, hl, ui_, 0, residual_prec);
+      integral_.sup(t.m, wide_sums{&sums_}, rem.m, u_grid_[i].p, e, 0);
     else
-      integral_residual_sup(t.m, flint_sums{sum.p}, factors_, rem.m, hl, ui_, 0, residual_prec);
+      integral_.sup(t.m, flint_sums{sum.p}, rem.m, u_grid_[i].p, e, 0);
     mag_addmul(sum2.m, t.m, t.m);
   }
   mag_sqrt(u_res_.m, sum2.m);
