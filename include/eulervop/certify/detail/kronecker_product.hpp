@@ -108,29 +108,31 @@ inline int pack(mp_limb_t* x, mp_limb_t* neg, mp_size_t n, mp_size_t* used, cons
 // C_0 carries one into the next slot. z is held in two's complement on enough limbs to cover every
 // slot.
 inline void unpack(mp_limb_t* out, mp_size_t stride, const mp_limb_t* z, slong slots, ulong w, mp_size_t L) {
-  const mp_size_t m = static_cast<mp_size_t>((w + limb_bits - 1) / limb_bits);
+  const mp_size_t m = static_cast<mp_size_t>((w + limb_bits - 1) / limb_bits);  // the field's limbs
   const unsigned top = w % limb_bits;
+  const mp_limb_t mask = top == 0 ? ~mp_limb_t{0} : (mp_limb_t{1} << top) - 1;  // of limb m - 1
+  const unsigned sign = (w - 1) % limb_bits;                                    // bit w - 1, in limb m - 1
   mp_limb_t carry = 0;
   for (slong k = 0; k < slots; ++k) {
     mp_limb_t* t = out + k * stride;
     const ulong o = static_cast<ulong>(k) * w;
     const mp_limb_t* p = z + o / limb_bits;
     const unsigned r = o % limb_bits;
-    for (mp_size_t j = 0; j < m; ++j) t[j] = r == 0 ? p[j] : (p[j] >> r) | (p[j + 1] << (limb_bits - r));
-    for (mp_size_t j = m; j < L; ++j) t[j] = 0;
-    if (top != 0) t[m - 1] &= (mp_limb_t{1} << top) - 1;
-    for (mp_size_t j = 0; j < L && carry != 0; ++j) carry = (++t[j] == 0);  // v = field + carry
-    const auto bit = [&](ulong b) { return (t[b / limb_bits] >> (b % limb_bits)) & 1; };
-    const bool negative = bit(w - 1) || bit(w);  // v >= 2^(w - 1): C = v - 2^w
-    if (negative) {
-      mp_limb_t borrow = mp_limb_t{1} << (w % limb_bits);
-      for (mp_size_t j = static_cast<mp_size_t>(w / limb_bits); j < L && borrow != 0; ++j) {
-        const mp_limb_t before = t[j];
-        t[j] -= borrow;
-        borrow = t[j] > before;
-      }
+    if (r == 0)
+      std::copy(p, p + m, t);
+    else
+      for (mp_size_t j = 0; j < m; ++j) t[j] = (p[j] >> r) | (p[j + 1] << (limb_bits - r));
+    t[m - 1] &= mask;
+    mp_size_t j = 0;  // v = field + carry; v = 2^w only from a field of ones, and then C = 0
+    if (carry != 0)
+      while (j < m && ++t[j] == 0) ++j;
+    if (carry != 0 && (j == m || (top != 0 && t[m - 1] > mask))) {
+      std::fill(t, t + L, mp_limb_t{0});
+      continue;  // the carry stays one
     }
-    carry = negative;
+    carry = (t[m - 1] >> sign) & 1;  // v >= 2^(w - 1): C = v - 2^w, v's bits with ones above
+    if (carry != 0) t[m - 1] |= ~mask;
+    std::fill(t + m, t + L, carry != 0 ? ~mp_limb_t{0} : 0);
   }
 }
 
