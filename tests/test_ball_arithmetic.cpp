@@ -776,7 +776,7 @@ TEST(ShortIntegerSeries, SumsOfProductsEqualFlintsExactOnes) {
       ASSERT_TRUE(sa.load(a.p));
       ASSERT_TRUE(sb.load(b.p));
       eulervop::detail::add_chebyshev_product(sums, sa, sb);
-      eulervop::detail::grid_product(term.p, a.p, b.p);
+      eulervop::detail::grid_product_flint(term.p, a.p, b.p);
       fmpz_poly_add(total.p, total.p, term.p);
     }
     arf_t x, y;
@@ -794,6 +794,71 @@ TEST(ShortIntegerSeries, SumsOfProductsEqualFlintsExactOnes) {
     arf_clear(x);
     arf_clear(y);
   }
+}
+
+// The Kronecker kernel's Chebyshev products (kronecker_product.hpp) equal FLINT's exact ones
+// (grid_product_flint(), two fmpz_poly_mul), bit for bit, on random integer polynomials: lengths
+// 1 to 90, 1 to 1200 bits, random signs and zeros, decaying magnitudes as a segment's, and
+// coefficients all at +-(2^bits - 1) (every slot's sum at its bound); up to the largest factor the
+// kernel takes, and one past it (then grid_product() falls back to FLINT).
+TEST(KroneckerProduct, ChebyshevProductsEqualFlintsExactOnes) {
+  namespace kr = eulervop::detail::kronecker;
+  flint_rand_t state;
+  flint_randinit(state);
+  std::mt19937_64 rng(51);
+  fmpz_t f;
+  fmpz_init(f);
+  // kind 0: random bit lengths up to `bits`, a sixth zero; 1: all +-(2^bits - 1), one sign when
+  // same_sign; 2: decaying from `bits` bits by bits/len per index, as a segment's coefficients.
+  const auto random_poly = [&](eulervop::detail::integer_poly& p, slong len, ulong bits, int kind, bool same_sign) {
+    fmpz_poly_zero(p.p);
+    for (slong k = 0; k < len; ++k) {
+      if (kind == 1) {
+        fmpz_one(f);
+        fmpz_mul_2exp(f, f, bits);
+        fmpz_sub_ui(f, f, 1);
+        if (!same_sign && rng() % 2) fmpz_neg(f, f);
+      } else {
+        const ulong b = kind == 2 ? std::max<ulong>(1, bits - bits * static_cast<ulong>(k) / static_cast<ulong>(len))
+                                  : 1 + rng() % bits;
+        if (kind == 0 && rng() % 6 == 0) fmpz_zero(f); else fmpz_randbits(f, state, static_cast<flint_bitcnt_t>(b));
+      }
+      fmpz_poly_set_coeff_fmpz(p.p, k, f);
+    }
+    if (fmpz_poly_length(p.p) == 0) fmpz_poly_set_si(p.p, rng() % 2 ? 1 : -1);  // a nonzero factor
+  };
+  eulervop::detail::integer_poly a, b, fast, flint;
+  const auto check = [&](const char* what) {
+    ASSERT_TRUE(eulervop::detail::kronecker_grid_product(fast.p, a.p, b.p)) << what;
+    eulervop::detail::grid_product_flint(flint.p, a.p, b.p);
+    EXPECT_TRUE(fmpz_poly_equal(fast.p, flint.p))
+        << what << ": lengths " << fmpz_poly_length(a.p) << ", " << fmpz_poly_length(b.p) << ", bits "
+        << fmpz_poly_max_bits(a.p) << ", " << fmpz_poly_max_bits(b.p);
+  };
+  for (int trial = 0; trial < 3000; ++trial) {
+    const slong la = 1 + static_cast<slong>(rng() % 90), lb = 1 + static_cast<slong>(rng() % 90);
+    const ulong bits = trial % 10 == 0 ? 1 + rng() % 1200 : 1 + rng() % 200;
+    const int kind = static_cast<int>(rng() % 3);
+    random_poly(a, la, bits, kind, rng() % 2);
+    if (trial % 7 == 0) fmpz_poly_set(b.p, a.p); else random_poly(b, lb, 1 + rng() % 200, kind, rng() % 2);
+    check("random");
+  }
+  // The largest factors taken: 2 + len b / 64 limbs at most kr::max_limbs, b = (w + 1) / 2 and
+  // w = 2 bits + ceil(log2 len) + 1, so b = bits + 4 at len = 128 (then exactly kr::max_limbs).
+  const slong len = 128;
+  const ulong bits = static_cast<ulong>(kr::max_limbs - 2) * kr::limb_bits / len - 4;
+  for (int kind = 0; kind < 3; ++kind) {
+    random_poly(a, len, bits, kind == 0 ? 1 : kind, kind == 0);
+    random_poly(b, len, bits, kind == 0 ? 1 : kind, false);
+    check("largest");
+  }
+  random_poly(a, len, bits + 1, 1, true);  // one bit more: b + 1, two limbs more, FLINT's
+  EXPECT_FALSE(eulervop::detail::kronecker_grid_product(fast.p, a.p, b.p));
+  eulervop::detail::grid_product(fast.p, a.p, b.p);
+  eulervop::detail::grid_product_flint(flint.p, a.p, b.p);
+  EXPECT_TRUE(fmpz_poly_equal(fast.p, flint.p));
+  fmpz_clear(f);
+  flint_randclear(state);
 }
 
 // The linear flow (ball_linear_flow.hpp) for a Jacobian J(s) of random polynomials: at points of

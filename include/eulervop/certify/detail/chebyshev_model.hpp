@@ -13,11 +13,12 @@
 // is zero is exactly a polynomial with enclosed coefficients.
 //
 // Products use T_m T_n = (T_{m+n} + T_{|m-n|}) / 2: 2 c_k = sum_{m+n=k} a_m b_n + sum_{|m-n|=k}
-// a_m b_n, the second sum a convolution of a with b reversed, so one product is two of Arb's
-// polynomial products (exact integer convolutions with one error bound each).
+// a_m b_n, the second sum a convolution of a with b reversed, so one product is two exact integer
+// convolutions on binary grids (grid_product(), kronecker_product.hpp) with one error bound.
 #pragma once
 
 #include <eulervop/certify/ball.hpp>
+#include <eulervop/certify/detail/kronecker_product.hpp>
 
 #include <arb.h>
 #include <arb_poly.h>
@@ -241,8 +242,9 @@ inline void grid_magnitude(mag_t out, const fmpz_poly_t n, slong e) {
   mag_clear(t);
 }
 
-// 2 c = A * B + (the sums over |i - j| = k), exactly in integers: c on the grid 2^(ea + eb - 1).
-inline void grid_product(fmpz_poly_t c, const fmpz_poly_t A, const fmpz_poly_t B) {
+// 2 c = A * B + (the sums over |i - j| = k), exactly in integers: c on the grid 2^(ea + eb - 1), by
+// FLINT's polynomial products: the fallback of grid_product() and the reference of its test.
+inline void grid_product_flint(fmpz_poly_t c, const fmpz_poly_t A, const fmpz_poly_t B) {
   const slong la = A->length, lb = B->length;
   if (la == 0 || lb == 0) {
     fmpz_poly_zero(c);
@@ -266,6 +268,16 @@ inline void grid_product(fmpz_poly_t c, const fmpz_poly_t A, const fmpz_poly_t B
   _fmpz_poly_normalise(c);
 }
 
+// 2 c = A * B + (the sums over |i - j| = k), exactly in integers (c distinct from A and B): the
+// same integers as grid_product_flint(), by kronecker_grid_product() where it takes the factors.
+inline void grid_product(fmpz_poly_t c, const fmpz_poly_t A, const fmpz_poly_t B) {
+  if (A->length == 0 || B->length == 0) {
+    fmpz_poly_zero(c);
+    return;
+  }
+  if (!kronecker_grid_product(c, A, B)) grid_product_flint(c, A, B);
+}
+
 // The model of 2^e sum n_k T_k (exact coefficients) with remainder `rem`.
 inline void from_grid(chebyshev_model& out, const fmpz_poly_t n, slong e, const mag_t rem) {
   out.reserve_length(n->length);
@@ -278,7 +290,7 @@ inline void from_grid(chebyshev_model& out, const fmpz_poly_t n, slong e, const 
 
 // out = a b (out distinct from a and b), `bits` bits below each factor's largest coefficient:
 // each factor is moved to its grid (the distance and its radii into its remainder: to_grid), the
-// product is then exact in integers (FLINT's polynomial products), and the remainder
+// product is then exact in integers (grid_product()), and the remainder
 // |(p + e)(q + d) - p q| <= sup|p| |d| + |e| (sup|q| + |d|).
 inline void multiply(chebyshev_model& out, const chebyshev_model& a, const chebyshev_model& b, slong bits) {
   if (a.is_zero() || b.is_zero()) {
