@@ -110,8 +110,8 @@ namespace detail {
 // dest = source (the algebra's values are copied, not aliased).
 template <class Algebra>
 typename Algebra::value product(const Algebra& alg, const typename Algebra::value& x, const typename Algebra::value& y) {
-  typename Algebra::value out = x;
-  alg.mul(out, y);
+  typename Algebra::value out;
+  alg.product(out, x, y);
   return out;
 }
 
@@ -179,22 +179,24 @@ void add_torque(const certification_problem& p, std::size_t set, const Algebra& 
                 const std::vector<typename Algebra::value>& x, std::vector<typename Algebra::value>& F) {
   using value = typename Algebra::value;
   const exact_variables& v = p.variables;
-  value ts = t;
+  // The formulas' time and state: t and x themselves in the integrator's own variables (no copy).
+  formula_variables<Algebra> vars;
+  vars.time = &t;
+  for (int i = 0; i < 3; ++i) vars.state[i] = &x[i];
+  value ts;
   std::array<value, 3> ys;
-  if (v.identity) {
-    for (int i = 0; i < 3; ++i) ys[i] = x[i];
-  } else {
+  if (!v.identity) {
+    ts = t;
     alg.scale(ts, v.rate_inverse);
+    vars.time = &ts;
     for (int i = 0; i < 3; ++i) {
       value s = x[i];
       alg.scale(s, v.state_scale[i]);
       if (v.axes.sign(i) < 0) alg.neg(s);
       ys[v.axes.axis(i)] = std::move(s);
     }
+    for (int i = 0; i < 3; ++i) vars.state[i] = &ys[i];
   }
-  formula_variables<Algebra> vars;
-  vars.time = &ts;
-  for (int i = 0; i < 3; ++i) vars.state[i] = &ys[i];
   if (p.dimension == 7)
     for (int r = 0; r < 4; ++r) vars.attitude[r] = &x[3 + r];
   std::array<value, 3> m;
@@ -213,7 +215,7 @@ void add_torque(const certification_problem& p, std::size_t set, const Algebra& 
       throw undefined_formula(where);
     }
   }
-  if (p.gravity) add_gravity(*p.gravity, alg, ts, x, m);
+  if (p.gravity) add_gravity(*p.gravity, alg, *vars.time, x, m);
   for (int i = 0; i < 3; ++i) {
     value g = std::move(m[v.identity ? i : v.axes.axis(i)]);
     if (!v.identity) {
@@ -276,8 +278,7 @@ void field(const certification_problem& p, std::size_t set, const Algebra& alg, 
   static constexpr int pair[3][2] = {{1, 2}, {2, 0}, {0, 1}};
   F.resize(p.dimension);
   for (int i = 0; i < 3; ++i) {
-    F[i] = x[pair[i][0]];  // a copy into F's own storage (a caller's F may be reused)
-    alg.mul(F[i], x[pair[i][1]]);
+    alg.product(F[i], x[pair[i][0]], x[pair[i][1]]);  // into F's own storage (a caller's F may be reused)
     if (p.unit_a[i] == -1)
       alg.neg(F[i]);
     else if (p.unit_a[i] != 1)

@@ -288,67 +288,99 @@ inline void from_grid(chebyshev_model& out, const fmpz_poly_t n, slong e, const 
   mag_set(out.remainder(), rem);
 }
 
+// A factor of a product on its grid (`bits` bits below its largest coefficient): the integers n_k
+// and the exponent e (to_grid), in `moved` the distance to the grid with the radii and the
+// model's remainder, in `magnitude` sum |n_k| 2^e. A model that is a factor of several products
+// (a state component, a body rate) is moved once (series_algebra keeps it with the model).
+struct grid_factor {
+  grid_factor() {
+    mag_init(moved);
+    mag_init(magnitude);
+  }
+  ~grid_factor() {
+    mag_clear(moved);
+    mag_clear(magnitude);
+  }
+  grid_factor(const grid_factor&) = delete;
+  grid_factor& operator=(const grid_factor&) = delete;
+
+  void set(const chebyshev_model& a, slong grid_bits) {
+    bits = grid_bits;
+    e = grid_exponent(a, grid_bits);
+    to_grid(n.p, moved, a, e);
+    mag_add(moved, moved, a.remainder());
+    grid_magnitude(magnitude, n.p, e);
+  }
+
+  integer_poly n;
+  slong e = 0, bits = 0;
+  mag_t moved, magnitude;
+};
+
+// A model that multiply() moves to a grid: neither zero nor a constant (one coefficient, no
+// remainder), which it multiplies otherwise.
+inline bool takes_grid(const chebyshev_model& a) {
+  return !a.is_zero() && !(a.length() == 1 && mag_is_zero(a.remainder()));
+}
+
+// out = a b of two factors on their grids (A and B may be one): the product is exact in integers
+// (grid_product()), and the remainder |(p + e)(q + d) - p q| <= sup|p| |d| + |e| (sup|q| + |d|).
+inline void multiply_grids(chebyshev_model& out, const grid_factor& A, const grid_factor& B) {
+  thread_local integer_poly scratch_c;
+  fmpz_poly_struct* C = scratch_c.p;
+  grid_product(C, A.n.p, B.n.p);
+  mag_t t;
+  mag_init(t);
+  mag_add(t, B.magnitude, B.moved);
+  mag_mul(t, t, A.moved);
+  mag_addmul(t, A.magnitude, B.moved);
+  from_grid(out, C, A.e + B.e - 1, t);
+  mag_clear(t);
+}
+
+// out = a x for a constant x (b's one coefficient), in balls at bits + 64.
+inline void multiply_constant(chebyshev_model& out, const chebyshev_model& a, arb_srcptr c, slong bits) {
+  out.reserve_length(a.length());
+  const arf_struct* x = arb_midref(c);
+  if (arb_is_exact(c) && !arf_is_zero(x) && arf_is_finite(x) && arf_bits(x) == 1) {
+    // A signed power of two (a variable's derivative, 1): the rounding alone.
+    const slong e = arf_abs_bound_lt_2exp_si(x) - 1;
+    for (slong k = 0; k < a.length(); ++k) {
+      arb_set_round(out.coeff(k), a.coeff(k), bits + 64);
+      arb_mul_2exp_si(out.coeff(k), out.coeff(k), e);
+      if (arf_sgn(x) < 0) arb_neg(out.coeff(k), out.coeff(k));
+    }
+    mag_mul_2exp_si(out.remainder(), a.remainder(), e);
+    return;
+  }
+  for (slong k = 0; k < a.length(); ++k) arb_mul(out.coeff(k), a.coeff(k), c, bits + 64);
+  mag_t m;
+  mag_init(m);
+  arb_get_mag(m, c);
+  mag_mul(out.remainder(), a.remainder(), m);
+  mag_clear(m);
+}
+
 // out = a b (out distinct from a and b), `bits` bits below each factor's largest coefficient:
-// each factor is moved to its grid (the distance and its radii into its remainder: to_grid), the
-// product is then exact in integers (grid_product()), and the remainder
-// |(p + e)(q + d) - p q| <= sup|p| |d| + |e| (sup|q| + |d|).
+// each factor is moved to its grid (grid_factor), then multiply_grids(). A constant factor is a
+// scaling (multiply_constant()).
 inline void multiply(chebyshev_model& out, const chebyshev_model& a, const chebyshev_model& b, slong bits) {
   if (a.is_zero() || b.is_zero()) {
     out.set_zero();
     return;
   }
-  // A constant factor (one coefficient, no remainder): a scaling, in balls at bits + 64.
   if (b.length() == 1 && mag_is_zero(b.remainder())) {
-    out.reserve_length(a.length());
-    const arf_struct* x = arb_midref(b.coeff(0));
-    if (arb_is_exact(b.coeff(0)) && !arf_is_zero(x) && arf_is_finite(x) && arf_bits(x) == 1) {
-      // A signed power of two (a variable's derivative, 1): the rounding alone.
-      const slong e = arf_abs_bound_lt_2exp_si(x) - 1;
-      for (slong k = 0; k < a.length(); ++k) {
-        arb_set_round(out.coeff(k), a.coeff(k), bits + 64);
-        arb_mul_2exp_si(out.coeff(k), out.coeff(k), e);
-        if (arf_sgn(x) < 0) arb_neg(out.coeff(k), out.coeff(k));
-      }
-      mag_mul_2exp_si(out.remainder(), a.remainder(), e);
-      return;
-    }
-    for (slong k = 0; k < a.length(); ++k) arb_mul(out.coeff(k), a.coeff(k), b.coeff(0), bits + 64);
-    mag_t m;
-    mag_init(m);
-    arb_get_mag(m, b.coeff(0));
-    mag_mul(out.remainder(), a.remainder(), m);
-    mag_clear(m);
+    multiply_constant(out, a, b.coeff(0), bits);
     return;
   }
   if (a.length() == 1 && mag_is_zero(a.remainder())) {
-    multiply(out, b, a, bits);
+    multiply_constant(out, b, a.coeff(0), bits);
     return;
   }
-  thread_local integer_poly scratch_a, scratch_b, scratch_c;
-  fmpz_poly_struct *A = scratch_a.p, *B = scratch_b.p, *C = scratch_c.p;
-  const slong ea = grid_exponent(a, bits), eb = grid_exponent(b, bits);
-  mag_t ra, rb, Am, Bm, t;
-  mag_init(ra);
-  mag_init(rb);
-  mag_init(Am);
-  mag_init(Bm);
-  mag_init(t);
-  to_grid(A, ra, a, ea);
-  to_grid(B, rb, b, eb);
-  mag_add(ra, ra, a.remainder());
-  mag_add(rb, rb, b.remainder());
-  grid_magnitude(Am, A, ea);
-  grid_magnitude(Bm, B, eb);
-  grid_product(C, A, B);
-  mag_add(t, Bm, rb);
-  mag_mul(t, t, ra);
-  mag_addmul(t, Am, rb);
-  from_grid(out, C, ea + eb - 1, t);
-  mag_clear(ra);
-  mag_clear(rb);
-  mag_clear(Am);
-  mag_clear(Bm);
-  mag_clear(t);
+  thread_local grid_factor scratch_a, scratch_b;
+  scratch_a.set(a, bits);
+  scratch_b.set(b, bits);
+  multiply_grids(out, scratch_a, scratch_b);
 }
 
 // out = hl int_{-1}^s a (out distinct from a): b_1 = a_0 - a_2/2, b_k = (a_{k-1} - a_{k+1})/(2k)

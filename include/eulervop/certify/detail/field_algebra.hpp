@@ -19,6 +19,7 @@
 #include <eulervop/certify/ball.hpp>
 #include <eulervop/certify/detail/chebyshev_composition.hpp>
 #include <eulervop/certify/detail/chebyshev_model.hpp>
+#include <eulervop/certify/detail/jet_product.hpp>
 #include <eulervop/model/expression.hpp>
 
 #include <arb.h>
@@ -26,6 +27,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -42,10 +44,13 @@ struct undefined_formula : std::domain_error {
 namespace detail {
 
 // A segment's Chebyshev model and its partial derivatives by the state (an empty model where a
-// partial is zero).
+// partial is zero). `grid`, where set, holds f on the grid of the algebra's value products; the
+// copies of a jet share it, so that a model that is a factor of several products (a state
+// component, a body rate) is moved to its grid once. Every change of f drops it.
 struct series_jet {
   chebyshev_model f;
   std::vector<chebyshev_model> d;
+  mutable std::shared_ptr<grid_cache> grid;
 };
 
 class series_algebra {
@@ -66,6 +71,7 @@ class series_algebra {
     v.f = std::move(f);
     v.d.resize(n_);
     v.d[k].set_constant(ball(1));
+    v.grid = std::make_shared<grid_cache>();
     return v;
   }
   // The same into v, whose models keep their storage (a segment's check reuses its jets).
@@ -74,6 +80,10 @@ class series_algebra {
     v.d.resize(n_);
     for (chebyshev_model& d : v.d) d.set_zero();
     v.d[k].set_constant(ball(1));
+    if (v.grid && v.grid.use_count() == 1)  // no copy of the last segment's jet holds it
+      v.grid->ready = v.grid->rounded_ready = false;
+    else
+      v.grid = std::make_shared<grid_cache>();
   }
   // A model with no partials (the time).
   value independent(chebyshev_model f) const {
@@ -83,20 +93,24 @@ class series_algebra {
     return v;
   }
   void add(value& a, const value& b) const {
+    a.grid.reset();
     add_to(a.f, b.f, prec_);
     for (std::size_t k = 0; k < n_; ++k)
       if (!b.d[k].is_zero()) add_to(a.d[k], b.d[k], jacobian_prec);
   }
   void sub(value& a, const value& b) const {
+    a.grid.reset();
     subtract_from(a.f, b.f, prec_);
     for (std::size_t k = 0; k < n_; ++k)
       if (!b.d[k].is_zero()) subtract_from(a.d[k], b.d[k], jacobian_prec);
   }
   void neg(value& a) const {
+    a.grid.reset();
     negate(a.f);
     for (chebyshev_model& d : a.d) negate(d);
   }
   void scale(value& a, const ball& x) const {
+    a.grid.reset();
     eulervop::detail::scale(a.f, x, prec_);
     for (chebyshev_model& d : a.d) eulervop::detail::scale(d, x, jacobian_prec);
   }
@@ -167,33 +181,63 @@ class series_algebra {
     if (partials) {
       chebyshev_model df, t;
       derivative(df, f, a.f);
+      partial_factor on_grid_df;  // f'(a) moved to its grid once for all the partials
       for (chebyshev_model& d : a.d) {
         if (d.is_zero()) continue;
-        multiply(t, df, d, jacobian_grid_bits);
+        partial_product(t, d, df, nullptr, on_grid_df, true, jacobian_grid_bits);  // multiply(t, df, d)
         d.swap(t);
       }
     }
     a.f.swap(g);
+    a.grid.reset();
   }
   // a = 1 / a.
   void invert(value& a) const { function(elementary::inverse, a); }
-  // a = a b: (a b)' = a' b + a b'.
+  // a = a b: (a b)' = a' b + a b', each product as multiply() makes it (jet_product.hpp: a
+  // factor moved to its grid or rounded once, not once per product).
   void mul(value& a, const value& b) const {
-    // Scratch kept per thread: each product lands in t and is swapped into a, so a's old
-    // coefficients (and their limbs) serve the next product instead of going back to malloc.
-    thread_local chebyshev_model t, u;
+    // Scratch kept per thread: the product lands in t and is swapped into a, so a's old models
+    // (and their limbs) serve the next product instead of going back to malloc.
+    thread_local value t;
+    product(t, a, b);
+    a.f.swap(t.f);
+    a.d.swap(t.d);
+    a.grid.reset();
+  }
+  // out = a b (out distinct from a and b; its models keep their storage), as mul() would make it
+  // of a copy of a: a product needs no copy of its first factor.
+  void product(value& out, const value& a, const value& b) const {
+    thread_local chebyshev_model u;
+    thread_local partial_factor fa, fb;
+    fa.ready = fb.ready = false;
+    if (!b.grid) b.grid = std::make_shared<grid_cache>();
+    out.d.resize(n_);
     for (std::size_t k = 0; k < n_; ++k) {
       const bool da = !a.d[k].is_zero(), db = !b.d[k].is_zero();
-      if (!da && !db) continue;
-      if (da) multiply(t, a.d[k], b.f, jacobian_grid_bits); else t.set_zero();
-      if (db) {
-        multiply(u, a.f, b.d[k], jacobian_grid_bits);
-        add_to(t, u, jacobian_prec);
+      chebyshev_model& t = out.d[k];
+      if (!da && !db) {
+        t.set_zero();
+        continue;
       }
-      a.d[k].swap(t);
+      if (da) partial_product(t, a.d[k], b.f, b.grid.get(), fb, false, jacobian_grid_bits);
+      if (db) {
+        const bool scaled = partial_product(da ? u : t, b.d[k], a.f, a.grid.get(), fa, true, jacobian_grid_bits);
+        if (da)
+          add_to(t, u, jacobian_prec);
+        else if (!scaled || jacobian_grid_bits + 64 > jacobian_prec)
+          round_coefficients(t, jacobian_prec);  // the balls of 0 + u at jacobian_prec
+      }
     }
-    multiply(t, a.f, b.f, prec_ - product_guard);
-    a.f.swap(t);
+    const slong bits = prec_ - product_guard;
+    if (takes_grid(a.f) && takes_grid(b.f)) {
+      thread_local grid_factor scratch;
+      const grid_factor* ga = &scratch;
+      if (a.grid) ga = &on_grid(*a.grid, a.f, bits); else scratch.set(a.f, bits);
+      multiply_grids(out.f, *ga, on_grid(*b.grid, b.f, bits));
+    } else {
+      multiply(out.f, a.f, b.f, bits);
+    }
+    out.grid.reset();
   }
 
  private:
@@ -280,6 +324,11 @@ class box_algebra {
       std::swap(a.g[k], t);
     }
     arb_mul(a.f.get(), a.f.get(), b.f.get(), prec_);
+  }
+  // out = a b.
+  void product(value& out, const value& a, const value& b) const {
+    out = a;
+    mul(out, b);
   }
 
  private:
