@@ -1,6 +1,6 @@
 // The bound of a linear-flow residual from its exact integer sums
 // (include/eulervop/certify/detail/integer_sum_residual.hpp, with exact_difference.hpp), tested
-// as the other kernels of the general path are (test_ball_arithmetic.cpp): against the exact
+// as the other kernels of the general path are (test_chebyshev_model.cpp): against the exact
 // residual computed independently from the same integers, in Arb at 3000 bits.
 #include <eulervop/certify/ball.hpp>
 #include <eulervop/certify/detail/integer_sum_residual.hpp>

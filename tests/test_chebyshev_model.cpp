@@ -1,0 +1,310 @@
+// The Chebyshev models of the general path of --certify (include/eulervop/certify/detail/:
+// chebyshev_model.hpp, residual_model.hpp, kronecker_product.hpp, ball_node_transform.hpp,
+// short_integer_series.hpp), tested as an adversary would: every enclosure must hold the exact
+// value of every function the model stands for, at random and extreme inputs.
+//
+// Truth: MPFR at 1000 bits (about 300 digits, so that its own rounding is far below any radius
+// here), evaluating the functions a model stands for directly: Chebyshev sums with coefficients
+// chosen at the ends of their balls, plus a function of size up to the remainder (rem sin(17 s + 1)).
+// The interpolant at the Lobatto nodes reproduces a polynomial of its degree (exact), and the
+// exact integer products are checked against FLINT's.
+#include <eulervop/certify/ball.hpp>
+#include <eulervop/certify/detail/ball_node_transform.hpp>
+#include <eulervop/certify/detail/chebyshev_model.hpp>
+#include <eulervop/certify/detail/residual_model.hpp>
+#include <eulervop/certify/detail/short_integer_series.hpp>
+#include <eulervop/core/scalar.hpp>
+
+#include <gtest/gtest.h>
+
+#include "ball_test_support.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+namespace {
+
+using namespace eulervop::test::ball_support;
+
+TEST(ChebyshevModel, ProductsHoldEveryProductOfTheFunctionsTheyStandFor) {
+  const eulervop::mpfr_precision_scope scope(truth_bits);
+  std::mt19937_64 rng(20261127);
+  for (int trial = 0; trial < 60; ++trial) {
+    const slong la = 1 + static_cast<slong>(rng() % 45), lb = 1 + static_cast<slong>(rng() % 45);
+    const double rho = trial % 3 == 0 ? 1.0 : 0.2 + 0.6 * static_cast<double>(rng() % 100) / 100;
+    const chebyshev_model a = random_model(rng, la, rho, trial % 2 ? 100 : 0, trial % 4 == 0 ? 1e-20 : 0);
+    chebyshev_model b = random_model(rng, lb, rho, trial % 3 ? 60 : 0, trial % 5 == 0 ? 1e-10 : 0);
+    if (trial % 7 == 6) {  // a signed power of two, as a variable's derivative (multiply's own branch)
+      b = chebyshev_model(1);
+      arb_set_si(b.coeff(0), rng() % 2 ? 1 : -1);
+      arb_mul_2exp_si(b.coeff(0), b.coeff(0), static_cast<slong>(rng() % 5) - 2);
+    }
+    for (const slong bits : {56L, 177L}) {
+      chebyshev_model c;
+      eulervop::detail::multiply(c, a, b, bits);
+      for (int pick_round = 0; pick_round < 3; ++pick_round) {
+        const represented fa = pick(a, rng), fb = pick(b, rng);
+        for (const mpfr_real& s : points(rng)) {
+          ball v;
+          eulervop::detail::evaluate(v, c, point(s), truth_bits);
+          ASSERT_TRUE(holds(v, fa(s) * fb(s))) << "trial " << trial << " bits " << bits << " lengths " << la << ", "
+                                               << lb << " at s = " << s;
+        }
+      }
+    }
+  }
+}
+
+// Scaling by a number, exactly where it is a signed power of two (the fields' 1/2 and -1).
+TEST(ChebyshevModel, ScalingHoldsEveryScaledFunction) {
+  const eulervop::mpfr_precision_scope scope(truth_bits);
+  std::mt19937_64 rng(3);
+  ball third;
+  arb_set_ui(third.get(), 1);
+  arb_div_ui(third.get(), third.get(), 3, 200);
+  for (const ball& x : {decimal(-0.5), decimal(4), decimal(1), decimal(-1), third}) {
+    const chebyshev_model a = random_model(rng, 20, 0.5, 80, 1e-12);
+    chebyshev_model c = a;
+    eulervop::detail::scale(c, x, 200);
+    const represented fa = pick(a, rng);
+    for (const mpfr_real& s : points(rng)) {
+      ball v, y;
+      eulervop::detail::evaluate(v, c, point(s), truth_bits);
+      // x's own ball: both of its ends.
+      for (const int end : {-1, 1}) {
+        arf_t e;
+        arf_init(e);
+        arf_set_mag(e, arb_radref(x.get()));
+        if (end < 0) arf_neg(e, e);
+        arf_add(e, e, arb_midref(x.get()), ARF_PREC_EXACT, ARF_RND_DOWN);
+        ASSERT_TRUE(holds(v, fa(s) * to_mpfr(e))) << "s = " << s;
+        arf_clear(e);
+      }
+    }
+  }
+}
+
+// The product is as tight as its grid: a product of exact polynomials on 177 bits is within
+// 2^-170 of the exact one, relative to the factors' sizes (sum of magnitudes).
+TEST(ChebyshevModel, ProductsOfExactPolynomialsAreTight) {
+  std::mt19937_64 rng(7);
+  const chebyshev_model a = random_model(rng, 42, 0.15, 0, 0), b = random_model(rng, 42, 0.15, 0, 0);
+  chebyshev_model c;
+  eulervop::detail::multiply(c, a, b, 177);
+  mag_value sup, A, B;
+  eulervop::detail::sup_bound(sup.m, c);
+  eulervop::detail::coefficient_magnitude(A.m, a);
+  eulervop::detail::coefficient_magnitude(B.m, b);
+  mag_mul(A.m, A.m, B.m);
+  mag_mul_2exp_si(A.m, A.m, -170);
+  EXPECT_LE(mag_cmp(c.remainder(), A.m), 0) << "remainder " << mag_get_d(c.remainder());
+}
+
+TEST(ChebyshevModel, IntegralsHoldTheIntegralOfEveryFunction) {
+  const eulervop::mpfr_precision_scope scope(truth_bits);
+  std::mt19937_64 rng(11);
+  for (int trial = 0; trial < 40; ++trial) {
+    const slong n = 1 + static_cast<slong>(rng() % 60);
+    const chebyshev_model a = random_model(rng, n, 0.7, trial % 2 ? 80 : 0, trial % 3 == 0 ? 1e-15 : 0);
+    ball hl;
+    arb_set_d(hl.get(), 0.375 + static_cast<double>(rng() % 1000) / 333);
+    chebyshev_model I;
+    eulervop::detail::integrate(I, a, hl, 200);
+    const represented f = pick(a, rng);
+    const mpfr_real h = to_mpfr(arb_midref(hl.get()));
+    for (const mpfr_real& s : points(rng)) {
+      ball v;
+      eulervop::detail::evaluate(v, I, point(s), truth_bits);
+      ASSERT_TRUE(holds(v, h * integral_of(f, s))) << "trial " << trial << " at s = " << s;
+    }
+  }
+}
+
+// The Picard residual start + hl int_{-1}^s F - P of every F and P the models stand for, and r(1),
+// against the same integral at 1000 bits.
+TEST(ChebyshevModel, PicardResidualsHoldEveryResidual) {
+  const eulervop::mpfr_precision_scope scope(truth_bits);
+  std::mt19937_64 rng(13);
+  for (int trial = 0; trial < 40; ++trial) {
+    const slong nf = 1 + static_cast<slong>(rng() % 84), np = 1 + static_cast<slong>(rng() % 42);
+    const chebyshev_model F = random_model(rng, nf, 0.7, trial % 2 ? 80 : 0, trial % 3 == 0 ? 1e-15 : 0);
+    const chebyshev_model P = random_model(rng, np, 0.5, trial % 4 ? 100 : 0, trial % 5 == 0 ? 1e-20 : 0);
+    ball hl, start = decimal(static_cast<double>(rng() % 2001) / 1000 - 1);
+    arb_set_d(hl.get(), 0.375 + static_cast<double>(rng() % 1000) / 333);
+    eulervop::detail::integral_weights w;
+    w.set(hl, nf, np, 177);
+    chebyshev_model r;
+    ball r1;
+    eulervop::detail::picard_residual_model(r, r1, F, hl, w, start, P, 177);
+    const represented f = pick(F, rng), p = pick(P, rng);
+    const mpfr_real h = to_mpfr(arb_midref(hl.get())), y0 = to_mpfr(arb_midref(start.get()));
+    const auto truth = [&](const mpfr_real& s) { return y0 + h * integral_of(f, s) - p(s); };
+    for (const mpfr_real& s : points(rng)) {
+      ball v;
+      eulervop::detail::evaluate(v, r, point(s), truth_bits);
+      ASSERT_TRUE(holds(v, truth(s))) << "trial " << trial << " at s = " << s;
+    }
+    ASSERT_TRUE(holds(r1, truth(mpfr_real(1)))) << "trial " << trial << ": r(1)";
+  }
+}
+
+// The coefficients of the Lobatto interpolant: c_k = (2/N) sum_j'' v_j (-1)^k cos(k j pi / N),
+// the ends halved (the transform the reference's dense output also rests on), from quad node
+// values of every size and sign.
+TEST(BallNodeTransform, HoldsTheInterpolantsCoefficients) {
+  const eulervop::mpfr_precision_scope scope(truth_bits);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (const std::size_t N : {4u, 5u, 17u, 41u, 64u}) {
+    eulervop::detail::ball_node_transform transform(177, N, 2);
+    std::vector<std::vector<mpfr_real>> v(2, std::vector<mpfr_real>(N + 1));
+    for (std::size_t j = 0; j <= N; ++j)
+      for (std::size_t i = 0; i < 2; ++i) {
+        const eulervop::quad q = eulervop::quad(u(rng)) * eulervop::quad(std::ldexp(1.0, static_cast<int>(rng() % 200) - 100)) / 3;
+        ball b;
+        eulervop::set_exact(b, q);
+        arb_set(transform.value(j, i), b.get());
+        v[i][j] = mpfr_real(q);
+      }
+    arb_mat_t c;
+    arb_mat_init(c, static_cast<slong>(N + 1), 2);
+    transform.apply(c);
+    const mpfr_real pi = boost::math::constants::pi<mpfr_real>();
+    for (std::size_t i = 0; i < 2; ++i)
+      for (std::size_t k = 0; k <= N; ++k) {
+        mpfr_real sum = 0;
+        for (std::size_t j = 0; j <= N; ++j) {
+          mpfr_real term = v[i][j] * cos(pi * mpfr_real(k * j) / N);
+          if (j == 0 || j == N) term /= 2;
+          sum += term;
+        }
+        sum *= mpfr_real(2) / N;
+        if (k % 2) sum = -sum;
+        if (k == 0 || k == N) sum /= 2;
+        ball x;
+        arb_set(x.get(), arb_mat_entry(c, static_cast<slong>(k), static_cast<slong>(i)));
+        EXPECT_TRUE(holds(x, sum)) << "N " << N << " k " << k;
+        // As tight as the working precision: within 2^-170 of the values' sum of magnitudes.
+        mpfr_real size = 0;
+        for (const mpfr_real& vj : v[i]) size += abs(vj);
+        EXPECT_LT(mpfr_real(mag_get_d(arb_radref(x.get()))), size * pow(mpfr_real(2), -170)) << "N " << N << " k " << k;
+      }
+    arb_mat_clear(c);
+  }
+}
+
+// The 128-bit sums of Chebyshev products equal FLINT's exact ones, at the largest sizes fits()
+// admits (and fits() refuses a size that could overflow).
+TEST(ShortIntegerSeries, SumsOfProductsEqualFlintsExactOnes) {
+  using eulervop::detail::short_integer_series;
+  using eulervop::detail::wide_int;
+  std::mt19937_64 rng(4);
+  const auto random_poly = [&](eulervop::detail::integer_poly& p, std::size_t n, unsigned bits) {
+    fmpz_poly_zero(p.p);
+    for (std::size_t k = 0; k < n; ++k) {
+      const auto magnitude = static_cast<std::int64_t>(rng() >> (64 - bits));  // below 2^bits, often at its top
+      fmpz_poly_set_coeff_si(p.p, static_cast<slong>(k), rng() % 2 ? magnitude : -magnitude);
+    }
+  };
+  EXPECT_FALSE(eulervop::detail::fits(62, 62, 90, 7));
+  for (const auto& [la, lb, abits, bbits, count] :
+       std::vector<std::tuple<std::size_t, std::size_t, unsigned, unsigned, std::size_t>>{
+           {25, 15, 56, 40, 7}, {30, 90, 56, 58, 7}, {1, 40, 60, 50, 3}, {65, 65, 52, 56, 7}}) {
+    ASSERT_TRUE(eulervop::detail::fits(abits, bbits, std::min(la, lb), count));
+    std::vector<wide_int> sums(la + lb, 0);
+    eulervop::detail::integer_poly total, term, a, b;
+    for (std::size_t c = 0; c < count; ++c) {
+      random_poly(a, la, abits);
+      random_poly(b, lb, bbits);
+      short_integer_series sa, sb;
+      ASSERT_TRUE(sa.load(a.p));
+      ASSERT_TRUE(sb.load(b.p));
+      eulervop::detail::add_chebyshev_product(sums, sa, sb);
+      eulervop::detail::grid_product_flint(term.p, a.p, b.p);
+      fmpz_poly_add(total.p, total.p, term.p);
+    }
+    arf_t x, y;
+    arf_init(x);
+    arf_init(y);
+    for (std::size_t k = 0; k < sums.size(); ++k) {
+      eulervop::detail::set_wide(x, sums[k]);
+      fmpz_t f;
+      fmpz_init(f);
+      fmpz_poly_get_coeff_fmpz(f, total.p, static_cast<slong>(k));
+      arf_set_fmpz(y, f);
+      fmpz_clear(f);
+      EXPECT_TRUE(arf_equal(x, y)) << "coefficient " << k << " of lengths " << la << ", " << lb;
+    }
+    arf_clear(x);
+    arf_clear(y);
+  }
+}
+
+// The Kronecker kernel's Chebyshev products (kronecker_product.hpp) equal FLINT's exact ones
+// (grid_product_flint(), two fmpz_poly_mul), bit for bit, on random integer polynomials: lengths
+// 1 to 90, 1 to 1200 bits, random signs and zeros, decaying magnitudes as a segment's, and
+// coefficients all at +-(2^bits - 1) (every slot's sum at its bound); up to the largest factor the
+// kernel takes, and one past it (then grid_product() falls back to FLINT).
+TEST(KroneckerProduct, ChebyshevProductsEqualFlintsExactOnes) {
+  namespace kr = eulervop::detail::kronecker;
+  flint_rand_t state;
+  flint_randinit(state);
+  std::mt19937_64 rng(51);
+  fmpz_t f;
+  fmpz_init(f);
+  // kind 0: random bit lengths up to `bits`, a sixth zero; 1: all +-(2^bits - 1), one sign when
+  // same_sign; 2: decaying from `bits` bits by bits/len per index, as a segment's coefficients.
+  const auto random_poly = [&](eulervop::detail::integer_poly& p, slong len, ulong bits, int kind, bool same_sign) {
+    fmpz_poly_zero(p.p);
+    for (slong k = 0; k < len; ++k) {
+      if (kind == 1) {
+        fmpz_one(f);
+        fmpz_mul_2exp(f, f, bits);
+        fmpz_sub_ui(f, f, 1);
+        if (!same_sign && rng() % 2) fmpz_neg(f, f);
+      } else {
+        const ulong b = kind == 2 ? std::max<ulong>(1, bits - bits * static_cast<ulong>(k) / static_cast<ulong>(len))
+                                  : 1 + rng() % bits;
+        if (kind == 0 && rng() % 6 == 0) fmpz_zero(f); else fmpz_randbits(f, state, static_cast<flint_bitcnt_t>(b));
+      }
+      fmpz_poly_set_coeff_fmpz(p.p, k, f);
+    }
+    if (fmpz_poly_length(p.p) == 0) fmpz_poly_set_si(p.p, rng() % 2 ? 1 : -1);  // a nonzero factor
+  };
+  eulervop::detail::integer_poly a, b, fast, flint;
+  const auto check = [&](const char* what) {
+    ASSERT_TRUE(eulervop::detail::kronecker_grid_product(fast.p, a.p, b.p)) << what;
+    eulervop::detail::grid_product_flint(flint.p, a.p, b.p);
+    EXPECT_TRUE(fmpz_poly_equal(fast.p, flint.p))
+        << what << ": lengths " << fmpz_poly_length(a.p) << ", " << fmpz_poly_length(b.p) << ", bits "
+        << fmpz_poly_max_bits(a.p) << ", " << fmpz_poly_max_bits(b.p);
+  };
+  for (int trial = 0; trial < 3000; ++trial) {
+    const slong la = 1 + static_cast<slong>(rng() % 90), lb = 1 + static_cast<slong>(rng() % 90);
+    const ulong bits = trial % 10 == 0 ? 1 + rng() % 1200 : 1 + rng() % 200;
+    const int kind = static_cast<int>(rng() % 3);
+    random_poly(a, la, bits, kind, rng() % 2);
+    if (trial % 7 == 0) fmpz_poly_set(b.p, a.p); else random_poly(b, lb, 1 + rng() % 200, kind, rng() % 2);
+    check("random");
+  }
+  // The largest factors taken: 2 + len b / 64 limbs at most kr::max_limbs, b = (w + 1) / 2 and
+  // w = 2 bits + ceil(log2 len) + 1, so b = bits + 4 at len = 128 (then exactly kr::max_limbs).
+  const slong len = 128;
+  const ulong bits = static_cast<ulong>(kr::max_limbs - 2) * kr::limb_bits / len - 4;
+  for (int kind = 0; kind < 3; ++kind) {
+    random_poly(a, len, bits, kind == 0 ? 1 : kind, kind == 0);
+    random_poly(b, len, bits, kind == 0 ? 1 : kind, false);
+    check("largest");
+  }
+  random_poly(a, len, bits + 1, 1, true);  // one bit more: b + 1, two limbs more, FLINT's
+  EXPECT_FALSE(eulervop::detail::kronecker_grid_product(fast.p, a.p, b.p));
+  eulervop::detail::grid_product(fast.p, a.p, b.p);
+  eulervop::detail::grid_product_flint(flint.p, a.p, b.p);
+  EXPECT_TRUE(fmpz_poly_equal(fast.p, flint.p));
+  fmpz_clear(f);
+  flint_randclear(state);
+}
+
+}  // namespace
