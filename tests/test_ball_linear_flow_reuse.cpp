@@ -262,6 +262,39 @@ TEST(NodePicard, GridCoefficientsAreTheLoopsIntegers) {
       }
 }
 
+// The doubles of an integer polynomial on a grid against ldexp (exponents where 2^e is a double and
+// where not, values that round and subnormal ones), and a series at the nodes against the loop
+// over memory (T_k(s_l) v_l += c_k, from k = 0 up).
+TEST(NodePicard, ScaledDoublesAndSeriesAreTheLoopsBits) {
+  std::mt19937_64 rng(19);
+  eulervop::detail::integer_poly p;
+  for (slong k = 0; k < 20; ++k) fmpz_poly_set_coeff_si(p.p, k, static_cast<slong>(rng() >> 4) - (1LL << 59));
+  std::vector<double> out;
+  for (const slong e : {-1130, -1100, -1080, -1022, -400, 0, 17, 900, 1023, 1040}) {
+    eulervop::detail::scaled_doubles(p.p, e, out);
+    for (slong k = 0; k < p.p->length; ++k)
+      ASSERT_EQ(out[k], std::ldexp(fmpz_get_d(p.p->coeffs + k), static_cast<int>(e))) << "e " << e << " k " << k;
+  }
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (const std::size_t nodes : {15, 17, 66}) {
+    const eulervop::detail::chebyshev_basis<double>& b = eulervop::detail::lobatto_basis(nodes);
+    const std::size_t m = b.nodes.size(), n = 23;
+    std::vector<double> c(n), got(2 * m), T(n * m);
+    for (double& x : c) x = u(rng);
+    for (std::size_t l = 0; l < m; ++l) T[l] = 1, T[m + l] = b.nodes[l];
+    for (std::size_t k = 2; k < n; ++k)
+      for (std::size_t l = 0; l < m; ++l) T[k * m + l] = 2 * b.nodes[l] * T[(k - 1) * m + l] - T[(k - 2) * m + l];
+    eulervop::detail::node_picard picard;
+    picard.chebyshev_at_nodes(b, n);
+    picard.series_at_nodes(c.data(), n, m, got.data(), 2);
+    for (std::size_t l = 0; l < m; ++l) {
+      double v = 0;
+      for (std::size_t k = 0; k < n; ++k) v += c[k] * T[k * m + l];
+      ASSERT_EQ(got[2 * l], v) << "nodes " << nodes << " at " << l;
+    }
+  }
+}
+
 // J's pattern (nonzero where `pattern` says) and Phi's live entries and their products' terms as
 // ball_linear_flow.hpp's find_live_entries() makes them.
 TEST(NodePicard, VariationalSweepsAreTheLoopsBits) {

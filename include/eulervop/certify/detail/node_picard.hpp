@@ -117,6 +117,19 @@ void chunked_sweep(const double* S, const double* F, std::size_t m, std::size_t 
   }
 }
 
+// out[k] = std::ldexp(fmpz_get_d(p_k), e), p's coefficients times 2^e as doubles: by a product with
+// 2^e where that is a normal double, which rounds once as ldexp does (the same value, without a
+// call per coefficient).
+inline void scaled_doubles(const fmpz_poly_struct* p, slong e, std::vector<double>& out) {
+  out.resize(static_cast<std::size_t>(p->length));
+  if (e >= -1022 && e <= 1023) {
+    const double scale = std::ldexp(1.0, static_cast<int>(e));
+    for (slong k = 0; k < p->length; ++k) out[k] = fmpz_get_d(p->coeffs + k) * scale;
+  } else {
+    for (slong k = 0; k < p->length; ++k) out[k] = std::ldexp(fmpz_get_d(p->coeffs + k), static_cast<int>(e));
+  }
+}
+
 // The scratch and the steps of the iterations, reused from segment to segment.
 class node_picard {
  public:
@@ -144,11 +157,15 @@ class node_picard {
 
   // sum_k c_k T_k at the m nodes, into out[l * stride] (chebyshev_at_nodes for at least c's length).
   void series_at_nodes(const double* c, std::size_t length, std::size_t m, double* out, std::size_t stride) {
-    v_.assign(m, 0.0);
-    for (std::size_t k = 0; k < length; ++k) {
-      const double ck = c[k];
-      const double* T = Tn_ + k * m;
-      for (std::size_t l = 0; l < m; ++l) v_[l] += ck * T[l];
+    // v_l = sum_k c_k T_k(s_l) from k = 0 up and from 0.0: eight nodes side by side, the last few
+    // one by one (the table's rows are not padded).
+    v_.resize(m);
+    std::size_t l0 = 0;
+    for (; l0 + 8 <= m; l0 += 8) strided_sums<8>(c, 1, Tn_ + l0, m, length, v_.data() + l0);
+    for (std::size_t l = l0; l < m; ++l) {
+      double acc = 0;
+      for (std::size_t k = 0; k < length; ++k) acc += c[k] * Tn_[k * m + l];
+      v_[l] = acc;
     }
     for (std::size_t l = 0; l < m; ++l) out[l * stride] = v_[l];
   }
