@@ -117,6 +117,51 @@ void chunked_sweep(const double* S, const double* F, std::size_t m, std::size_t 
   }
 }
 
+// A node's products (J Y)_e of the live entries into Fl, each over its terms in order, from J's
+// and Y's rows at the node (variational_kernel's layout and cases; the terms t of entry e are
+// [start[e], start[e + 1]), J's entry tj[t] times Y's ty[t]).
+template <std::size_t N, unsigned Mask>
+void products_at(const double* Jl, const double* Yl, double* Fl, std::size_t L, const std::size_t* start,
+                 const std::size_t* tj, const std::size_t* ty) {
+  if constexpr (Mask != 0) {  // J_ik Y_kj over the k of the pattern, in order
+    for (std::size_t i = 0; i < 3; ++i)
+      for (std::size_t j = 0; j < 3; ++j) {
+        double acc = 0;
+        for (std::size_t k = 0; k < 3; ++k)
+          if ((Mask >> (i * 3 + k)) & 1u) acc += Jl[i * 3 + k] * Yl[k * 3 + j];
+        Fl[i * 3 + j] = acc;
+      }
+  } else if constexpr (N > 0) {
+    for (std::size_t e = 0; e < N; ++e) {
+      double acc = 0;
+      for (std::size_t t = 3 * e; t < 3 * e + 3; ++t) acc += Jl[tj[t]] * Yl[ty[t]];
+      Fl[e] = acc;
+    }
+  } else {
+    for (std::size_t e = 0; e < L; ++e) {
+      // The terms in order; up to 8 without a loop (the compiler turns the loop into gathers in
+      // pairs, at twice the instructions for these few terms).
+      const std::size_t t0 = start[e], end = start[e + 1];
+      const auto term = [&](std::size_t t) { return Jl[tj[t]] * Yl[ty[t]]; };
+      double acc = 0;
+      switch (end - t0) {
+        case 8: acc += term(end - 8); [[fallthrough]];
+        case 7: acc += term(end - 7); [[fallthrough]];
+        case 6: acc += term(end - 6); [[fallthrough]];
+        case 5: acc += term(end - 5); [[fallthrough]];
+        case 4: acc += term(end - 4); [[fallthrough]];
+        case 3: acc += term(end - 3); [[fallthrough]];
+        case 2: acc += term(end - 2); [[fallthrough]];
+        case 1: acc += term(end - 1); [[fallthrough]];
+        case 0: break;
+        default:
+          for (std::size_t t = t0; t < end; ++t) acc += term(t);
+      }
+      Fl[e] = acc;
+    }
+  }
+}
+
 // out[k] = std::ldexp(fmpz_get_d(p_k), e), p's coefficients times 2^e as doubles: by a product with
 // 2^e where that is a normal double, which rounds once as ldexp does (the same value, without a
 // call per coefficient).
@@ -418,52 +463,12 @@ bool node_picard::variational_kernel(const chebyshev_basis<double>& b, const dou
     for (std::size_t l = 0; l < m; ++l) std::copy(Jn + l * DD, Jn + (l + 1) * DD, Jp_.begin() + static_cast<std::ptrdiff_t>(l * (DD + 1)));
   }
   const double* diag = diag_.data();
-  const std::size_t* start = term_start_.data();
-  const std::size_t* tj = term_j_.data();
-  const std::size_t* ty = term_y_.data();
+  const double* J = N > 0 && Mask == 0 ? Jp_.data() : Jn;  // J's rows: DD + 1 apart in Jp_, else DD
+  const std::size_t Jstride = N > 0 && Mask == 0 ? DD + 1 : DD;
+  double *Y = Yc_.data(), *F = F_.data();
+  const std::size_t *start = term_start_.data(), *tj = term_j_.data(), *ty = term_y_.data();
   const auto product_at = [&](std::size_t l) {
-    const double* Yl = Yc_.data() + l * stride;
-    double* Fl = F_.data() + l * stride;
-    if constexpr (Mask != 0) {  // J_ik Y_kj over the k of the pattern, in order
-      const double* Jl = Jn + l * 9;
-      for (std::size_t i = 0; i < 3; ++i)
-        for (std::size_t j = 0; j < 3; ++j) {
-          double acc = 0;
-          for (std::size_t k = 0; k < 3; ++k)
-            if ((Mask >> (i * 3 + k)) & 1u) acc += Jl[i * 3 + k] * Yl[k * 3 + j];
-          Fl[i * 3 + j] = acc;
-        }
-    } else if constexpr (N > 0) {
-      const double* Jl = Jp_.data() + l * (DD + 1);
-      for (std::size_t e = 0; e < N; ++e) {
-        double acc = 0;
-        for (std::size_t t = 3 * e; t < 3 * e + 3; ++t) acc += Jl[tj[t]] * Yl[ty[t]];
-        Fl[e] = acc;
-      }
-    } else {
-      const double* Jl = Jn + l * DD;
-      for (std::size_t e = 0; e < L; ++e) {
-        // The terms in order; up to 8 without a loop (the compiler turns the loop into gathers in
-        // pairs, at twice the instructions for these few terms).
-        const std::size_t t0 = start[e], end = start[e + 1];
-        const auto term = [&](std::size_t t) { return Jl[tj[t]] * Yl[ty[t]]; };
-        double acc = 0;
-        switch (end - t0) {
-          case 8: acc += term(end - 8); [[fallthrough]];
-          case 7: acc += term(end - 7); [[fallthrough]];
-          case 6: acc += term(end - 6); [[fallthrough]];
-          case 5: acc += term(end - 5); [[fallthrough]];
-          case 4: acc += term(end - 4); [[fallthrough]];
-          case 3: acc += term(end - 3); [[fallthrough]];
-          case 2: acc += term(end - 2); [[fallthrough]];
-          case 1: acc += term(end - 1); [[fallthrough]];
-          case 0: break;
-          default:
-            for (std::size_t t = t0; t < end; ++t) acc += term(t);
-        }
-        Fl[e] = acc;
-      }
-    }
+    products_at<N, Mask>(J + l * Jstride, Y + l * stride, F + l * stride, L, start, tj, ty);
   };
   for (std::size_t l = 0; l < m; ++l) product_at(l);
   for (int sweep = 0; sweep < 400; ++sweep) {
