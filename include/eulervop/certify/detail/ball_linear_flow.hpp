@@ -341,8 +341,7 @@ inline void ball_linear_flow::phi_at_nodes(const chebyshev_basis<double>& b) {
   for (std::size_t q = 0; q < DD; ++q) {
     const fmpz_poly_struct* p = phi_grid_[q].p;
     if (p->length == 0) continue;
-    rc_.resize(static_cast<std::size_t>(p->length));
-    for (slong k = 0; k < p->length; ++k) rc_[k] = std::ldexp(fmpz_get_d(p->coeffs + k), static_cast<int>(phi_e_));
+    scaled_doubles(p, phi_e_, rc_);
     picard_.series_at_nodes(rc_.data(), rc_.size(), m, Pn_.data() + q, DD);
   }
 }
@@ -354,8 +353,7 @@ inline void ball_linear_flow::residual_at_nodes(const chebyshev_basis<double>& b
   picard_.chebyshev_at_nodes(b, static_cast<std::size_t>(len));
   for (std::size_t i = 0; i < D_; ++i) {
     const fmpz_poly_struct* ri = rg_.poly(i);
-    rc_.resize(static_cast<std::size_t>(ri->length));
-    for (slong k = 0; k < ri->length; ++k) rc_[k] = std::ldexp(fmpz_get_d(ri->coeffs + k), static_cast<int>(rg_.exponent()));
+    scaled_doubles(ri, rg_.exponent(), rc_);
     picard_.series_at_nodes(rc_.data(), rc_.size(), m, rn_.data() + i, D_);
   }
 }
