@@ -8,7 +8,7 @@
 //     other weights) gives the same bits as a fresh one.
 // Both are exact comparisons: the same double operations in the same order, and Arb's results
 // for the same inputs, leave no rounding to tolerate. (That the flow's bounds hold the exact
-// Phi and u is BallLinearFlow.PhiAndUHoldTheExactSolutions in test_ball_arithmetic.cpp.)
+// Phi and u is BallLinearFlow.PhiAndUHoldTheExactSolutions in test_ball_linear_flow.cpp.)
 #include <eulervop/certify/ball.hpp>
 #include <eulervop/certify/detail/ball_linear_flow.hpp>
 #include <eulervop/certify/detail/chebyshev_model.hpp>
