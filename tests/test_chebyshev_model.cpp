@@ -102,6 +102,7 @@ TEST(ChebyshevModel, ProductsOfExactPolynomialsAreTight) {
   EXPECT_LE(mag_cmp(c.remainder(), A.m), 0) << "remainder " << mag_get_d(c.remainder());
 }
 
+// The integral alone: the residual's model with no start and no P (picard_residual_model()).
 TEST(ChebyshevModel, IntegralsHoldTheIntegralOfEveryFunction) {
   const eulervop::mpfr_precision_scope scope(truth_bits);
   std::mt19937_64 rng(11);
@@ -110,8 +111,11 @@ TEST(ChebyshevModel, IntegralsHoldTheIntegralOfEveryFunction) {
     const chebyshev_model a = random_model(rng, n, 0.7, trial % 2 ? 80 : 0, trial % 3 == 0 ? 1e-15 : 0);
     ball hl;
     arb_set_d(hl.get(), 0.375 + static_cast<double>(rng() % 1000) / 333);
+    eulervop::detail::integral_weights w;
+    w.set(hl, n, 0, 200);
     chebyshev_model I;
-    eulervop::detail::integrate(I, a, hl, 200);
+    ball I1;
+    eulervop::detail::picard_residual_model(I, I1, a, hl, w, ball(), chebyshev_model(), 200);
     const represented f = pick(a, rng);
     const mpfr_real h = to_mpfr(arb_midref(hl.get()));
     for (const mpfr_real& s : points(rng)) {
@@ -119,6 +123,7 @@ TEST(ChebyshevModel, IntegralsHoldTheIntegralOfEveryFunction) {
       eulervop::detail::evaluate(v, I, point(s), truth_bits);
       ASSERT_TRUE(holds(v, h * integral_of(f, s))) << "trial " << trial << " at s = " << s;
     }
+    ASSERT_TRUE(holds(I1, h * integral_of(f, mpfr_real(1)))) << "trial " << trial << ": at s = 1";
   }
 }
 

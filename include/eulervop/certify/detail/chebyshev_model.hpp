@@ -383,41 +383,6 @@ inline void multiply(chebyshev_model& out, const chebyshev_model& a, const cheby
   multiply_grids(out, scratch_a, scratch_b);
 }
 
-// out = hl int_{-1}^s a (out distinct from a): b_1 = a_0 - a_2/2, b_k = (a_{k-1} - a_{k+1})/(2k)
-// for k >= 2, b_0 such that the integral vanishes at -1; the remainder times 2 |hl|.
-inline void integrate(chebyshev_model& out, const chebyshev_model& a, const ball& hl, slong prec) {
-  const slong n = a.length();
-  out.resize(n + 1);
-  ball t;
-  auto coeff = [&](slong k) -> arb_srcptr { return k < n ? a.coeff(k) : nullptr; };
-  arb_zero(out.coeff(0));
-  for (slong k = 1; k <= n; ++k) {  // a_{k-1} exists for every k <= n
-    arb_ptr b = out.coeff(k);
-    if (k == 1) {
-      if (coeff(2)) {
-        arb_mul_2exp_si(t.get(), coeff(2), -1);
-        arb_sub(b, coeff(0), t.get(), prec);
-      } else {
-        arb_set(b, coeff(0));
-      }
-    } else {
-      if (coeff(k + 1)) arb_sub(b, coeff(k - 1), coeff(k + 1), prec); else arb_set(b, coeff(k - 1));
-      arb_div_ui(b, b, static_cast<ulong>(2 * k), prec);
-    }
-    if (k % 2)
-      arb_add(out.coeff(0), out.coeff(0), b, prec);
-    else
-      arb_sub(out.coeff(0), out.coeff(0), b, prec);
-  }
-  for (slong k = 0; k <= n; ++k) arb_mul(out.coeff(k), out.coeff(k), hl.get(), prec);
-  mag_t m;
-  mag_init(m);
-  arb_get_mag(m, hl.get());
-  mag_mul(out.remainder(), a.remainder(), m);
-  mag_mul_2exp_si(out.remainder(), out.remainder(), 1);
-  mag_clear(m);
-}
-
 // T_0(s), ..., T_{n-1}(s) at a point s in [-1, 1] (a ball, intersected with [-1, 1] first), from
 // the three-term recurrence, each intersected with [-1, 1] (where the exact value lies) once its
 // ball reaches beyond: the recurrence's widths grow like 2.4^k, but they multiply coefficients

@@ -2,7 +2,7 @@
 // where the integrand S = sum_k J_ik Y_k is a sum of products of integer polynomials on binary
 // grids, exact in integers, and Q (an entry of Phi_num or a component of u_num) is an integer
 // polynomial on a binary grid too. The integral of a Chebyshev series is Clenshaw and Curtis's
-// (1960) recurrence, as integrate() in chebyshev_model.hpp: its coefficient k >= 1 is
+// (1960) recurrence, as picard_residual_model() in residual_model.hpp: its coefficient k >= 1 is
 // b_k = hl 2^e d_k / (2k) with d_k = S_{k-1} - S_{k+1} an exact integer, its constant term the
 // alternating sum of the others. With hl = M 2^m + eps (M the top 128 bits of the half-length:
 // all of a binary128's, so that eps = 0 in quad), the residual's coefficient times 2k,

@@ -28,9 +28,7 @@ class integral_weights {
       alternating_.push_back(alternating_.size() % 2 ? 1 : -1);  // (-1)^(k+1)
       ones_.push_back(1);
     }
-    n_ = n;
   }
-  slong size() const { return n_; }
   arb_srcptr operator[](slong k) const { return w_[static_cast<std::size_t>(k)].get(); }
   const slong* alternating() const { return alternating_.data(); }  // (-1)^(k+1) at k
   const slong* ones() const { return ones_.data(); }
@@ -38,7 +36,6 @@ class integral_weights {
  private:
   std::vector<ball> w_;
   std::vector<slong> alternating_, ones_;
-  slong n_ = 0;
 };
 
 // r = start + hl int_{-1}^s F - P and r1 = r(1) (a ball holding every value r's remainder
