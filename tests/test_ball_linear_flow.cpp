@@ -137,10 +137,12 @@ TEST(BallLinearFlow, PhiAndUHoldTheExactSolutions) {
         }
         t0 += step;
       }
-      const eulervop::detail::chebyshev_values Ts(flow.max_length(), point(mpfr_real(sd)), 400);
-      std::vector<ball> Pn, un;
+      slong length = flow.phi_length();
+      for (const eulervop::detail::chebyshev_model& m : flow.u()) length = std::max(length, m.length());
+      const eulervop::detail::chebyshev_values Ts(length, point(mpfr_real(sd)), 400);
+      std::vector<ball> Pn, un(D);
       flow.Phi_at(Ts, Pn);
-      flow.u_at(Ts, un);
+      for (std::size_t i = 0; i < D; ++i) eulervop::detail::evaluate(un[i], flow.u()[i], Ts, 400);
       const double dt = fc.hl * (sd + 1);
       const double factor = 1 + dt * std::exp(j * dt) * j;
       mpfr_real phi_err2 = 0, u_err2 = 0;

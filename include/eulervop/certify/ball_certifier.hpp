@@ -89,6 +89,12 @@ class ball_segment_check {
   std::vector<detail::chebyshev_model> P, r;
   std::vector<detail::chebyshev_model> J;  // D x D
   std::vector<ball> r1;                     // r(1)
+  // For the rows: how much of r and of u_num they sum, and the bound of the rest (row_models()).
+  struct row_sum {
+    slong length = 0;
+    mag_value tail;
+  };
+  std::vector<row_sum> r_row, u_row;
   // The bounds below are in the weighted norm |W v|_2, W = diag(weight): the state's components
   // keep weight 1, q's share a power of two chosen to minimise mu (bounds_of_jacobian); a bound B
   // of |W v| bounds each component |v_i| by B / weight_i.
@@ -110,6 +116,7 @@ class ball_segment_check {
   void bounds_of_jacobian();
   void residual_sup();
   void tube_bounds();
+  void row_models();
 
   detail::ball_node_transform transform_;
   arb_mat_t coefficients_;
@@ -129,7 +136,7 @@ class ball_segment_check {
 
 inline ball_segment_check::ball_segment_check(const certification_problem& p,
                                               const detail::ball_node_transform& transform)
-    : problem(&p), D(p.dimension), n1(transform.nodes()), start(D), end(D), P(D), r(D), J(D * D), r1(D),
+    : problem(&p), D(p.dimension), n1(transform.nodes()), start(D), end(D), P(D), r(D), J(D * D), r1(D), r_row(D), u_row(D),
       weight(D, 1.0), breakpoints(D), flow(D, error_prec), transform_(transform), X0_(D) {
   arb_mat_init(coefficients_, static_cast<slong>(n1), static_cast<slong>(D));
 }
@@ -161,6 +168,21 @@ void ball_segment_check::prepare(const chebyshev_segment<T, Dim>& seg) {
   const double jh = mag_get_d(jmax.m) * arf_get_d(arb_midref(h.get()), ARF_RND_UP);
   if (!flow.variational(hl, jh)) fail(outcome_kind::certify_non_finite);
   if (!flow.integral_term(r, hl)) fail(outcome_kind::certify_non_finite);
+  row_models();
+}
+
+// A row evaluates e's parts r(s) and u_num(s) from their models. Their coefficients fall off fast
+// past P's degree (the residual's tail is that of F(P) at twice the degree); a row sums only
+// those before a tail of at most 2^-(prec - 28) sup |P| each, and adds the tails as error: a row's
+// radius moves by at most 2^-37 of the state's last bit (in quad, 2^-150 sup |P|), and its sums
+// are shorter by a third or more.
+inline void ball_segment_check::row_models() {
+  mag_value level;
+  mag_mul_2exp_si(level.m, psup.m, -(problem->prec - 28));
+  for (std::size_t i = 0; i < D; ++i) {
+    r_row[i].length = detail::length_above(r[i], level.m, r_row[i].tail.m);
+    u_row[i].length = detail::length_above(flow.u()[i], level.m, u_row[i].tail.m);
+  }
 }
 
 // The segment's ends and the stored node values, which define P exactly.
@@ -452,15 +474,14 @@ ball_row ball_certifier::enclose(const T& tau) const {
   arb_sub_ui(s.get(), s.get(), 1, prec);
   // e(tau) in Phi(tau, a) B x + r(tau) + u(tau) + ball(dt), at the error's precision; P(tau) at
   // the problem's.
-  slong n = c.flow.max_length(), np = 1;
+  slong n = c.flow.phi_length(), np = 1;
   for (std::size_t i = 0; i < D; ++i) {
-    n = std::max(n, c.r[i].length());
+    n = std::max({n, c.r_row[i].length, c.u_row[i].length});
     np = std::max(np, c.P[i].length());
   }
   const detail::chebyshev_values Ts(n, s, error_prec), Tp(np, s, prec);
-  std::vector<ball> Phi, u, e;
+  std::vector<ball> Phi, e;
   c.flow.Phi_at(Ts, Phi);
-  c.flow.u_at(Ts, u);
   c.box_at_a->image(Phi, e);
   mag_value dtm, rowball;
   arb_get_mag(dtm.m, dt.get());
@@ -471,9 +492,10 @@ ball_row ball_certifier::enclose(const T& tau) const {
   std::vector<mag_value> radius;
   detail::per_component(rowball, c.weight, radius);
   for (std::size_t i = 0; i < D; ++i) {
-    detail::evaluate(v, c.r[i], Ts, error_prec);
+    detail::evaluate_head(v, c.r[i], c.r_row[i].length, c.r_row[i].tail.m, Ts, error_prec);
     arb_add(e[i].get(), e[i].get(), v.get(), error_prec);
-    arb_add(e[i].get(), e[i].get(), u[i].get(), error_prec);
+    detail::evaluate_head(v, c.flow.u()[i], c.u_row[i].length, c.u_row[i].tail.m, Ts, error_prec);
+    arb_add(e[i].get(), e[i].get(), v.get(), error_prec);
     arb_add_error_mag(e[i].get(), radius[i].m);
     for (const detail::breakpoint_term::touching_window& w : c.breakpoints.windows)
       if (arb_overlaps(w.hull.get(), tb.get())) arb_add_error_mag(e[i].get(), w.bound[i].m);

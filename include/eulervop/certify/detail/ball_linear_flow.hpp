@@ -60,16 +60,15 @@ class ball_linear_flow {
   // u_num for the residual r (D models), and the bound of its residual (|W rho|).
   bool integral_term(const std::vector<chebyshev_model>& r, const ball& hl);
 
-  // Phi_num(s) (D x D) and u_num(s) (D) at s in [-1, 1], in balls, from the values T_k(s) (at
-  // least max_length() of them).
+  // Phi_num(s) (D x D) at s in [-1, 1], in balls, from the values T_k(s) (at least
+  // phi_length() of them).
   void Phi_at(const chebyshev_values& T, std::vector<ball>& out) const;
-  void u_at(const chebyshev_values& T, std::vector<ball>& out) const;
-  slong max_length() const {
+  slong phi_length() const {
     slong n = 0;
     for (const chebyshev_model& m : phi_) n = std::max(n, m.length());
-    for (const chebyshev_model& m : u_) n = std::max(n, m.length());
     return n;
   }
+  const std::vector<chebyshev_model>& u() const { return u_; }  // u_num (D, unscaled)
 
   const std::vector<ball>& Phi1() const { return Phi1_; }  // Phi_num(1)
   const std::vector<ball>& u1() const { return u1_; }      // u_num(1)
@@ -434,11 +433,6 @@ inline void ball_linear_flow::Phi_at(const chebyshev_values& T, std::vector<ball
     evaluate(out[q], phi_[q], T, prec_);
     arb_mul_2exp_si(out[q].get(), out[q].get(), w_[q % D_] - w_[q / D_]);
   }
-}
-
-inline void ball_linear_flow::u_at(const chebyshev_values& T, std::vector<ball>& out) const {
-  out.resize(D_);
-  for (std::size_t i = 0; i < D_; ++i) evaluate(out[i], u_[i], T, prec_);
 }
 
 }  // namespace eulervop::detail

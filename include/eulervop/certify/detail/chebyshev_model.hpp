@@ -442,6 +442,15 @@ inline void evaluate(ball& out, const chebyshev_model& a, const chebyshev_values
   arb_add_error_mag(out.get(), a.remainder());
 }
 
+// f(s) enclosed from its first `length` coefficients, the rest bounded by `tail` (>= the sum of
+// their magnitudes, as length_above gives); the remainder included.
+inline void evaluate_head(ball& out, const chebyshev_model& a, slong length, const mag_t tail,
+                          const chebyshev_values& T, slong prec) {
+  arb_dot(out.get(), nullptr, 0, a.coeffs(), 1, T.get(), 1, length, prec);
+  arb_add_error_mag(out.get(), a.remainder());
+  arb_add_error_mag(out.get(), tail);
+}
+
 // f(s) enclosed, s in [-1, 1] (a ball); the remainder included.
 inline void evaluate(ball& out, const chebyshev_model& a, const ball& s, slong prec) {
   const chebyshev_values T(std::max<slong>(a.length(), 1), s, prec);
@@ -464,11 +473,12 @@ inline void truncate(chebyshev_model& a, slong length) {
   a.resize(length);
 }
 
-// Drops the trailing coefficients whose magnitudes sum to at most `level` into the remainder.
-inline void truncate_below(chebyshev_model& a, const mag_t level) {
-  mag_t tail, t;
-  mag_init(tail);
+// How many leading coefficients to keep so that the trailing ones' magnitudes sum to at most
+// `level` (at least one kept); that sum into `tail`.
+inline slong length_above(const chebyshev_model& a, const mag_t level, mag_t tail) {
+  mag_t t;
   mag_init(t);
+  mag_zero(tail);
   slong keep = a.length();
   while (keep > 1) {
     arb_get_mag(t, a.coeff(keep - 1));
@@ -477,12 +487,20 @@ inline void truncate_below(chebyshev_model& a, const mag_t level) {
     mag_swap(tail, t);
     --keep;
   }
+  mag_clear(t);
+  return keep;
+}
+
+// Drops the trailing coefficients whose magnitudes sum to at most `level` into the remainder.
+inline void truncate_below(chebyshev_model& a, const mag_t level) {
+  mag_t tail;
+  mag_init(tail);
+  const slong keep = length_above(a, level, tail);
   if (keep < a.length()) {
     mag_add(a.remainder(), a.remainder(), tail);
     a.resize(keep);
   }
   mag_clear(tail);
-  mag_clear(t);
 }
 
 }  // namespace eulervop::detail
