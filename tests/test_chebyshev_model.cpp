@@ -1,6 +1,6 @@
 // The Chebyshev models of the general path of --certify (include/eulervop/certify/detail/:
 // chebyshev_model.hpp, residual_model.hpp, kronecker_product.hpp, ball_node_transform.hpp,
-// short_integer_series.hpp), tested as an adversary would: every enclosure must hold the exact
+// short_integer_series.hpp, magnitude_sum.hpp), tested as an adversary would: every enclosure must hold the exact
 // value of every function the model stands for, at random and extreme inputs.
 //
 // Truth: MPFR at 1000 bits (about 300 digits, so that its own rounding is far below any radius
@@ -11,6 +11,7 @@
 #include <eulervop/certify/ball.hpp>
 #include <eulervop/certify/detail/ball_node_transform.hpp>
 #include <eulervop/certify/detail/chebyshev_model.hpp>
+#include <eulervop/certify/detail/magnitude_sum.hpp>
 #include <eulervop/certify/detail/residual_model.hpp>
 #include <eulervop/certify/detail/short_integer_series.hpp>
 #include <eulervop/core/scalar.hpp>
@@ -309,6 +310,102 @@ TEST(KroneckerProduct, ChebyshevProductsEqualFlintsExactOnes) {
   eulervop::detail::grid_product_flint(flint.p, a.p, b.p);
   EXPECT_TRUE(fmpz_poly_equal(fast.p, flint.p));
   fmpz_clear(f);
+  flint_randclear(state);
+}
+
+// The sums of magnitudes (sup bounds, grid moves): never below the exact sum, computed in Arb at
+// 5000 bits (exact for these inputs: the terms' exponents span less than 5000 bits), and never
+// above Arb's own chain of mag_add (each partial sum rounded up to 30 bits), or the integers'
+// exact sum, by more than 2^-28 of it (a mag's last bit and a double sum's few units). Inputs: balls of 30 to 430 bits with exponents from 2^-1100 to 2^12, exact zeros,
+// radii of every size, and integers of up to 300 bits on grids 2^-200 to 2^200 (the fast path in
+// doubles and, outside the doubles' range, Arb's mag arithmetic both taken).
+TEST(MagnitudeSum, BoundsTheExactSumAndIsNoLooserThanArbsChain) {
+  flint_rand_t state;
+  flint_randinit(state);
+  std::mt19937_64 rng(20261129);
+  mag_value fast, chain, m, slack;
+  arf_t exact, bound;
+  arf_init(exact);
+  arf_init(bound);
+  for (int trial = 0; trial < 4000; ++trial) {
+    const slong n = 1 + static_cast<slong>(rng() % 90);
+    arb_ptr x = _arb_vec_init(n);
+    for (slong k = 0; k < n; ++k) {
+      arb_randtest(x + k, state, 30 + static_cast<slong>(rng() % 400), 12);
+      if (rng() % 3 == 0) arb_mul_2exp_si(x + k, x + k, -static_cast<slong>(rng() % 1100));
+      if (rng() % 5 == 0) mag_zero(arb_radref(x + k));
+      if (rng() % 11 == 0) arb_zero(x + k);
+    }
+    const bool radii = trial % 2 == 1;
+    if (radii) eulervop::detail::radius_sum(fast.m, x, n); else eulervop::detail::magnitude_sum(fast.m, x, n);
+    arf_zero(exact);
+    mag_zero(chain.m);
+    for (slong k = 0; k < n; ++k) {
+      if (!radii) {
+        arf_abs(bound, arb_midref(x + k));
+        arf_add(exact, exact, bound, 5000, ARF_RND_UP);
+      }
+      arf_set_mag(bound, arb_radref(x + k));
+      arf_add(exact, exact, bound, 5000, ARF_RND_UP);
+      if (radii) mag_set(m.m, arb_radref(x + k)); else arb_get_mag(m.m, x + k);
+      mag_add(chain.m, chain.m, m.m);
+    }
+    arf_set_mag(bound, fast.m);
+    EXPECT_GE(arf_cmp(bound, exact), 0) << "trial " << trial;
+    mag_mul_2exp_si(slack.m, chain.m, -28);
+    mag_add(slack.m, slack.m, chain.m);
+    EXPECT_LE(mag_cmp(fast.m, slack.m), 0) << "trial " << trial;
+    EXPECT_EQ(mag_is_zero(fast.m), arf_is_zero(exact)) << "trial " << trial;
+    _arb_vec_clear(x, n);
+  }
+  {
+    // (1 - 2^-53) + 10 (3 2^-55): the first term's bound is 1 exactly, and each later partial sum
+    // would round down to it in double (to nearest): the bound must still reach the exact sum.
+    arb_ptr x = _arb_vec_init(11);
+    arb_one(x);
+    arb_set_ui(x + 1, 1);
+    arb_mul_2exp_si(x + 1, x + 1, -53);
+    arb_sub(x, x, x + 1, ARF_PREC_EXACT);
+    for (slong k = 1; k < 11; ++k) {
+      arb_set_ui(x + k, 3);
+      arb_mul_2exp_si(x + k, x + k, -55);
+    }
+    eulervop::detail::magnitude_sum(fast.m, x, 11);
+    arf_set_ui(exact, 26);  // 30 2^-55 - 2^-53
+    arf_mul_2exp_si(exact, exact, -55);
+    arf_add_ui(exact, exact, 1, ARF_PREC_EXACT, ARF_RND_DOWN);
+    arf_set_mag(bound, fast.m);
+    EXPECT_GE(arf_cmp(bound, exact), 0);
+    _arb_vec_clear(x, 11);
+  }
+  fmpz_t e, a;
+  fmpz_init(e);
+  fmpz_init(a);
+  for (int trial = 0; trial < 4000; ++trial) {
+    const slong n = 1 + static_cast<slong>(rng() % 90);
+    const slong grid = static_cast<slong>(rng() % 401) - 200;
+    fmpz* c = _fmpz_vec_init(n);
+    for (slong k = 0; k < n; ++k) fmpz_randtest(c + k, state, 1 + static_cast<slong>(rng() % 300));
+    eulervop::detail::magnitude_sum(fast.m, c, n, grid);
+    fmpz_zero(e);
+    for (slong k = 0; k < n; ++k) {
+      fmpz_abs(a, c + k);
+      fmpz_add(e, e, a);
+    }
+    fmpz_set_si(a, grid);
+    arf_set_fmpz_2exp(exact, e, a);  // the exact sum
+    arf_set_mag(bound, fast.m);
+    EXPECT_GE(arf_cmp(bound, exact), 0) << "integers, trial " << trial;
+    arf_mul_2exp_si(bound, exact, -28);
+    arf_add(exact, exact, bound, ARF_PREC_EXACT, ARF_RND_DOWN);
+    arf_set_mag(bound, fast.m);
+    EXPECT_LE(arf_cmp(bound, exact), 0) << "integers, trial " << trial;
+    _fmpz_vec_clear(c, n);
+  }
+  fmpz_clear(e);
+  fmpz_clear(a);
+  arf_clear(exact);
+  arf_clear(bound);
   flint_randclear(state);
 }
 

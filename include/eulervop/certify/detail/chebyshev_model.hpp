@@ -18,6 +18,7 @@
 #pragma once
 
 #include <eulervop/certify/ball.hpp>
+#include <eulervop/certify/detail/magnitude_sum.hpp>
 #include <eulervop/certify/detail/kronecker_product.hpp>
 
 #include <arb.h>
@@ -107,14 +108,7 @@ class chebyshev_model {
 
 // sum_k |c_k| (an upper bound; coefficients k >= first only).
 inline void coefficient_magnitude(mag_t out, const chebyshev_model& a, slong first = 0) {
-  mag_t t;
-  mag_init(t);
-  mag_zero(out);
-  for (slong k = first; k < a.length(); ++k) {
-    arb_get_mag(t, a.coeff(k));
-    mag_add(out, out, t);
-  }
-  mag_clear(t);
+  magnitude_sum(out, a.coeffs() + first, std::max<slong>(a.length() - first, 0));
 }
 
 // An upper bound of sup |f| on [-1, 1]: sum |c_k| + rem.
@@ -204,12 +198,10 @@ struct integer_poly {
 // beyond the model's own remainder (|T_k| <= 1).
 inline void to_grid(fmpz_poly_t n, mag_t moved, const chebyshev_model& a, slong e) {
   fmpz_poly_fit_length(n, a.length());
-  mag_zero(moved);
   ulong inexact = 0;
-  for (slong k = 0; k < a.length(); ++k) {
+  for (slong k = 0; k < a.length(); ++k)
     if (arf_get_fmpz_fixed_si(n->coeffs + k, arb_midref(a.coeff(k)), e)) ++inexact;
-    mag_add(moved, moved, arb_radref(a.coeff(k)));
-  }
+  radius_sum(moved, a.coeffs(), a.length());
   if (inexact > 0) {
     mag_t step;
     mag_init(step);
@@ -230,17 +222,7 @@ inline slong grid_exponent(const chebyshev_model& a, slong bits) {
 }
 
 // sum_k |n_k| 2^e, rounded up.
-inline void grid_magnitude(mag_t out, const fmpz_poly_t n, slong e) {
-  mag_t t;
-  mag_init(t);
-  mag_zero(out);
-  for (slong k = 0; k < n->length; ++k) {
-    mag_set_fmpz(t, n->coeffs + k);
-    mag_add(out, out, t);
-  }
-  mag_mul_2exp_si(out, out, e);
-  mag_clear(t);
-}
+inline void grid_magnitude(mag_t out, const fmpz_poly_t n, slong e) { magnitude_sum(out, n->coeffs, n->length, e); }
 
 // 2 c = A * B + (the sums over |i - j| = k), exactly in integers: c on the grid 2^(ea + eb - 1), by
 // FLINT's polynomial products: the fallback of grid_product() and the reference of its test.
