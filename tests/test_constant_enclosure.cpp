@@ -126,8 +126,8 @@ TEST(ConstantBall, UndefinedOnTheBallIsAnError) {
 }
 
 // The MPFI version (the fast path's; goes with it): the same values, and the ball and the
-// interval of each formula overlap (both hold the value; a ball computed from other numbers
-// would show here as well as against the truth).
+// interval of each formula overlap (both hold the value, so a disjoint pair would show that one
+// of the two does not).
 TEST(ConstantEnclosure, HoldsTheExactValueAsTheBallDoes) {
   for (const auto& [text, exact] : cases()) {
     ends x, b;

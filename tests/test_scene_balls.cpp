@@ -3,9 +3,10 @@
 // (scene/scene_certification_problem.hpp). Each ball must hold a value known independently:
 // a closed form (Eqs. 2-4 for moments whose A_i are 1, 1 and 1/3; a rational decimal, compared
 // exactly), or MPFR at 1000 bits (sqrt, and Jacobi's functions by Boost's own algorithm). The
-// radii are bounded from the operations' count: each of Arb's operations at p bits adds at most
-// about one unit of 2^-p relative (Johansson 2017), so a setup of a few dozen operations on
-// numbers of size at most 10 stays below 2^-(p-12).
+// radii are bounded from the operations' count: each of Arb's operations at p bits rounds its
+// midpoint once, adding at most one ulp (2^(1-p) relative) to the radius, and carries the
+// operands' radii to first order (Johansson 2017), so a setup of a few dozen operations on
+// numbers of magnitude at most 10 stays below 2^-(p-12).
 #include <eulervop/certify/ball_value.hpp>
 #include <eulervop/core/scalar.hpp>
 #include <eulervop/scene/expression_parser.hpp>
@@ -58,8 +59,9 @@ TEST(BallValue, IntegersAreExactAndAQuotientNeedsAPrecision) {
   EXPECT_THROW(ball_value(ball(1), 0), std::invalid_argument);
 }
 
-// sqrt(x / 3) - x x - x for x = 0.1 (the decimal): MPFR at 1000 bits. Five operations at 200 bits
-// on numbers below 1, and the decimal's rounding: at most 2^-197 (bound 2^-190).
+// sqrt(x / 3) - x x - x for x = 0.1 (the decimal): MPFR at 1000 bits. The decimal's rounding and
+// five operations at 200 bits on numbers below 1 each add at most 2^-199, and sqrt's derivative
+// there is below 3: under 2^-194 in all (bound 2^-190).
 TEST(BallValue, OperationsHoldTheExactResult) {
   const eulervop::mpfr_precision_scope scope(truth_bits);
   const ball_value x(eulervop::decimal_ball("0.1", prec), prec);
