@@ -81,14 +81,15 @@ inline std::optional<physical_scaling<ball_value>> put_equations(certification_p
     exact_variables& v = p.variables;
     v.identity = false;
     v.axes = scaling->axes();
-    arb_inv(v.rate_inverse.get(), scaling->tau_rate().get().get(), prec);
+    const ball& rate = scaling->tau_rate().get();
+    arb_inv(v.rate_inverse.get(), rate.get(), prec);
     const ball_value I[3] = {scaling->moments().I1, scaling->moments().I2, scaling->moments().I3};
     for (int i = 0; i < 3; ++i) {
       v.state_scale[i] = scaling->sqrt_A()[i].get();
       // divisor = I_i sqrt(A_i) dtau/dt (physical_scaling.hpp, G_of_M).
       ball d = I[i].get();
       arb_mul(d.get(), d.get(), v.state_scale[i].get(), prec);
-      arb_mul(d.get(), d.get(), scaling->tau_rate().get().get(), prec);
+      arb_mul(d.get(), d.get(), rate.get(), prec);
       arb_inv(v.divisor_inverse[i].get(), d.get(), prec);
       // The body rates per unit of tau: sqrt(A_i) / (dtau/dt) (body_rates.hpp).
       p.rates.identity = false;
