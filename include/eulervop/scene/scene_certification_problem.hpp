@@ -13,12 +13,13 @@
 #include <eulervop/certify/certification_problem.hpp>
 #include <eulervop/certify/detail/field_algebra.hpp>
 #include <eulervop/scene/scene.hpp>
-#include <eulervop/scene/scene_exact_problem.hpp>
+#include <eulervop/scene/scene_balls.hpp>
 #include <eulervop/scene/scene_problem.hpp>
 
 #include <arb.h>
 
 #include <algorithm>
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -28,10 +29,6 @@
 namespace eulervop::scene {
 
 namespace detail {
-
-inline ball ball_of_decimal(const decimal& d, slong prec, const std::string& field) {
-  return ball_of(enclosure_of(d, static_cast<mpfr_prec_t>(prec), field), prec);
-}
 
 // -1, 0 or 1 when the ball is exactly that number, else 2.
 inline int unit_value(const ball& x) {
@@ -61,7 +58,7 @@ std::vector<T> reference_breakpoints(const scene& s, const std::shared_ptr<const
 
 // The equations' coefficients a and the change of variables into p; the scene's exact scaling
 // where it is a physical body in Eq. 5.
-inline std::optional<physical_scaling<interval>> put_equations(certification_problem& p, const scene& s, bool direct) {
+inline std::optional<physical_scaling<ball_value>> put_equations(certification_problem& p, const scene& s, bool direct) {
   const slong prec = p.prec;
   if (s.is_coefficient_form()) {
     for (int i = 0; i < 3; ++i) p.a[i] = ball_of_decimal((*s.coefficients)[i], prec, "[equations] a");
@@ -78,20 +75,21 @@ inline std::optional<physical_scaling<interval>> put_equations(certification_pro
     p.a = {ball(-1), ball(1), ball(-1)};
   }
   for (int i = 0; i < 3; ++i) p.unit_a[i] = unit_value(p.a[i]);
-  std::optional<physical_scaling<interval>> scaling;
+  std::optional<physical_scaling<ball_value>> scaling;
   if (s.is_physical() && !direct) {
-    scaling.emplace(exact_scaling_of(s, static_cast<mpfr_prec_t>(prec)));
+    scaling.emplace(ball_scaling_of(s, prec));
     exact_variables& v = p.variables;
     v.identity = false;
     v.axes = scaling->axes();
-    arb_inv(v.rate_inverse.get(), ball_of(scaling->tau_rate(), prec).get(), prec);
-    const interval I[3] = {scaling->moments().I1, scaling->moments().I2, scaling->moments().I3};
+    const ball& rate = scaling->tau_rate().get();
+    arb_inv(v.rate_inverse.get(), rate.get(), prec);
+    const ball_value I[3] = {scaling->moments().I1, scaling->moments().I2, scaling->moments().I3};
     for (int i = 0; i < 3; ++i) {
-      v.state_scale[i] = ball_of(scaling->sqrt_A()[i], prec);
+      v.state_scale[i] = scaling->sqrt_A()[i].get();
       // divisor = I_i sqrt(A_i) dtau/dt (physical_scaling.hpp, G_of_M).
-      ball d = ball_of(I[i], prec);
+      ball d = I[i].get();
       arb_mul(d.get(), d.get(), v.state_scale[i].get(), prec);
-      arb_mul(d.get(), d.get(), ball_of(scaling->tau_rate(), prec).get(), prec);
+      arb_mul(d.get(), d.get(), rate.get(), prec);
       arb_inv(v.divisor_inverse[i].get(), d.get(), prec);
       // The body rates per unit of tau: sqrt(A_i) / (dtau/dt) (body_rates.hpp).
       p.rates.identity = false;
@@ -104,22 +102,21 @@ inline std::optional<physical_scaling<interval>> put_equations(certification_pro
 
 // The initial state into p (q normalized exactly), in the integrator's variables.
 inline void put_initial(certification_problem& p, const scene& s,
-                        const std::optional<physical_scaling<interval>>& scaling) {
+                        const std::optional<physical_scaling<ball_value>>& scaling) {
   const slong prec = p.prec;
-  const auto bits = static_cast<mpfr_prec_t>(prec);
   p.initial.resize(p.dimension);
   const auto put3 = [&](const decimal3& d, const std::string& field) {
     for (int i = 0; i < 3; ++i) p.initial[i] = ball_of_decimal(d[i], prec, field);
   };
   if (scaling) {
-    const vec3<interval> omega0 = decimals_of(std::get<initial_rates>(s.initial).rates, bits, "[initial] omega");
-    const vec3<interval> Omega0 = scaling->Omega_of_omega(omega0);
-    for (int i = 0; i < 3; ++i) p.initial[i] = ball_of(Omega0[i], prec);
+    const vec3<ball_value> omega0 = ball_values_of(std::get<initial_rates>(s.initial).rates, prec, "[initial] omega");
+    const vec3<ball_value> Omega0 = scaling->Omega_of_omega(omega0);
+    for (int i = 0; i < 3; ++i) p.initial[i] = Omega0[i].get();
   } else if (const auto* r = std::get_if<initial_rates>(&s.initial)) {
     put3(r->rates, s.is_coefficient_form() ? "[initial] y" : s.is_physical() ? "[initial] omega" : "[initial] Omega");
   } else {
-    const vec3<interval> Omega0 = exact_Omega_of_elements(std::get<initial_elements>(s.initial), bits);
-    for (int i = 0; i < 3; ++i) p.initial[i] = ball_of(Omega0[i], prec);
+    const std::array<ball, 3> Omega0 = ball_Omega_of_elements(std::get<initial_elements>(s.initial), prec);
+    for (int i = 0; i < 3; ++i) p.initial[i] = Omega0[i];
   }
   if (!s.has_attitude()) return;
   ball norm2;
@@ -198,12 +195,12 @@ certification_problem certification_problem_of(const scene& s, slong prec) {
   certification_problem p;
   p.prec = prec;
   p.dimension = s.has_attitude() ? 7 : 3;
-  const std::optional<physical_scaling<interval>> scaling = detail::put_equations(p, s, uses_direct_form(s));
+  const std::optional<physical_scaling<ball_value>> scaling = detail::put_equations(p, s, uses_direct_form(s));
   detail::put_initial(p, s, scaling);
   if (s.gravity_gradient) {
     gravity_term g;
-    g.mean_motion = detail::ball_of_decimal(*s.gravity_gradient, prec, "[torque.gravity_gradient] mean_motion");
-    for (int i = 0; i < 3; ++i) g.moments[i] = detail::ball_of_decimal((*s.inertia)[i], prec, "[body] inertia");
+    g.mean_motion = ball_of_decimal(*s.gravity_gradient, prec, "[torque.gravity_gradient] mean_motion");
+    for (int i = 0; i < 3; ++i) g.moments[i] = ball_of_decimal((*s.inertia)[i], prec, "[body] inertia");
     p.gravity = g;
   }
   // The torque, its pieces and its breakpoints.
