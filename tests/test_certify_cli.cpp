@@ -84,8 +84,8 @@ TEST(Certify, UnsupportedCombinationsAreOneLineErrors) {
 }
 
 // Initial elements with u != 0 (Eq. 12): Omega(0) = (c1 cn u, c1 sn u, c2 dn u) enters the proof
-// as the enclosure of Jacobi's functions of the decimals, on the fast path (a constant torque)
-// and on the general one (a torque of tau). Truth: the mpfr:256 run of the same scene (Boost's
+// as the enclosure of Jacobi's functions of the decimals, with a constant torque and with a
+// torque of tau. Truth: the mpfr:256 run of the same scene (Boost's
 // jacobi_elliptic at 256 bits, the Picard integration at 1e-60), at the same tau (dyadic, exact in
 // both precisions).
 TEST(Certify, InitialElementsWithUAreEnclosed) {

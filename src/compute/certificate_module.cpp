@@ -20,8 +20,7 @@ namespace eulervop::app {
 namespace {
 
 run_certificate* make_module_certificate(const scene& s, const eulervop::precision& p, unsigned workers) {
-  return (takes_fast_path(s) ? make_fast_certificate(s, p, workers) : make_general_certificate(s, p, workers))
-      .release();
+  return make_general_certificate(s, p, workers).release();
 }
 
 // Linked into a program or module, the certificate is there from the start.
