@@ -121,7 +121,21 @@ class path_certificate final : public run_certificate {
     return out;
   }
   static void raise(std::string& max, const std::string& text) {
-    if (max.empty() || std::stod(text) > std::stod(max)) max = text;
+    if (max.empty() || exceeds(text, max)) max = text;
+  }
+  // text > max for two texts of upper_text, compared in MPFR: radii in mpfr:1024 go below a
+  // double's range (1e-308), where std::stod throws. Three-digit decimals that differ stay apart
+  // at 64 bits.
+  static bool exceeds(const std::string& text, const std::string& max) {
+    mpfr_t a, b;
+    mpfr_init2(a, 64);
+    mpfr_init2(b, 64);
+    mpfr_set_str(a, text.c_str(), 10, MPFR_RNDU);
+    mpfr_set_str(b, max.c_str(), 10, MPFR_RNDU);
+    const bool out = mpfr_greater_p(a, b) != 0;
+    mpfr_clear(a);
+    mpfr_clear(b);
+    return out;
   }
 
   // Before the path: a row still running while the path's pipeline stops may raise the maxima.
