@@ -1,4 +1,5 @@
-// The certificate of certify/certifier.hpp: every row's radius must hold the exact solution.
+// The certificate of --certify (certify/ball_certifier.hpp): every row's radius must hold the
+// exact solution.
 //
 // Provenance of the exact values:
 //   - torque-free motion from Omega(0) = (c1, 0, c2): Eq. 12 in closed form (torque_free_truth.hpp)
@@ -7,8 +8,13 @@
 //     below 1e-70, about 1e40 times smaller than the radii tested here).
 // Each perturbation test also checks that the perturbation is visible in the rows (beyond the
 // unperturbed radius), so a certificate that ignored it would fail the test.
-#include <eulervop/certify/certifier.hpp>
+#include <eulervop/certify/ball_certifier.hpp>
+#include <eulervop/certify/ball_row_radius.hpp>
+#include <eulervop/certify/interval.hpp>
 #include <eulervop/reference/integrate.hpp>
+#include <eulervop/scene/scene.hpp>
+#include <eulervop/scene/scene_certification_problem.hpp>
+#include <eulervop/scene/scene_problem.hpp>
 
 #include <boost/math/special_functions/next.hpp>
 #include <gtest/gtest.h>
@@ -18,24 +24,30 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <optional>
 #include <random>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 namespace {
 
-using eulervop::certifier;
-using eulervop::exact_problem;
+namespace sc = eulervop::scene;
+using eulervop::ball;
+using eulervop::certification_problem;
 using eulervop::interval;
 using eulervop::mpfr_real;
 using eulervop::quad;
 using eulervop::vec3;
 
-constexpr mpfr_prec_t working_bits = 113 + 64;
+constexpr slong working_bits = 113 + 64;
 
-exact_problem problem_of(const std::array<std::string, 3>& G, const std::array<std::string, 3>& Omega0) {
-  return eulervop::exact_problem_of(G, Omega0, working_bits);
+// Eq. 5 with the constant torque G and Omega(0) as the decimals written, to tau_end: the scene
+// the certificate is about.
+sc::scene scene_of(const std::array<std::string, 3>& G, const std::array<std::string, 3>& Omega0, double tau_end) {
+  const std::string text = "name = \"test\"\n[torque]\nG = [" + G[0] + ", " + G[1] + ", " + G[2] +
+                           "]\n[initial]\nOmega = [" + Omega0[0] + ", " + Omega0[1] + ", " + Omega0[2] +
+                           "]\n[span]\ntau_end = " + std::to_string(tau_end) + "\nsamples = 3\n";
+  return sc::parse_scene(text, "test");
 }
 
 struct certified_row {
@@ -44,20 +56,23 @@ struct certified_row {
   double radius;                     // rounded up
 };
 
-// Integrates in quad (problem `run`), certifies against `exact` (the scene's decimals), and
-// returns the rows at `samples` + 1 equally spaced times. `tamper` may alter a segment before the
-// sampler and the certificate see it (the test hook for a corrupted reference).
-std::vector<certified_row> certified_rows(const eulervop::euler_problem<quad>& run, const exact_problem& exact,
-                                          double tau_end, int samples,
-                                          const std::function<void(eulervop::chebyshev_segment<quad>&, std::size_t)>&
-                                              tamper = {}) {
+// Integrates `run` in quad, certifies against the scene `exact` (its decimals; `edit` may change
+// its certification problem), and returns the rows at `samples` + 1 equally spaced times.
+// `tamper` may alter a segment before the sampler and the certificate see it (the test hook for a
+// corrupted reference).
+std::vector<certified_row> certified_rows(
+    const eulervop::euler_problem<quad>& run, const sc::scene& exact, double tau_end, int samples,
+    const std::function<void(eulervop::chebyshev_segment<quad>&, std::size_t)>& tamper = {},
+    const std::function<void(certification_problem&)>& edit = {}) {
   std::vector<quad> taus;
   for (int i = 0; i <= samples; ++i) taus.push_back(quad(tau_end) * i / samples);
-  std::optional<certifier> cert;
+  std::optional<eulervop::ball_certifier> cert;
   std::vector<certified_row> rows;
   eulervop::segment_sampler<quad> sampler(taus, [&](std::size_t, const quad& tau, const vec3<quad>& Om) {
     certified_row r{tau, {eulervop::to_text(Om[0]), eulervop::to_text(Om[1]), eulervop::to_text(Om[2])}, 0};
-    r.radius = eulervop::detail::magnitude_up(cert->row_radius(tau, r.cells));
+    const ball radius = eulervop::group_radius(cert->enclose(tau), 0, 3, {r.cells.begin(), r.cells.end()}, ball(),
+                                               std::nullopt, working_bits);
+    r.radius = eulervop::magnitude_up(radius);
     rows.push_back(r);
   });
   eulervop::chebyshev_picard<eulervop::euler_problem<quad>> integrator(eulervop::picard_settings{});
@@ -68,7 +83,11 @@ std::vector<certified_row> certified_rows(const eulervop::euler_problem<quad>& r
     if (tamper) tamper(s, index);
     ++index;
     sampler(s, nodes);
-    if (!cert) cert.emplace(working_bits, nodes.size() - 1, exact);
+    if (!cert) {
+      certification_problem p = sc::certification_problem_of<quad>(exact, working_bits);
+      if (edit) edit(p);
+      cert.emplace(std::move(p), nodes.size() - 1);
+    }
     cert->add_segment(s);
   });
   sampler.finish();
@@ -86,9 +105,10 @@ mpfr_real distance(const std::array<std::string, 3>& cells, const vec3<mpfr_real
   return sqrt(s);
 }
 
-// c1, c2, and the largest radius expected to tau = 1000 (measured radii times about 5; the radii
-// are within a factor of 3 of the true errors, docs/certified.md). Near the separatrix the flow,
-// and so the reference's own error, is far more sensitive.
+// c1, c2, and the largest radius expected to tau = 1000 (the former fast path's measured radii
+// times about 5, which the general path's stay below; the radii are within a factor of 3 of the
+// true errors, docs/certified.md). Near the separatrix the flow, and so the reference's own
+// error, is far more sensitive.
 struct torque_free_case {
   const char* c1;
   const char* c2;
@@ -104,7 +124,7 @@ TEST_P(TorqueFreeCertificate, ExactSolutionLiesWithinEveryRadius) {
   p.torque.G = {quad(0), quad(0), quad(0)};
   p.Omega0 = {*eulervop::from_text<quad>(c1_text), quad(0), *eulervop::from_text<quad>(c2_text)};
   const double tau_end = 1000;
-  const auto rows = certified_rows(p, problem_of({"0", "0", "0"}, {c1_text, "0", c2_text}), tau_end, 400);
+  const auto rows = certified_rows(p, scene_of({"0", "0", "0"}, {c1_text, "0", c2_text}, tau_end), tau_end, 400);
   const mpfr_real c1(c1_text), c2(c2_text);
   double worst_radius = 0, worst_error = 0;
   for (const certified_row& r : rows) {
@@ -132,7 +152,7 @@ INSTANTIATE_TEST_SUITE_P(Moduli, TorqueFreeCertificate,
 // MPFR 256-bit reference at the same times.
 struct torqued_case {
   eulervop::euler_problem<quad> run;
-  exact_problem exact = problem_of({"1.0", "1.0", "1.0"}, {"0.5", "0", "1.0"});
+  sc::scene exact = scene_of({"1.0", "1.0", "1.0"}, {"0.5", "0", "1.0"}, 30);
   double tau_end = 30;
   int samples = 300;
 };
@@ -230,7 +250,7 @@ TEST(TorquedCertificate, NodeMovedByUlpsIsCovered) {
 }
 
 // A segment's start, or its length, moved by one ulp: the segments no longer join exactly, which
-// the fast path refuses (a gap the polynomials do not cover).
+// the certificate refuses (a gap the polynomials do not cover).
 TEST(TorquedCertificate, SegmentBoundaryMovedByAnUlpIsRefused) {
   const torqued_case c = paper_case();
   const std::vector<std::function<void(eulervop::chebyshev_segment<quad>&)>> moves = {
@@ -248,73 +268,6 @@ TEST(TorquedCertificate, SegmentBoundaryMovedByAnUlpIsRefused) {
       EXPECT_EQ(f.status().cause, eulervop::outcome_kind::certify_segment_gap);
     }
   }
-}
-
-// The certifier takes only a constant torque (a compile-time constraint) and coefficients a of
-// -1, 0 or 1 (std::invalid_argument).
-struct time_dependent_torque {
-  static constexpr bool depends_on_time = true;
-  static constexpr bool depends_on_state = false;
-  vec3<interval> G;
-  const vec3<interval>& value(const interval&, const vec3<interval>&) const { return G; }
-};
-static_assert(std::is_constructible_v<certifier, mpfr_prec_t, std::size_t, const exact_problem&>);
-static_assert(!std::is_constructible_v<certifier, mpfr_prec_t, std::size_t,
-                                       const eulervop::euler_problem<interval, time_dependent_torque>&>);
-
-TEST(CertifierProblem, CoefficientsOtherThanUnitsAreRefused) {
-  exact_problem p = problem_of({"1.0", "1.0", "1.0"}, {"0.5", "0", "1.0"});
-  EXPECT_NO_THROW(certifier(working_bits, 20, p));
-  mpfi_set_d(p.a[1].get(), 0.5);
-  EXPECT_THROW(certifier(working_bits, 20, p), std::invalid_argument);
-  mpfi_interv_si(p.a[1].get(), 0, 1);
-  EXPECT_THROW(certifier(working_bits, 20, p), std::invalid_argument);
-}
-
-// The bounds of model/euler_problem.hpp hold at random states and directions, for Eq. 5 and for
-// other coefficients; for Eq. 5 the log-norm bound is exactly sup |y_2| (the eigenvalues of the
-// symmetric part of J are +-y_2 and 0), in intervals too.
-TEST(ProblemBounds, HoldAtRandomStates) {
-  std::mt19937_64 rng(20261125);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  const std::array<vec3<double>, 4> coefficients = {
-      vec3<double>{-1, 1, -1}, vec3<double>{0.3, -1.7, 0.9}, vec3<double>{1, 1, 1}, vec3<double>{0, -2, 0.5}};
-  for (const vec3<double>& a : coefficients) {
-    eulervop::euler_problem<double> p;
-    p.form = eulervop::equation_form::direct;
-    p.a = a;
-    for (int sample = 0; sample < 2000; ++sample) {
-      const vec3<double> ysup = {2 * std::abs(unit(rng)), 2 * std::abs(unit(rng)), 2 * std::abs(unit(rng))};
-      const vec3<double> y = {ysup[0] * unit(rng), ysup[1] * unit(rng), ysup[2] * unit(rng)};
-      vec3<double> x = {unit(rng), unit(rng), unit(rng)};
-      const double xn = std::hypot(x[0], x[1], x[2]);
-      for (double& c : x) c /= xn;
-      std::array<vec3<double>, 3> J;
-      p.jacobian(0.0, y, J);
-      double xJx = 0, Jx2 = 0;
-      for (int i = 0; i < 3; ++i) {
-        const double Jxi = J[i][0] * x[0] + J[i][1] * x[1] + J[i][2] * x[2];
-        xJx += x[i] * Jxi;
-        Jx2 += Jxi * Jxi;
-      }
-      const double slack = 1 + 1e-12;
-      EXPECT_LE(xJx, eulervop::log_norm_bound(p, ysup) * slack + 1e-300);
-      EXPECT_LE(std::sqrt(Jx2), eulervop::jacobian_norm_bound(p, ysup) * slack + 1e-300);
-      const vec3<double> N = {a[0] * y[1] * y[2], a[1] * y[2] * y[0], a[2] * y[0] * y[1]};
-      const double y2 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
-      EXPECT_LE(std::hypot(N[0], N[1], N[2]), eulervop::remainder_bound(p, y2) * slack + 1e-300);
-      if (a == vec3<double>{-1, 1, -1}) EXPECT_EQ(eulervop::log_norm_bound(p, ysup), ysup[1]);
-    }
-  }
-  const exact_problem p = problem_of({"0", "0", "0"}, {"0.5", "0.3", "1.0"});
-  const vec3<interval> ysup = p.Omega0;  // any nonnegative intervals
-  const interval mu = [&] {
-    eulervop::interval_precision_scope scope(working_bits);
-    return eulervop::log_norm_bound(p, ysup);
-  }();
-  EXPECT_TRUE(mpfr_equal_p(&mu.get()->left, &ysup[1].get()->left));
-  EXPECT_TRUE(mpfr_equal_p(&mu.get()->right, &ysup[1].get()->right));
-  EXPECT_EQ(mu.bits(), working_bits);
 }
 
 // MPFI holds a binary128 value exactly (three doubles), and a decimal outward (0.1 has width).
@@ -341,20 +294,23 @@ TEST(Intervals, QuadIsExactAndDecimalsAreEnclosed) {
 namespace {
 
 // A box of initial states (TaylorModels.jl's test of a flowpipe): the certificate takes
-// Omega(0) as intervals of width 2e-12 around the run's start, and every one of 1,000 random
+// Omega(0) as balls of radius 1.8e-12 around the run's start, and every one of 1,000 random
 // points of the box, integrated on its own (a quad reference, within 1e-30 of its exact
 // solution: far inside radii of ~1e-12), must stay within the radius of every row.
 TEST(TorquedCertificate, RandomPointsOfAnInitialBoxStayInside) {
   const std::array<double, 3> center = {0.5, 0.0, 1.0};
   const double half_width = 1e-12;
-  exact_problem box = problem_of({"1.0", "1.0", "1.0"}, {"0.5", "0", "1.0"});
-  for (int i = 0; i < 3; ++i)
-    mpfi_interv_d(box.Omega0[i].get(), center[i] - half_width, center[i] + half_width);
+  const sc::scene exact = scene_of({"1.0", "1.0", "1.0"}, {"0.5", "0", "1.0"}, 5);
+  // Each component of Omega(0) widened by 2^-39 (1.8e-12): more than the half width and the
+  // rounding of the sampled points to double.
+  const auto box = [](certification_problem& p) {
+    for (std::size_t i = 0; i < 3; ++i) arb_add_error_2exp_si(p.initial[i].get(), -39);
+  };
   eulervop::euler_problem<quad> run;
   run.torque.G = {quad(1), quad(1), quad(1)};
   run.Omega0 = {quad(center[0]), quad(center[1]), quad(center[2])};
   const double tau_end = 5;
-  const auto rows = certified_rows(run, box, tau_end, 50);
+  const auto rows = certified_rows(run, exact, tau_end, 50, {}, box);
   std::vector<quad> taus;
   for (const auto& r : rows) taus.push_back(r.tau);
   std::mt19937_64 rng(20261123);

@@ -83,9 +83,29 @@ TEST(Certify, UnsupportedCombinationsAreOneLineErrors) {
   EXPECT_FALSE(fs::exists(dir.path() / "x.csv"));
 }
 
+// In mpfr:1024 the radii go below a double's range (the first row's, the printed digits' own
+// rounding, near 1e-320): the run certifies, and the header holds the largest radius, compared in
+// MPFR (a comparison in double once stopped the run with an internal error).
+TEST(Certify, RadiiBelowTheRangeOfADoubleKeepTheirMaximum) {
+  temp_dir dir;
+  const run_result r = run(dir.path(), {"reference", "--certify", "--precision", "mpfr:1024", "--degree", "60",
+                                        "--tau-end", "0.001", "--samples", "3", "--out", "c.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string max_text;
+  for (const std::string& l : lines_of(read_file(dir.path() / "c.csv")))
+    if (l.starts_with("# certified_max_error: ")) max_text = l.substr(23);
+  const auto rows = data_rows(dir.path(), "c.csv");
+  ASSERT_EQ(rows.size(), 3u);
+  eulervop::mpfr_precision_scope scope(64);
+  eulervop::mpfr_real largest = 0;
+  for (const auto& row : rows) largest = max(largest, eulervop::mpfr_real(row.at(4)));
+  EXPECT_LT(eulervop::mpfr_real(rows[0].at(4)), eulervop::mpfr_real("1e-308")) << "below a double's normal range";
+  EXPECT_EQ(eulervop::mpfr_real(max_text), largest);
+}
+
 // Initial elements with u != 0 (Eq. 12): Omega(0) = (c1 cn u, c1 sn u, c2 dn u) enters the proof
-// as the enclosure of Jacobi's functions of the decimals, on the fast path (a constant torque)
-// and on the general one (a torque of tau). Truth: the mpfr:256 run of the same scene (Boost's
+// as the enclosure of Jacobi's functions of the decimals, with a constant torque and with a
+// torque of tau. Truth: the mpfr:256 run of the same scene (Boost's
 // jacobi_elliptic at 256 bits, the Picard integration at 1e-60), at the same tau (dyadic, exact in
 // both precisions).
 TEST(Certify, InitialElementsWithUAreEnclosed) {

@@ -1,13 +1,16 @@
 // The certificate on threads (src/compute/certify_pipeline.hpp) against the same certificate on
-// one thread (certifier::add_segment): every row's radius must be the same interval, bit for bit,
+// one thread (ball_certifier::add_segment): every row's radius must be the same ball, bit for bit,
 // whatever the number of threads; a failure must reach the caller, and the one reported must be
 // the first in segment order.
 #include "compute/certify_pipeline.hpp"
 
-#include <eulervop/certify/certifier.hpp>
-#include <eulervop/certify/exact_problem.hpp>
+#include <eulervop/certify/ball_certifier.hpp>
+#include <eulervop/certify/ball_row_radius.hpp>
 #include <eulervop/core/numerical_failure.hpp>
 #include <eulervop/reference/integrate.hpp>
+#include <eulervop/scene/scene.hpp>
+#include <eulervop/scene/scene_certification_problem.hpp>
+#include <eulervop/scene/scene_problem.hpp>
 
 #include <gtest/gtest.h>
 
@@ -19,59 +22,65 @@
 
 namespace {
 
-using eulervop::certifier;
+namespace sc = eulervop::scene;
+using eulervop::ball;
+using eulervop::ball_certifier;
 using eulervop::quad;
 using eulervop::vec3;
 using eulervop::app::certify_pipeline;
 
-constexpr mpfr_prec_t working_bits = 113 + 64;
+constexpr slong working_bits = 113 + 64;
 
-// The right end of x, exactly (hexadecimal).
-std::string exact_text(const eulervop::interval& x) {
-  mpfr_t r;
-  mpfr_init2(r, x.bits());
-  mpfi_get_right(r, x.get());
-  char* text = nullptr;
-  mpfr_asprintf(&text, "%Ra", r);
-  std::string out = text;
-  mpfr_free_str(text);
-  mpfr_clear(r);
+// x exactly (Arb's decimal text with enough digits for its midpoint and radius).
+std::string exact_text(const ball& x) {
+  char* t = arb_get_str(x.get(), 60, ARB_STR_MORE);
+  std::string out = t;
+  flint_free(t);
   return out;
 }
 
 // The paper scene (G = (1, 1, 1), Omega(0) = (0.5, 0, 1)) in quad to tau = 12, 49 rows, certified
-// with `workers` threads (0: on this thread, with certifier::add_segment). `tamper` may alter a
-// segment before the sampler and the certificate see it. Returns each row's radius, exactly.
+// with `workers` threads (0: on this thread, with ball_certifier::add_segment). `tamper` may alter
+// a segment before the sampler and the certificate see it. Returns each row's radius, exactly.
 std::vector<std::string> radii(unsigned workers,
                                const std::function<void(eulervop::chebyshev_segment<quad>&, std::size_t)>& tamper = {}) {
-  eulervop::euler_problem<quad> run;
-  run.torque.G = {quad(1), quad(1), quad(1)};
-  run.Omega0 = {quad(0.5), quad(0), quad(1)};
-  const eulervop::exact_problem exact = eulervop::exact_problem_of({"1", "1", "1"}, {"0.5", "0", "1"}, working_bits);
+  const sc::scene s = sc::parse_scene(R"(name = "paper"
+[torque]
+G = [1, 1, 1]
+[initial]
+Omega = [0.5, 0, 1]
+[span]
+tau_end = 12
+samples = 49
+)", "test");
+  const eulervop::euler_problem<quad> run = sc::to_problem<quad>(s);
   std::vector<quad> taus;
   for (int i = 0; i <= 48; ++i) taus.push_back(quad(12) * i / 48);
-  std::optional<certifier> cert;
-  std::optional<certify_pipeline<certifier>> pipeline;
+  std::optional<ball_certifier> cert;
+  std::optional<certify_pipeline<ball_certifier>> pipeline;
   std::vector<std::string> out;
   eulervop::segment_sampler<quad> sampler(taus, [&](std::size_t, const quad& tau, const vec3<quad>& Om) {
-    const std::array<std::string, 3> cells = {eulervop::to_text(Om[0]), eulervop::to_text(Om[1]),
-                                              eulervop::to_text(Om[2])};
-    const auto row = [&out, &cert, tau, cells] { out.push_back(exact_text(cert->row_radius(tau, cells))); };
+    const std::vector<std::string> cells = {eulervop::to_text(Om[0]), eulervop::to_text(Om[1]),
+                                            eulervop::to_text(Om[2])};
+    const auto row = [&out, &cert, tau, cells] {
+      out.push_back(exact_text(eulervop::group_radius(cert->enclose(tau), 0, 3, cells, ball(), std::nullopt,
+                                                      working_bits)));
+    };
     if (pipeline) pipeline->add_row(row); else row();
   });
   eulervop::chebyshev_picard<eulervop::euler_problem<quad>> integrator(eulervop::picard_settings{});
   std::size_t index = 0;
   integrator.run_segments(run, quad(12), [&](const eulervop::chebyshev_segment<quad>& seg,
                                              const std::vector<quad>& nodes) {
-    eulervop::chebyshev_segment<quad> s = seg;
-    if (tamper) tamper(s, index);
+    eulervop::chebyshev_segment<quad> c = seg;
+    if (tamper) tamper(c, index);
     ++index;
-    sampler(s, nodes);
+    sampler(c, nodes);
     if (!cert) {
-      cert.emplace(working_bits, nodes.size() - 1, exact);
+      cert.emplace(sc::certification_problem_of<quad>(s, working_bits), nodes.size() - 1);
       if (workers > 0) pipeline.emplace(*cert, workers, 4 * workers);
     }
-    if (pipeline) pipeline->add_segment(s); else cert->add_segment(s);
+    if (pipeline) pipeline->add_segment(c); else cert->add_segment(c);
   });
   sampler.finish();
   if (pipeline) pipeline->finish();

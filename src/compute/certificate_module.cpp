@@ -1,6 +1,5 @@
-// The certificate module: run_certificate (run_certificate.hpp) on the path a scene takes
-// (certified_reference.hpp), each path in a unit of its own (certificate_module_fast.cpp,
-// certificate_module_general.cpp). The program loads it only for --certify (built as
+// The certificate module: run_certificate (run_certificate.hpp) of a scene (certified_reference.hpp),
+// made in certificate_module_general.cpp. The program loads it only for --certify (built as
 // eulervop_certificate.so, linked with Arb, FLINT and MPFI); the Python module links it in.
 #include "compute/certified_reference.hpp"
 #include "compute/run_certificate.hpp"
@@ -8,7 +7,7 @@
 #include <eulervop/model/wide_formula_cells.hpp>
 #include <eulervop/scene/scene_certification_problem.hpp>
 
-// The general path's problems (certificate_module_general.cpp), compiled here to share out the
+// The certificate's problems (certificate_module_general.cpp), compiled here to share out the
 // module's work between its units.
 namespace eulervop::scene {
 EULERVOP_CERTIFICATION_PROBLEM_CELL(, double)
@@ -20,8 +19,7 @@ namespace eulervop::app {
 namespace {
 
 run_certificate* make_module_certificate(const scene& s, const eulervop::precision& p, unsigned workers) {
-  return (takes_fast_path(s) ? make_fast_certificate(s, p, workers) : make_general_certificate(s, p, workers))
-      .release();
+  return make_general_certificate(s, p, workers).release();
 }
 
 // Linked into a program or module, the certificate is there from the start.

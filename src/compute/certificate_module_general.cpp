@@ -1,6 +1,5 @@
-// The certificate of a run on the general path (certified_reference.hpp): every scene the fast
-// path does not take, by the ball certifier of certify/ball_certifier.hpp. Part of the
-// certificate module.
+// The certificate of a run (certified_reference.hpp): every scene, by the ball certifier of
+// certify/ball_certifier.hpp. Part of the certificate module.
 #include "compute/certified_reference.hpp"
 #include "compute/certify_pipeline.hpp"
 
@@ -34,7 +33,7 @@ class general_path {
     if (!certifier_) {
       certifier_.emplace(eulervop::scene::certification_problem_of<T>(scene_, bits_), nodes.size() - 1);
       if (workers_ > 0)
-        pipeline_.emplace(*certifier_, workers_, segments_in_flight(200.0, nodes.size(), bits_, workers_));
+        pipeline_.emplace(*certifier_, workers_, segments_in_flight(nodes.size(), bits_, workers_));
     }
     if (pipeline_)
       pipeline_->add_segment(seg);

@@ -1,14 +1,10 @@
-// `--certify` in the program: which scenes and precisions can be certified and on which path, what
-// the two paths' certificates of a streamed run share, and the radius columns' text
+// `--certify` in the program: the certificate of a streamed run and the radius columns' text
 // (docs/certified.md; the mathematics is in include/eulervop/certify/).
 //
-// Two paths prove the same statement. The fast one (certify/certifier.hpp) takes Eq. 5 with a
-// constant torque: the paper's problem, with kernels built for its unit coefficients. The general
-// one (certify/ball_certifier.hpp) takes every other scene: the coefficient and direct forms,
-// torques of any formula of time and state, pieces, the gravity gradient, and the attitude with
-// the rates as one problem of 7 states. Each path's certificate is compiled in a unit of its own
-// (certificate_module_fast.cpp, certificate_module_general.cpp), which includes only its path's
-// headers.
+// One proof stands behind the flag, in ball arithmetic (certify/ball_certifier.hpp): it takes
+// every scene, Eq. 5 and the coefficient and direct forms, torques of any formula of time and
+// state, pieces, the gravity gradient, and the attitude with the rates as one problem of 7 states.
+// Its certificate is compiled in a unit of its own (certificate_module_general.cpp).
 #pragma once
 
 #include "compute/certified_row.hpp"
@@ -16,7 +12,6 @@
 #include "compute/scene_library.hpp"
 
 #include <eulervop/certify/ball.hpp>
-#include <eulervop/certify/interval.hpp>
 #include <eulervop/core/scalar.hpp>
 
 #include <fmt/format.h>
@@ -40,25 +35,7 @@ inline mpfr_prec_t certify_bits(const eulervop::precision& p) {
   return static_cast<mpfr_prec_t>(bits + 64);
 }
 
-// The fast path takes Eq. 5 with a constant torque and no attitude; everything else that
-// --certify takes goes the general path.
-inline bool takes_fast_path(const scene& s) {
-  return !s.has_torque_law() && !s.has_attitude() && !s.gravity_gradient && !s.is_coefficient_form() &&
-         !uses_direct_form(s);
-}
-
-// An upper bound as a decimal with three significant digits, rounded up ("2.35e-27").
-inline std::string upper_text(const interval& x) {
-  mpfr_t hi;
-  mpfr_init2(hi, x.bits());
-  mpfi_get_right(hi, x.get());
-  char* text = nullptr;
-  mpfr_asprintf(&text, "%.2RUe", hi);
-  std::string out = text;
-  mpfr_free_str(text);
-  mpfr_clear(hi);
-  return out;
-}
+// An upper bound of |x| as a decimal with three significant digits, rounded up ("2.35e-27").
 inline std::string upper_text(const ball& x) {
   arf_t u;
   arf_init(u);
@@ -76,20 +53,20 @@ inline std::string upper_text(const ball& x) {
 }
 
 // Segments a certificate's pipeline may hold: as many as about 16 MB of checks allow, a check of
-// n1 nodes at `bits` taking about bytes_per_node_bit x n1 x bits bytes (measured: 8 on the fast
-// path, 60 kB in quad; about 200 on the general path), at least 2 per worker and 2 more, at most
-// 128 per worker. A deep queue keeps both workers busy while the in-order part catches up: at 4 per
-// worker the paper scene's --certify took 3% longer than at 32, and at 100 2% less than at 32.
-inline std::size_t segments_in_flight(double bytes_per_node_bit, std::size_t n1, mpfr_prec_t bits, unsigned workers) {
-  const double check_bytes = bytes_per_node_bit * static_cast<double>(n1) * static_cast<double>(bits);
+// n1 nodes at `bits` taking about 200 x n1 x bits bytes, at least 2 per worker and 2 more, at most
+// 128 per worker. A deep queue keeps both workers busy while the in-order part catches up (on the
+// former fast path, the paper scene's --certify took 3% longer at 4 per worker than at 32, and 2%
+// less at 100).
+inline std::size_t segments_in_flight(std::size_t n1, mpfr_prec_t bits, unsigned workers) {
+  const double check_bytes = 200.0 * static_cast<double>(n1) * static_cast<double>(bits);
   const auto fit = static_cast<std::size_t>(16e6 / check_bytes);
   return std::clamp<std::size_t>(fit, 2 * workers + 2, 128 * workers + 2);
 }
 
-// The certificate of one streamed run on one path, as run_certificate: created at the first
-// segment (which tells the degree). Path holds the path's certifier and its pipeline
-// (certify_pipeline.hpp, an optional that pipeline() returns, empty without workers), and has
-// add_segment<T, D>, radii<T> and method; this keeps the largest radii.
+// The certificate of one streamed run, as run_certificate: created at the first segment (which
+// tells the degree). Path holds the certifier and its pipeline (certify_pipeline.hpp, an optional
+// that pipeline() returns, empty without workers), and has add_segment<T, D>, radii<T> and method;
+// this keeps the largest radii.
 template <class Path>
 class path_certificate final : public run_certificate {
  public:
@@ -144,7 +121,21 @@ class path_certificate final : public run_certificate {
     return out;
   }
   static void raise(std::string& max, const std::string& text) {
-    if (max.empty() || std::stod(text) > std::stod(max)) max = text;
+    if (max.empty() || exceeds(text, max)) max = text;
+  }
+  // text > max for two texts of upper_text, compared in MPFR: radii in mpfr:1024 go below a
+  // double's range (1e-308), where std::stod throws. Three-digit decimals that differ stay apart
+  // at 64 bits.
+  static bool exceeds(const std::string& text, const std::string& max) {
+    mpfr_t a, b;
+    mpfr_init2(a, 64);
+    mpfr_init2(b, 64);
+    mpfr_set_str(a, text.c_str(), 10, MPFR_RNDU);
+    mpfr_set_str(b, max.c_str(), 10, MPFR_RNDU);
+    const bool out = mpfr_greater_p(a, b) != 0;
+    mpfr_clear(a);
+    mpfr_clear(b);
+    return out;
   }
 
   // Before the path: a row still running while the path's pipeline stops may raise the maxima.
@@ -152,8 +143,7 @@ class path_certificate final : public run_certificate {
   Path path_;
 };
 
-// The two paths' certificates (certificate_module_fast.cpp, certificate_module_general.cpp).
-std::unique_ptr<run_certificate> make_fast_certificate(const scene& s, const eulervop::precision& p, unsigned workers);
+// The certificate (certificate_module_general.cpp).
 std::unique_ptr<run_certificate> make_general_certificate(const scene& s, const eulervop::precision& p,
                                                           unsigned workers);
 

@@ -1,10 +1,9 @@
 // The certificate of a streamed reference, on threads (docs/certified.md, "Threads"). While the
 // reference integrates on, `workers` threads prepare the segments it has accepted (the checks
-// that do not depend on earlier segments: certify/certifier.hpp's prepared_segment on the fast
-// path, certify/ball_certifier.hpp's ball_segment_check on the general one), and one more
-// thread takes everything that depends on order, in order: it advances the certificate through
-// the prepared segments and runs the row tasks (a row's radius and its line of output) between
-// them. So the output is the same bytes as checking and writing on one thread.
+// that do not depend on earlier segments: certify/ball_certifier.hpp's ball_segment_check), and
+// one more thread takes everything that depends on order, in order: it advances the certificate
+// through the prepared segments and runs the row tasks (a row's radius and its line of output)
+// between them. So the output is the same bytes as checking and writing on one thread.
 //
 // At most `max_in_flight` segments are in flight: the integration waits when the certificate
 // falls behind, so memory does not grow with the span, until a quarter of them are done (woken
@@ -32,7 +31,7 @@
 
 namespace eulervop::app {
 
-// Certifier: the fast or the general certifier, with its `check` type, make_segment() and advance().
+// Certifier: the certifier (ball_certifier), with its `check` type, make_segment() and advance().
 template <class Certifier>
 class certify_pipeline {
  public:

@@ -391,7 +391,7 @@ inline std::unique_ptr<ball_segment_check> ball_certifier::advance(std::unique_p
   for (std::size_t i = 0; i < D; ++i) arb_add(w_[i].get(), c.r1[i].get(), c.flow.u1()[i].get(), problem_->prec);
   detail::per_component(ball_b, c.weight, ball_b_);
   if (!box_.step(c.flow.Phi1(), w_, ball_b_)) c.fail(outcome_kind::certify_non_finite);
-  // Growth: a box beyond 2^-20 of the state is of no use to anyone (as lohner_box.hpp).
+  // Growth: a box beyond 2^-20 of the state is of no use to anyone.
   mag_value size;
   box_.norm(size.m, plain_);
   if (!mag_is_finite(size.m)) c.fail(outcome_kind::certify_non_finite);

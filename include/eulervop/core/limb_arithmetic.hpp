@@ -1,5 +1,5 @@
 // Fixed-size integer arithmetic on arrays of 64-bit limbs (GMP's mp_limb_t), for the exact sums
-// of products that the certificate (certify/detail/grid_integer.hpp) and the reference's
+// of products that the certificate (certify/detail/ball_node_transform.hpp) and the reference's
 // fixed-point products (reference/detail/fixed_point_matvec.hpp) compute.
 #pragma once
 

@@ -33,7 +33,7 @@ enum class outcome_kind {
   // A reference that was computed but cannot be used:
   dense_output_non_finite,  // the dense output evaluates to a non-finite state
   error_non_finite,         // the Eq. 20 error against it is not finite
-  // A certificate (certify/certifier.hpp) that could not be proven; `cause` says why:
+  // A certificate (certify/ball_certifier.hpp) that could not be proven; `cause` says why:
   certification_failed,
   certify_a_priori,      // no a-priori bound closes on the segment
   certify_growth,        // the propagated bound grew beyond `value` (relative to the state)

@@ -86,53 +86,6 @@ struct euler_problem {
   }
 };
 
-// Bounds along a solution with |y_k| <= ysup_k, for the certificate's a-priori estimates
-// (docs/certified.md). They hold for a torque that does not depend on the state, whose Jacobian
-// is then that of the quadratic part N(y)_i = a_i y_j y_k alone. Any number type with +, -, *,
-// /, sqrt, abs and max: a scalar, or an interval (certify/interval.hpp) for enclosed bounds.
-
-// The largest |a_i|.
-template <class T, class Torque>
-T largest_coefficient(const euler_problem<T, Torque>& p) {
-  using std::abs;
-  using std::max;
-  return max(max(abs(p.a[0]), abs(p.a[1])), abs(p.a[2]));
-}
-
-// An upper bound of the logarithmic norm of J (2-norm), the largest eigenvalue of its symmetric
-// part S: S_ii = 0 and S_ij = (a_i + a_j) y_k / 2, k the third index (J_ij = a_i y_k), so by
-// Gershgorin's theorem it is at most max_i sum_j |a_i + a_j| ysup_k / 2. For Eq. 5 this is
-// exactly ysup_2: S has the eigenvalues +-y_2 and 0.
-template <class T, class Torque>
-  requires(!torque_traits<Torque>::depends_on_state)
-T log_norm_bound(const euler_problem<T, Torque>& p, const vec3<T>& ysup) {
-  using std::abs;
-  using std::max;
-  const auto row = [&](int i) {
-    const auto [j, k] = euler_problem<T, Torque>::quadratic_pair[i];  // S_ij has y_k, S_ik has y_j
-    return abs(p.a[i] + p.a[j]) * ysup[k] / T(2) + abs(p.a[i] + p.a[k]) * ysup[j] / T(2);
-  };
-  return max(max(row(0), row(1)), row(2));
-}
-
-// An upper bound of |J|_2: |J|_2^2 <= |J|_F^2 = sum_i a_i^2 (y_j^2 + y_k^2) <= 2 max a_i^2 |y|_2^2.
-template <class T, class Torque>
-  requires(!torque_traits<Torque>::depends_on_state)
-T jacobian_norm_bound(const euler_problem<T, Torque>& p, const vec3<T>& ysup) {
-  using std::sqrt;
-  const T amax = largest_coefficient(p);
-  return sqrt(((ysup[0] * ysup[0] + ysup[1] * ysup[1]) + ysup[2] * ysup[2]) * T(2) * (amax * amax));
-}
-
-// c x for the constant c of |N(e)|_2 <= c |e|_2^2: c = max |a_i| / sqrt(3), since
-// sum_i (e_j e_k)^2 <= |e|_2^4 / 3. With x = |e|^2 a bound of the remainder, with x = R the
-// factor of |e| in it where |e| <= R.
-template <class T, class Torque>
-T remainder_bound(const euler_problem<T, Torque>& p, const T& x) {
-  using std::sqrt;
-  return largest_coefficient(p) * x / sqrt(T(3));
-}
-
 static_assert(euler_form_problem<euler_problem<double>>);
 
 }  // namespace eulervop

@@ -5,8 +5,8 @@
 //
 // `euler_form_problem`: a problem of Euler's equations, y_i' = a_i y_j y_k + g_i(t, y) with
 // (i, j, k) cyclic (euler_problem.hpp is its instance): the coefficients a, the form, and a
-// torque g that is a `torque` (torque.hpp). The Chebyshev-Picard reference, the double-precision
-// runs and the certifier rely on this shape: their fast paths are the exact quadratic increment
+// torque g that is a `torque` (torque.hpp). The Chebyshev-Picard reference and the
+// double-precision runs rely on this shape: their fast paths are the exact quadratic increment
 // of the a-terms, chosen from the torque's traits.
 #pragma once
 

@@ -1,13 +1,13 @@
 // The error at a segment's start, e(a), in D dimensions, for the general path of --certify, as a
 // parallelepiped M v: M a point matrix of doubles, v a vector of balls (Lohner 1987; Nedialkov and
-// Jackson 2001; the three-dimensional fast path's is lohner_box.hpp). Across a segment, e(b) lies
-// in Phi e(a) + w + [-b_i, b_i], w = r(b) + u(b) signed, and the new set is
+// Jackson 2001). Across a segment, e(b) lies in Phi e(a) + w + [-b_i, b_i], w = r(b) + u(b)
+// signed, and the new set is
 //   v' = (M'^-1 Phi M) v + M'^-1 (w + [-b_i, b_i]).
 // M' = mid(Phi M) (the parallelepiped method), so that (M'^-1 Phi M) is the identity but for
 // rounding: the flow's shear, which is large where q's error follows the rates', lives in the
-// matrix and wraps nothing. (The QR form of lohner_box.hpp wraps under that shear: its
-// parallelepiped's columns turn at every segment, and the boxes' corners accumulate; on the
-// spacecraft with its attitude it gave radii a thousand times larger.) A ball added in M^-1's
+// matrix and wraps nothing. (A QR form, which the certificate's former fast path kept, wraps under
+// that shear: its parallelepiped's columns turn at every segment, and the boxes' corners
+// accumulate; on the spacecraft with its attitude it gave radii a thousand times larger.) A ball added in M^-1's
 // coordinates grows by up to M's condition; what enters as a ball is therefore kept small: the
 // signed terms (the residuals, the jumps at joins and breakpoints) enter with their signs, and only
 // bounds of what is below them as balls. Should M' pass a condition of 10^6 (an exponentially

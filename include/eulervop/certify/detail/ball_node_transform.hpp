@@ -2,13 +2,12 @@
 // general path of --certify: the degree-N interpolant of the values at the Lobatto nodes
 // s_j = -cos(j pi / N) has the coefficients
 //   c_k = (2/N) sum_j'' v_j T_k(s_j),  T_k(s_j) = (-1)^k cos(k j pi / N),
-// the sum's end terms halved, and c_0, c_N halved too (the same map as node_transform.hpp). The
-// matrix is enclosed once. Since T_k(-s) = (-1)^k T_k(s) and the nodes are symmetric, the columns
-// j and N - j differ by (-1)^k: even coefficients take the sums v_j + v_{N-j}, odd ones the
-// differences, which halves the products. The products are exact integer sums on two binary
-// grids (as node_transform.hpp does for the fast path): M's midpoints on the grid 2^-G and each
-// component's folded values on a grid of G bits below their largest, as integers of L limbs
-// (G = 64 L - 2 >= the working precision), summed exactly on fixed-size limbs
+// the sum's end terms halved, and c_0, c_N halved too. The matrix is enclosed once. Since
+// T_k(-s) = (-1)^k T_k(s) and the nodes are symmetric, the columns j and N - j differ by (-1)^k:
+// even coefficients take the sums v_j + v_{N-j}, odd ones the differences, which halves the
+// products. The products are exact integer sums on two binary grids: M's midpoints on the grid
+// 2^-G and each component's folded values on a grid of G bits below their largest, as integers of
+// L limbs (G = 64 L - 2 >= the working precision), summed exactly on fixed-size limbs
 // (core/limb_arithmetic.hpp); the sum is rounded once and widened by a bound of the two grids'
 // moves and M's radii. Arb's own dot products (arb_mat_mul) did the same with one alignment per
 // term and cost several times more; they remain for precisions beyond 8 limbs.
