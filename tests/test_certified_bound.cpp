@@ -10,7 +10,6 @@
 // unperturbed radius), so a certificate that ignored it would fail the test.
 #include <eulervop/certify/ball_certifier.hpp>
 #include <eulervop/certify/ball_row_radius.hpp>
-#include <eulervop/certify/interval.hpp>
 #include <eulervop/reference/integrate.hpp>
 #include <eulervop/scene/scene.hpp>
 #include <eulervop/scene/scene_certification_problem.hpp>
@@ -34,7 +33,6 @@ namespace {
 namespace sc = eulervop::scene;
 using eulervop::ball;
 using eulervop::certification_problem;
-using eulervop::interval;
 using eulervop::mpfr_real;
 using eulervop::quad;
 using eulervop::vec3;
@@ -268,25 +266,6 @@ TEST(TorquedCertificate, SegmentBoundaryMovedByAnUlpIsRefused) {
       EXPECT_EQ(f.status().cause, eulervop::outcome_kind::certify_segment_gap);
     }
   }
-}
-
-// MPFI holds a binary128 value exactly (three doubles), and a decimal outward (0.1 has width).
-TEST(Intervals, QuadIsExactAndDecimalsAreEnclosed) {
-  eulervop::mpfr_precision_scope scope(working_bits);
-  const quad q = quad(1) / 3;
-  interval x = interval::zero(working_bits);
-  eulervop::detail::set_exact(x, q);
-  mpfr_real left, right;
-  mpfi_get_left(left.backend().data(), x.get());
-  mpfi_get_right(right.backend().data(), x.get());
-  EXPECT_EQ(left, mpfr_real(q));
-  EXPECT_EQ(right, mpfr_real(q));
-  interval d = interval::zero(working_bits);
-  eulervop::detail::set_decimal(d, "0.1");
-  mpfi_get_left(left.backend().data(), d.get());
-  mpfi_get_right(right.backend().data(), d.get());
-  EXPECT_LT(left, right);
-  EXPECT_LE(left, mpfr_real("0.1", 2 * working_bits));
 }
 
 }  // namespace

@@ -1,18 +1,15 @@
-// The enclosure of a constant formula: its ball (certify/constant_ball.hpp, the general path's)
-// and its MPFI interval (certify/constant_enclosure.hpp, the fast path's) each hold the formula's
-// exact value, and a function undefined on an enclosure is an error, never a wrong enclosure.
+// The enclosure of a constant formula, its ball (certify/constant_ball.hpp), holds the formula's
+// exact value, and a function undefined on the ball is an error, never a wrong enclosure.
 // The exact values come from closed forms (2/3, 2^-3 = 1/8, 0, 4 atan(1) = pi) or from MPFR at
 // 512 bits (cos, sin, exp, log, sqrt, tanh, atan, sinh, cosh, pi: correctly rounded there, 335
 // bits beyond the 177 of the enclosure),
 // each compared as an interval that must lie inside the enclosure.
 #include <eulervop/certify/constant_ball.hpp>
-#include <eulervop/certify/constant_enclosure.hpp>
 #include <eulervop/scene/expression_parser.hpp>
 
 #include <gtest/gtest.h>
 
 #include <arb.h>
-#include <mpfi.h>
 #include <mpfr.h>
 
 #include <functional>
@@ -24,8 +21,6 @@ namespace {
 
 using eulervop::ball;
 using eulervop::constant_ball;
-using eulervop::enclose_constant;
-using eulervop::interval;
 
 constexpr mpfr_prec_t bits = 177;
 
@@ -103,12 +98,6 @@ void expect_holds(const ends& x, const std::string& text, const exact_value& exa
 
 void ends_of(ends& out, const ball& x) { arb_get_interval_mpfr(out.lo, out.hi, x.get()); }
 
-// The MPFI interval's ends (the fast path's enclosure; goes with it).
-void ends_of(ends& out, const interval& x) {
-  mpfi_get_left(out.lo, x.get());
-  mpfi_get_right(out.hi, x.get());
-}
-
 TEST(ConstantBall, HoldsTheExactValue) {
   for (const auto& [text, exact] : cases()) {
     ends x;
@@ -123,27 +112,6 @@ TEST(ConstantBall, UndefinedOnTheBallIsAnError) {
   // log(1/3 * 3 - 1): the exact value is log(0), and the ball of 1/3 * 3 - 1 holds 0.
   EXPECT_THROW(constant_ball(constant("log(1/3*3 - 1)"), bits), std::domain_error);
   EXPECT_THROW(constant_ball(constant("t"), bits), std::invalid_argument);
-}
-
-// The MPFI version (the fast path's; goes with it): the same values, and the ball and the
-// interval of each formula overlap (both hold the value, so a disjoint pair would show that one
-// of the two does not).
-TEST(ConstantEnclosure, HoldsTheExactValueAsTheBallDoes) {
-  for (const auto& [text, exact] : cases()) {
-    ends x, b;
-    ends_of(x, enclose_constant(constant(text), bits));
-    expect_holds(x, text, exact);
-    ends_of(b, constant_ball(constant(text), bits));
-    EXPECT_TRUE(mpfr_lessequal_p(b.lo, x.hi) && mpfr_lessequal_p(x.lo, b.hi)) << text;
-  }
-}
-
-TEST(ConstantEnclosure, UndefinedOnTheEnclosureIsAnError) {
-  for (const char* text : {"log(1 - 1)", "1/(3 - 3)", "(1 - 1)^-2", "sqrt(0.1 - 0.1 - 1e-30)"})
-    EXPECT_THROW(enclose_constant(constant(text), bits), std::domain_error) << text;
-  // log(1/3 * 3 - 1): the exact value is log(0), and the enclosure of 1/3 * 3 - 1 holds 0.
-  EXPECT_THROW(enclose_constant(constant("log(1/3*3 - 1)"), bits), std::domain_error);
-  EXPECT_THROW(enclose_constant(constant("t"), bits), std::invalid_argument);
 }
 
 }  // namespace

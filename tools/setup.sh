@@ -10,7 +10,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 packages=(
   build-essential cmake ninja-build pkg-config
-  libmpfr-dev libgmp-dev libmpfi-dev libflint-arb-dev
+  libmpfr-dev libgmp-dev libflint-arb-dev
   libtomlplusplus-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   googletest libgtest-dev libbenchmark-dev
   parallel  # the tests run the GNU parallel recipes of docs/batch.md

@@ -1,6 +1,6 @@
 // The certificate module: run_certificate (run_certificate.hpp) of a scene (certified_reference.hpp),
 // made in certificate_module_general.cpp. The program loads it only for --certify (built as
-// eulervop_certificate.so, linked with Arb, FLINT and MPFI); the Python module links it in.
+// eulervop_certificate.so, linked with Arb and FLINT); the Python module links it in.
 #include "compute/certified_reference.hpp"
 #include "compute/run_certificate.hpp"
 

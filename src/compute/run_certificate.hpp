@@ -1,7 +1,7 @@
 // `--certify` of a streamed reference run, as the reference job sees it: the segments go in as the
 // integrator makes them, and each row's radii come out. Its body (certified_reference.hpp, the
 // certifiers of include/eulervop/certify/) is compiled once, in certificate_module*.cpp, which the
-// program loads only for --certify (a module of its own, linked with Arb, FLINT and MPFI), so that
+// program loads only for --certify (a module of its own, linked with Arb and FLINT), so that
 // every other run starts without loading those libraries (docs/design.md, "The certificate module").
 #pragma once
 

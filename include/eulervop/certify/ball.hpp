@@ -5,10 +5,10 @@
 // own. This header holds the owner type and the exact entries of the program's numbers.
 #pragma once
 
-#include <eulervop/certify/interval.hpp>
 #include <eulervop/core/scalar.hpp>
 
 #include <arb.h>
+#include <mpfr.h>
 
 #include <bit>
 #include <cstdint>
@@ -68,8 +68,8 @@ struct mag_value {
 
 namespace detail {
 
-// A binary128 number exactly, from its fields (IEEE 754-2008, 3.4; as set_exact_binary128 in
-// interval.hpp): the 113-bit integer as two words, and the exponent.
+// A binary128 number exactly, from its fields (IEEE 754-2008, 3.4): the 113-bit integer as two
+// words, and the exponent.
 inline void set_exact_binary128(ball& out, __float128 x) {
   static_assert(std::endian::native == std::endian::little, "binary128 fields read as little-endian words");
   std::uint64_t w[2];
@@ -108,16 +108,6 @@ void set_exact(ball& out, const T& x) {
   } else {
     detail::set_exact_binary128(out, x.backend().value());
   }
-}
-
-// The ball of an MPFI interval (its two ends, rounded outward to `prec` bits).
-inline void set_interval(ball& out, const interval& x, slong prec) {
-  arb_set_interval_mpfr(out.get(), &x.get()->left, &x.get()->right, prec);
-}
-inline ball ball_of(const interval& x, slong prec) {
-  ball out;
-  set_interval(out, x, prec);
-  return out;
 }
 
 // A ball that holds the real number a decimal text denotes ("0.1" is one tenth).

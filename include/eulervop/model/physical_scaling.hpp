@@ -15,8 +15,8 @@
 // (docs/design.md section 1.7).
 //
 // Rates and torques are in the body's axes as the scene gives them. The number type N is a
-// scalar (core/scalar.hpp) or, for the certificate, a ball (certify/ball_value.hpp) or an interval
-// (certify/interval.hpp): these are the only statement of Eqs. 2-4 and 8-9.
+// scalar (core/scalar.hpp) or, for the certificate, a ball (certify/ball_value.hpp): these are the
+// only statement of Eqs. 2-4 and 8-9.
 #pragma once
 
 #include <eulervop/core/vec3.hpp>
@@ -52,7 +52,7 @@ class physical_scaling {
   }
   explicit physical_scaling(const principal_axes<N>& axes) : physical_scaling(axes, axes.moments()) {}
   // The normalized form for moments already in the principal order of `axes` (which need not
-  // have been sorted in N: a ball's or an interval's order is that of its decimals' doubles).
+  // have been sorted in N: a ball's order is that of its decimals' doubles).
   physical_scaling(const axis_permutation& axes, const inertia<N>& principal) : axes_(axes), I_(principal) {
     using std::sqrt;
     const inertia<N>& I = I_;

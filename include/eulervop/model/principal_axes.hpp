@@ -15,7 +15,7 @@
 namespace eulervop {
 
 // Principal moments of inertia, I1 < I2 < I3 (paper Eq. 3 requires the strict order), in any
-// number type (a scalar, or a ball or an interval for the certificate).
+// number type (a scalar, or a ball for the certificate).
 template <class T>
 struct inertia {
   T I1, I2, I3;
