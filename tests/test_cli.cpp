@@ -402,7 +402,7 @@ TEST(Reference, CertifyTakesPiecesAndFormulasOfTheTime) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string csv = read_file(dir.path() / "ref.csv");
   EXPECT_NE(csv.find("\ntau,Omega1,Omega2,Omega3,radius\n"), std::string::npos) << csv;
-  EXPECT_NE(csv.find("general path"), std::string::npos);
+  EXPECT_NE(csv.find("# certify_method: arb bits=177 ball Chebyshev models, 3-state Lohner parallelepiped\n"), std::string::npos);
 }
 
 // `check` takes a coefficient-form trajectory by the scene's names, t and y1..3, and names the

@@ -45,7 +45,7 @@ class general_path {
   certified_radii radii(const T& tau, const T& t, const certified_cells& cells);
 
   std::string method() const {
-    return fmt::format("arb bits={} ball Chebyshev models, {}-state Lohner QR propagation (general path)", bits_,
+    return fmt::format("arb bits={} ball Chebyshev models, {}-state Lohner parallelepiped", bits_,
                        certifier_ ? certifier_->problem().dimension : 0);
   }
 

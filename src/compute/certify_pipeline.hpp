@@ -24,6 +24,8 @@
 #include <future>
 #include <memory>
 #include <mutex>
+#include <pthread.h>
+#include <sched.h>
 #include <thread>
 #include <utility>
 #include <variant>
@@ -75,6 +77,19 @@ class certify_pipeline {
   std::thread sequencer_;
 };
 
+// The pipeline's threads are CPU-bound, and with the integration there are more of them than cores.
+// Under Linux's default policy a woken thread preempts a running one, and each such switch costs a
+// worker its check's working set in cache: on two cores the certificate took 1.2 to 1.35 times the
+// CPU it takes on one (B5 to t = 1000, 1,500 switches). SCHED_BATCH (sched(7)) marks them as batch
+// work, which a wake-up does not preempt: 1.05 times, a third of the switches. Where the policy
+// cannot be set, the threads run as they are (the same output either way).
+inline void run_as_batch() {
+#ifdef SCHED_BATCH
+  const sched_param none{};
+  (void)pthread_setschedparam(pthread_self(), SCHED_BATCH, &none);
+#endif
+}
+
 // The threads take the caller's MPFR precision (a thread-local setting): the rows format their
 // times in it, as on the caller's thread.
 template <class Certifier>
@@ -86,10 +101,12 @@ certify_pipeline<Certifier>::certify_pipeline(Certifier& cert, unsigned workers,
   for (unsigned w = 0; w < workers; ++w)
     workers_.emplace_back([this, digits10] {
       mpfr_real::thread_default_precision(digits10);
+      run_as_batch();
       work();
     });
   sequencer_ = std::thread([this, digits10] {
     mpfr_real::thread_default_precision(digits10);
+    run_as_batch();
     sequence();
   });
 }

@@ -1,6 +1,5 @@
 #include "compute/run_certificate.hpp"
 
-#include <cstdlib>
 #include <algorithm>
 #include <atomic>
 #include <filesystem>
@@ -29,7 +28,6 @@ unsigned certify_workers() {
   unsigned cores = std::thread::hardware_concurrency();
   cpu_set_t allowed;
   if (sched_getaffinity(0, sizeof allowed, &allowed) == 0) cores = static_cast<unsigned>(CPU_COUNT(&allowed));
-  if (const char* w = std::getenv("EV_WORKERS")) return static_cast<unsigned>(std::atoi(w));
   return cores >= 2 ? std::min(cores, 4u) : 0;
 }
 
