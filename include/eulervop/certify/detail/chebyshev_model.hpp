@@ -414,16 +414,6 @@ class chebyshev_values {
   arb_ptr T_;
 };
 
-// f(s) enclosed from the values T_k(s) (at least a's length of them); the remainder included.
-inline void evaluate(ball& out, const chebyshev_model& a, const chebyshev_values& T, slong prec) {
-  const slong n = a.length();
-  if (n == 0)
-    arb_zero(out.get());
-  else
-    arb_dot(out.get(), nullptr, 0, a.coeffs(), 1, T.get(), 1, n, prec);
-  arb_add_error_mag(out.get(), a.remainder());
-}
-
 // f(s) enclosed from its first `length` coefficients, the rest bounded by `tail` (>= the sum of
 // their magnitudes, as length_above gives); the remainder included.
 inline void evaluate_head(ball& out, const chebyshev_model& a, slong length, const mag_t tail,
@@ -431,6 +421,12 @@ inline void evaluate_head(ball& out, const chebyshev_model& a, slong length, con
   arb_dot(out.get(), nullptr, 0, a.coeffs(), 1, T.get(), 1, length, prec);
   arb_add_error_mag(out.get(), a.remainder());
   arb_add_error_mag(out.get(), tail);
+}
+
+// f(s) enclosed from the values T_k(s) (at least a's length of them); the remainder included.
+inline void evaluate(ball& out, const chebyshev_model& a, const chebyshev_values& T, slong prec) {
+  const mag_value no_tail;
+  evaluate_head(out, a, a.length(), no_tail.m, T, prec);
 }
 
 // f(s) enclosed, s in [-1, 1] (a ball); the remainder included.

@@ -84,71 +84,72 @@ inline bool bound(const fmpz* n, slong e, double& out) {
   return true;
 }
 
+// sum_k of the terms bound(k, t) gives, in doubles rounded up; where a term cannot be bounded
+// (false), the whole sum by `slow` (Arb's mag arithmetic).
+template <class Bound, class Slow>
+void sum_or(mag_t out, slong n, Bound bound, Slow slow) {
+  upper_sum sum;
+  for (slong k = 0; k < n; ++k)
+    if (!bound(k, sum)) return slow();
+  mag_set_d(out, sum.s);
+}
+
 }  // namespace magnitude
 
 // out >= sum_k |x_k| (midpoint and radius) over n balls.
 inline void magnitude_sum(mag_t out, arb_srcptr x, slong n) {
-  magnitude::upper_sum sum;
-  double mid = 0, r = 0;
-  bool fast = true;
-  for (slong k = 0; k < n && fast; ++k) {
-    fast = magnitude::bound(arb_midref(x + k), mid) && magnitude::bound(arb_radref(x + k), r);
+  const auto bound = [x](slong k, magnitude::upper_sum& sum) {
+    double mid = 0, r = 0;
+    if (!magnitude::bound(arb_midref(x + k), mid) || !magnitude::bound(arb_radref(x + k), r)) return false;
     sum.add(mid);
     sum.add(r);
-  }
-  if (fast) {
-    mag_set_d(out, sum.s);
-    return;
-  }
-  mag_t m;
-  mag_init(m);
-  mag_zero(out);
-  for (slong k = 0; k < n; ++k) {
-    arb_get_mag(m, x + k);
-    mag_add(out, out, m);
-  }
-  mag_clear(m);
+    return true;
+  };
+  magnitude::sum_or(out, n, bound, [&] {
+    mag_t m;
+    mag_init(m);
+    mag_zero(out);
+    for (slong k = 0; k < n; ++k) {
+      arb_get_mag(m, x + k);
+      mag_add(out, out, m);
+    }
+    mag_clear(m);
+  });
 }
 
 // out >= sum_k rad(x_k) over n balls.
 inline void radius_sum(mag_t out, arb_srcptr x, slong n) {
-  magnitude::upper_sum sum;
-  double r = 0;
-  bool fast = true;
-  for (slong k = 0; k < n && fast; ++k) {
-    fast = magnitude::bound(arb_radref(x + k), r);
+  const auto bound = [x](slong k, magnitude::upper_sum& sum) {
+    double r = 0;
+    if (!magnitude::bound(arb_radref(x + k), r)) return false;
     sum.add(r);
-  }
-  if (fast) {
-    mag_set_d(out, sum.s);
-    return;
-  }
-  mag_zero(out);
-  for (slong k = 0; k < n; ++k) mag_add(out, out, arb_radref(x + k));
+    return true;
+  };
+  magnitude::sum_or(out, n, bound, [&] {
+    mag_zero(out);
+    for (slong k = 0; k < n; ++k) mag_add(out, out, arb_radref(x + k));
+  });
 }
 
 // out >= sum_k |c_k| 2^e over n integers.
 inline void magnitude_sum(mag_t out, const fmpz* c, slong n, slong e) {
-  magnitude::upper_sum sum;
-  double t = 0;
-  bool fast = true;
-  for (slong k = 0; k < n && fast; ++k) {
-    fast = magnitude::bound(c + k, e, t);
+  const auto bound = [c, e](slong k, magnitude::upper_sum& sum) {
+    double t = 0;
+    if (!magnitude::bound(c + k, e, t)) return false;
     sum.add(t);
-  }
-  if (fast) {
-    mag_set_d(out, sum.s);
-    return;
-  }
-  mag_t m;
-  mag_init(m);
-  mag_zero(out);
-  for (slong k = 0; k < n; ++k) {
-    mag_set_fmpz(m, c + k);
-    mag_add(out, out, m);
-  }
-  mag_mul_2exp_si(out, out, e);
-  mag_clear(m);
+    return true;
+  };
+  magnitude::sum_or(out, n, bound, [&] {
+    mag_t m;
+    mag_init(m);
+    mag_zero(out);
+    for (slong k = 0; k < n; ++k) {
+      mag_set_fmpz(m, c + k);
+      mag_add(out, out, m);
+    }
+    mag_mul_2exp_si(out, out, e);
+    mag_clear(m);
+  });
 }
 
 }  // namespace eulervop::detail
