@@ -88,7 +88,7 @@ TEST(BallLinearFlow, PhiAndUHoldTheExactSolutions) {
       }
     mag_sqrt(jm.m, jm.m);
     const double j = mag_get_d(jm.m);
-    eulervop::detail::ball_linear_flow flow(D, 400);
+    eulervop::detail::ball_linear_flow flow(D);
     flow.load_jacobian(J, weight);
     ASSERT_TRUE(flow.variational(hl, j * 2 * fc.hl));
     ASSERT_TRUE(flow.integral_term(r, hl));
@@ -141,7 +141,7 @@ TEST(BallLinearFlow, PhiAndUHoldTheExactSolutions) {
       for (const eulervop::detail::chebyshev_model& m : flow.u()) length = std::max(length, m.length());
       const eulervop::detail::chebyshev_values Ts(length, point(mpfr_real(sd)), 400);
       std::vector<ball> Pn, un(D);
-      flow.Phi_at(Ts, Pn);
+      flow.Phi_at(Ts, Pn, 400);
       for (std::size_t i = 0; i < D; ++i) eulervop::detail::evaluate(un[i], flow.u()[i], Ts, 400);
       const double dt = fc.hl * (sd + 1);
       const double factor = 1 + dt * std::exp(j * dt) * j;

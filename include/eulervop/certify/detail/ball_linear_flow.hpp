@@ -41,9 +41,8 @@ namespace eulervop::detail {
 
 class ball_linear_flow {
  public:
-  // `prec`: the precision of the values given to the rows.
-  ball_linear_flow(std::size_t dimension, slong prec)
-      : D_(dimension), prec_(prec), J_(dimension * dimension), Ju_(dimension * dimension), rg_(dimension) {}
+  explicit ball_linear_flow(std::size_t dimension)
+      : D_(dimension), J_(dimension * dimension), Ju_(dimension * dimension), rg_(dimension) {}
 
   // The Jacobian's models (D x D, row-major; an empty model is 0) and the weights of the norm
   // (powers of two): W J W^-1 on the grids of the two residuals, and as doubles for the iterations.
@@ -57,12 +56,14 @@ class ball_linear_flow {
   // (|W R W^-1|, weights powers of two). false when the iteration does not converge to a finite
   // value.
   bool variational(const ball& hl, double jh);
-  // u_num for the residual r (D models), and the bound of its residual (|W rho|).
-  bool integral_term(const std::vector<chebyshev_model>& r, const ball& hl);
+  // u_num for the residual r (D models), and the bound of its residual (|W rho|). The nodes
+  // resolve a residual of `span` coefficients (r's own length where that is longer): the length
+  // before r's tail went into its remainder.
+  bool integral_term(const std::vector<chebyshev_model>& r, const ball& hl, slong span = 0);
 
-  // Phi_num(s) (D x D) at s in [-1, 1], in balls, from the values T_k(s) (at least
-  // phi_length() of them).
-  void Phi_at(const chebyshev_values& T, std::vector<ball>& out) const;
+  // Phi_num(s) (D x D) at s in [-1, 1], in balls at `prec` bits, from the values T_k(s) (at
+  // least phi_length() of them).
+  void Phi_at(const chebyshev_values& T, std::vector<ball>& out, slong prec) const;
   slong phi_length() const {
     slong n = 0;
     for (const chebyshev_model& m : phi_) n = std::max(n, m.length());
@@ -102,7 +103,6 @@ class ball_linear_flow {
   void bound_u_residual(const ball& hl, slong e);
 
   std::size_t D_;
-  slong prec_;
   grid_models J_, Ju_;
   std::vector<std::vector<double>> Jd_;  // the Jacobian's midpoints as doubles
   std::vector<chebyshev_model> phi_, u_;  // Phi_num (D x D) and u_num (D, unscaled), exact
@@ -278,11 +278,13 @@ inline void ball_linear_flow::bound_phi_residual(const ball& hl) {
 // u_num for r: the iteration Y = hl S (J (Y + r)) on nodes that resolve r, in double, with r
 // scaled by a power of two to order one (its size is the reference's rounding, which can lie
 // below double's range).
-inline bool ball_linear_flow::integral_term(const std::vector<chebyshev_model>& r, const ball& hl) {
+inline bool ball_linear_flow::integral_term(const std::vector<chebyshev_model>& r, const ball& hl, slong span) {
   const slong len = scale_residual(r);
   // Nodes that resolve r's low coefficients, where u's response lies (u integrates J r): 65 for a
-  // quadratic field's residual of about 84, where more changed no radius (measured).
-  const auto rlen = static_cast<std::size_t>(len);
+  // quadratic field's residual of about 84, where more changed no radius (measured). They follow
+  // the residual's whole length, not its cut one: on fewer nodes u_num's residual, an unsigned
+  // ball, grew (mpfr:256 radii 200 to 500 times, with quad's unchanged).
+  const auto rlen = static_cast<std::size_t>(std::max(len, span));
   const std::size_t m = std::min(rlen + 8, std::max<std::size_t>(65, rlen / 2 + 24));
   const chebyshev_basis<double>& b = lobatto_basis(m);
   const double hld = arf_get_d(arb_midref(hl.get()), ARF_RND_NEAR);
@@ -427,10 +429,10 @@ inline void ball_linear_flow::bound_u_residual(const ball& hl, slong e) {
   mag_mul_2exp_si(u_res_.m, u_res_.m, -u_exp_);
 }
 
-inline void ball_linear_flow::Phi_at(const chebyshev_values& T, std::vector<ball>& out) const {
+inline void ball_linear_flow::Phi_at(const chebyshev_values& T, std::vector<ball>& out, slong prec) const {
   out.resize(D_ * D_);
   for (std::size_t q = 0; q < D_ * D_; ++q) {
-    evaluate(out[q], phi_[q], T, prec_);
+    evaluate(out[q], phi_[q], T, prec);
     arb_mul_2exp_si(out[q].get(), out[q].get(), w_[q % D_] - w_[q / D_]);
   }
 }

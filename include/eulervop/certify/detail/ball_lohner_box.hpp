@@ -88,13 +88,13 @@ class ball_lohner_box {
     balls_.image_add(out, prec_);
   }
   // Phi e componentwise, for a D x D matrix of balls Phi.
-  void image(const std::vector<ball>& Phi, std::vector<ball>& out) const {
+  void image(const std::vector<ball>& Phi, std::vector<ball>& out, slong prec) const {
     out.assign(D_, ball());
     std::vector<ball> A(D_ * D_);
     for (const part* p : {&set_, &balls_}) {
-      p->times(Phi, A, prec_);
+      p->times(Phi, A, prec);
       for (std::size_t i = 0; i < D_; ++i)
-        for (std::size_t k = 0; k < D_; ++k) arb_addmul(out[i].get(), A[i * D_ + k].get(), p->v[k].get(), prec_);
+        for (std::size_t k = 0; k < D_; ++k) arb_addmul(out[i].get(), A[i * D_ + k].get(), p->v[k].get(), prec);
     }
   }
   // To the segment's end: e(b) in Phi1 e(a) + w + [-b_i, b_i] in each component. False when a new
