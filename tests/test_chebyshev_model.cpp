@@ -113,10 +113,10 @@ TEST(ChebyshevModel, IntegralsHoldTheIntegralOfEveryFunction) {
     ball hl;
     arb_set_d(hl.get(), 0.375 + static_cast<double>(rng() % 1000) / 333);
     eulervop::detail::integral_weights w;
-    w.set(hl, n, 0, 200);
+    w.set(hl, n, 200);
     chebyshev_model I;
     ball I1;
-    eulervop::detail::picard_residual_model(I, I1, a, hl, w, ball(), chebyshev_model(), 200);
+    eulervop::detail::picard_residual_model(I, I1, a, hl, w, ball(), chebyshev_model(), ball(), 200);
     const represented f = pick(a, rng);
     const mpfr_real h = to_mpfr(arb_midref(hl.get()));
     for (const mpfr_real& s : points(rng)) {
@@ -140,10 +140,11 @@ TEST(ChebyshevModel, PicardResidualsHoldEveryResidual) {
     ball hl, start = decimal(static_cast<double>(rng() % 2001) / 1000 - 1);
     arb_set_d(hl.get(), 0.375 + static_cast<double>(rng() % 1000) / 333);
     eulervop::detail::integral_weights w;
-    w.set(hl, nf, np, 177);
+    w.set(hl, nf, 177);
     chebyshev_model r;
-    ball r1;
-    eulervop::detail::picard_residual_model(r, r1, F, hl, w, start, P, 177);
+    ball r1, end;  // P(1), its remainder included
+    eulervop::detail::evaluate(end, P, point(mpfr_real(1)), 177);
+    eulervop::detail::picard_residual_model(r, r1, F, hl, w, start, P, end, 177);
     const represented f = pick(F, rng), p = pick(P, rng);
     const mpfr_real h = to_mpfr(arb_midref(hl.get())), y0 = to_mpfr(arb_midref(start.get()));
     const auto truth = [&](const mpfr_real& s) { return y0 + h * integral_of(f, s) - p(s); };

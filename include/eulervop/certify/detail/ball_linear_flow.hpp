@@ -31,6 +31,7 @@
 
 #include <arb.h>
 #include <flint/fmpz_poly.h>
+#include <flint/fmpz_vec.h>
 
 #include <algorithm>
 #include <cmath>
@@ -101,6 +102,7 @@ class ball_linear_flow {
   void phi_at_nodes(const chebyshev_basis<double>& b);
   slong u_from_nodes(const chebyshev_basis<double>& b);
   void bound_u_residual(const ball& hl, slong e);
+  static void sum_at_one(ball& x, const fmpz_poly_t p, slong e);
 
   std::size_t D_;
   grid_models J_, Ju_;
@@ -223,10 +225,20 @@ inline void ball_linear_flow::phi_from_nodes() {
   const mag_value none;
   for (std::size_t q = 0; q < DD; ++q) {
     from_grid(phi_[q], phi_grid_[q].p, phi_e_, none.m);  // weighted
-    arb_zero(Phi1_[q].get());
-    for (slong k = 0; k < phi_[q].length(); ++k) arb_add(Phi1_[q].get(), Phi1_[q].get(), phi_[q].coeff(k), ARF_PREC_EXACT);
-    arb_mul_2exp_si(Phi1_[q].get(), Phi1_[q].get(), w_[q % D_] - w_[q / D_]);  // Phi_kj = w_j / w_k (W Phi W^-1)_kj
+    // Phi_kj = w_j / w_k (W Phi W^-1)_kj
+    sum_at_one(Phi1_[q], phi_grid_[q].p, phi_e_ + w_[q % D_] - w_[q / D_]);
   }
+}
+
+// x = p(1) 2^e = (sum_k p_k) 2^e exactly (T_k(1) = 1): one integer sum instead of a ball's per
+// coefficient.
+inline void ball_linear_flow::sum_at_one(ball& x, const fmpz_poly_t p, slong e) {
+  fmpz_t s;
+  fmpz_init(s);
+  _fmpz_vec_sum(s, p->coeffs, p->length);
+  set_fmpz_2exp(arb_midref(x.get()), s, e);
+  mag_zero(arb_radref(x.get()));
+  fmpz_clear(s);
 }
 
 // Phi_num's residual R_ij = delta_ij + hl int sum_k J_ik phi_kj - phi_ij, the sums exact on the
@@ -374,8 +386,7 @@ inline slong ball_linear_flow::u_from_nodes(const chebyshev_basis<double>& b) {
     fmpz_poly_scalar_mul_2exp(wr_[i].p, rg_.poly(i), static_cast<ulong>(rg_.exponent() - e));
     fmpz_poly_add(wr_[i].p, wr_[i].p, u_grid_[i].p);
     from_grid(u_[i], u_grid_[i].p, e - u_exp_ - w_[i], none.m);  // unscaled
-    arb_zero(u1_[i].get());
-    for (slong k = 0; k < u_[i].length(); ++k) arb_add(u1_[i].get(), u1_[i].get(), u_[i].coeff(k), ARF_PREC_EXACT);
+    sum_at_one(u1_[i], u_grid_[i].p, e - u_exp_ - w_[i]);
   }
   return e;
 }

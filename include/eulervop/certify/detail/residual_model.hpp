@@ -4,8 +4,7 @@
 // The integral's coefficients are hl (a_{k-1} - a_{k+1}) / (2k) (hl (2 a_0 - a_2) / 2 for k = 1;
 // Mason and Handscomb, "Chebyshev Polynomials", 2003, section 2.4.4), and its constant term the
 // one for which it vanishes at s = -1, where T_k = (-1)^k. The weights hl / (2k) are the same
-// for every component of a segment, so they are enclosed once per segment; the alternating sum
-// and r(1) = sum_k r_k are Arb's dot products (one rounding each instead of one per term).
+// for every component of a segment, so they are enclosed once per segment.
 #pragma once
 
 #include <eulervop/certify/ball.hpp>
@@ -18,32 +17,33 @@
 
 namespace eulervop::detail {
 
-// hl / (2k) for k = 1..n, and the signs the sums take (for sums of up to `terms` terms).
+// hl / (2k) for k = 1..n.
 class integral_weights {
  public:
-  void set(const ball& hl, slong n, slong terms, slong prec) {
+  void set(const ball& hl, slong n, slong prec) {
     if (static_cast<slong>(w_.size()) < n + 1) w_.resize(static_cast<std::size_t>(n + 1));
     for (slong k = 1; k <= n; ++k) arb_div_ui(w_[k].get(), hl.get(), static_cast<ulong>(2 * k), prec);
-    while (static_cast<slong>(alternating_.size()) < std::max(n + 1, terms)) {
-      alternating_.push_back(alternating_.size() % 2 ? 1 : -1);  // (-1)^(k+1)
-      ones_.push_back(1);
-    }
+    arb_one(one_.get());
   }
   arb_srcptr operator[](slong k) const { return w_[static_cast<std::size_t>(k)].get(); }
-  const slong* alternating() const { return alternating_.data(); }  // (-1)^(k+1) at k
-  const slong* ones() const { return ones_.data(); }
+  arb_srcptr one() const { return one_.get(); }  // the sums' weight (a dot product of step 0)
 
  private:
   std::vector<ball> w_;
-  std::vector<slong> alternating_, ones_;
+  ball one_;
 };
 
 // r = start + hl int_{-1}^s F - P and r1 = r(1) (a ball holding every value r's remainder
-// allows). `w` holds hl / (2k) up to k = F.length(), and signs for F.length() + 1 and P.length()
-// terms. r is distinct from F and P.
+// allows), `end` a ball holding P(1). `w` holds hl / (2k) up to k = F.length(). r is distinct from
+// F and P.
+//
+// With b_k the integral's coefficients and S_odd, S_even the sums of its odd and even ones, the
+// constant term is start + S_odd - S_even (so that the integral vanishes at s = -1), and since
+// T_k(1) = 1 the integral at s = 1 is 2 S_odd: r(1) = start - P(1) + 2 S_odd, each sum one of
+// Arb's dot products over half the coefficients.
 inline void picard_residual_model(chebyshev_model& r, ball& r1, const chebyshev_model& F, const ball& hl,
                                   const integral_weights& w, const ball& start, const chebyshev_model& P,
-                                  slong prec) {
+                                  const ball& end, slong prec) {
   const slong n = F.length();
   const slong len = std::max(n + 1, P.length());
   r.reserve_length(len);
@@ -66,15 +66,23 @@ inline void picard_residual_model(chebyshev_model& r, ball& r1, const chebyshev_
       arb_mul(b, F.coeff(k - 1), w[k], prec);
     }
   }
-  // The constant term: start + sum_{k >= 1} (-1)^(k+1) b_k, before P.
-  arb_dot_si(r.coeff(0), start.get(), 0, r.coeff(1), 1, w.alternating() + 1, 1, std::min(n, len - 1), prec);
+  const slong m = std::min(n, len - 1);  // b_1 .. b_m
+  ball odd;
+  arb_dot(odd.get(), nullptr, 0, r.coeff(1), 2, w.one(), 0, (m + 1) / 2, prec);
+  arb_add(d.get(), start.get(), odd.get(), prec);
+  if (m >= 2)
+    arb_dot(r.coeff(0), d.get(), 1, r.coeff(2), 2, w.one(), 0, m / 2, prec);
+  else
+    arb_set(r.coeff(0), d.get());
   const slong np = P.length();
   for (slong k = 0; k < np; ++k) arb_sub(r.coeff(k), r.coeff(k), P.coeff(k), prec);
   arb_get_mag(r.remainder(), hl.get());
   mag_mul(r.remainder(), r.remainder(), F.remainder());
   mag_mul_2exp_si(r.remainder(), r.remainder(), 1);
   mag_add(r.remainder(), r.remainder(), P.remainder());
-  arb_dot_si(r1.get(), nullptr, 0, r.coeffs(), 1, w.ones(), 1, len, prec);
+  arb_mul_2exp_si(r1.get(), odd.get(), 1);
+  arb_add(r1.get(), r1.get(), start.get(), prec);
+  arb_sub(r1.get(), r1.get(), end.get(), prec);
   arb_add_error_mag(r1.get(), r.remainder());
 }
 
