@@ -85,6 +85,26 @@ struct column_sum {
     }
   }
 
+  // sum += a b (negative = 0) or -a b (negative = 1), a and b of L limbs: each limb product goes
+  // straight into its column (a multiply and three additions), without product_columns between.
+  [[gnu::always_inline]] void add_product(const mp_limb_t* a, const mp_limb_t* b, unsigned negative) {
+    wide* lo = low[negative];
+    std::uint64_t* hi = high[negative];
+    [&]<std::size_t... K>(std::index_sequence<K...>) {
+      (
+          [&] {
+            constexpr std::size_t I = K / L, J = K % L;
+            if constexpr (I + J >= lowest) {
+              const wide p = static_cast<wide>(a[I]) * b[J];
+              wide& c = lo[I + J - lowest];
+              c += p;
+              hi[I + J - lowest] += c < p;
+            }
+          }(),
+          ...);
+    }(std::make_index_sequence<L * L>{});
+  }
+
   // The sum in two's complement on out[0, n), out[0] the column `lowest`; n >= count + 2 (each
   // column spans three limbs), and the sum must fit. One pass over the limbs: limb t gathers the
   // low, middle and top words of columns t, t - 1 and t - 2 of each sign.

@@ -266,11 +266,9 @@ void ball_node_transform::apply_on_limbs(arb_mat_t out) {
       mag_add(t.m, g.Mmax[k].m, g.dM[k].m);
       mag_addmul(E.m, t.m, radii.m);
       limbs::column_sum<L> sum;
-      for (std::size_t j = 0; j < half_; ++j) {
-        limbs::product_columns<L> p;
-        limbs::columns_of<L>(&g.q[(k * half_ + j) * L], &folds_[(folded + j) * L], p);
-        sum.add(p, (g.neg[k * half_ + j] ^ fold_neg_[folded + j]) & 1);
-      }
+      for (std::size_t j = 0; j < half_; ++j)
+        sum.add_product(&g.q[(k * half_ + j) * L], &folds_[(folded + j) * L],
+                        (g.neg[k * half_ + j] ^ fold_neg_[folded + j]) & 1);
       mp_limb_t* acc = acc_.data();
       sum.to_limbs(acc, W);
       const bool negative = acc[W - 1] >> 63;
