@@ -264,7 +264,7 @@ inline bool elementary_on_complex(elementary f, const acb_t z, acb_t out, slong 
 // thread (each costs O(n^2) enclosed cosines).
 class lobatto_interpolation {
  public:
-  lobatto_interpolation(slong prec, std::size_t n) : transform_(prec, n, 1), points_(n + 1) {
+  lobatto_interpolation(slong prec, std::size_t n) : prec_(prec), transform_(prec, n, 1), points_(n + 1), tables_(n + 1) {
     for (std::size_t j = 0; j <= n; ++j) {  // s_j = -cos(j pi / n)
       fmpq_t angle;
       fmpq_init(angle);
@@ -287,6 +287,15 @@ class lobatto_interpolation {
   }
 
   const ball& point(std::size_t j) const { return points_[j]; }
+  // p(s_j) for a polynomial p (its remainder not included), from the values T_k(s_j) kept per
+  // point: the points stay, the polynomials change from segment to segment, so each point's
+  // values are computed once (grown to the longest p asked).
+  void evaluate_at(ball& out, const chebyshev_model& p, std::size_t j) {
+    std::unique_ptr<chebyshev_values>& T = tables_[j];
+    const slong length = std::max<slong>(p.length(), 1);
+    if (!T || T->length() < length) T = std::make_unique<chebyshev_values>(length, points_[j], prec_);
+    arb_dot(out.get(), nullptr, 0, p.coeffs(), 1, T->get(), 1, p.length(), prec_);
+  }
   arb_ptr value(std::size_t j) { return transform_.value(j, 0); }
   // The interpolant's coefficients from the values set, into out (length n + 1).
   void coefficients(chebyshev_model& out) {
@@ -296,8 +305,10 @@ class lobatto_interpolation {
   }
 
  private:
+  slong prec_;
   ball_node_transform transform_;
   std::vector<ball> points_;
+  std::vector<std::unique_ptr<chebyshev_values>> tables_;
   arb_mat_t coefficients_;
 };
 
@@ -381,11 +392,9 @@ inline ellipse_choice choose_ellipse(elementary f, const chebyshev_model& u, dou
 // remainder), from the values f(p(s_j)) in balls.
 inline void interpolate(chebyshev_model& out, elementary f, const chebyshev_model& u, std::size_t n, slong prec) {
   lobatto_interpolation& li = lobatto_interpolation::of(prec, n);
-  chebyshev_model poly = u;
-  mag_zero(poly.remainder());
   ball p, v;
   for (std::size_t j = 0; j <= n; ++j) {
-    evaluate(p, poly, li.point(j), prec);
+    li.evaluate_at(p, u, j);
     if (!elementary_on_ball(f, p, &v, nullptr, nullptr, prec))
       throw std::domain_error("a value outside the function's domain on the segment");
     arb_set(li.value(j), v.get());
