@@ -5,9 +5,13 @@
 // through the prepared segments and runs the row tasks (a row's radius and its line of output)
 // between them. So the output is the same bytes as checking and writing on one thread.
 //
-// At most `max_in_flight` segments are in flight: the integration waits when the certificate
-// falls behind, so memory does not grow with the span, until a quarter of them are done (woken
-// once for those, not once per item: a wake-up costs about as much as a row). The first failure
+// At most `max_in_flight` segments wait for a worker or are being prepared: the integration waits
+// when the workers fall behind, so memory does not grow with the span, until a quarter of them
+// are prepared (woken once for those, not once per item: a wake-up costs about as much as a
+// row). Prepared segments may wait for the in-order thread up to four times that many: it is
+// fast on average, but behind for a while at a time (a run of rows), and an integration waiting
+// for it left both workers without work (on two cores, 20 ms of one core idle in the paper
+// scene's 0.7 s, and 13 ms more with one worker on the oldest segment). The first failure
 // (of a preparation, in segment order, or of an advance or a row) stops the pipeline and is
 // rethrown to the caller at its next call.
 #pragma once
@@ -59,6 +63,7 @@ class certify_pipeline {
   void push(item next, bool is_segment);
   void throw_if_failed();
   void work();      // a worker: preparations, in the order given
+  void preparation_ended();  // room for the integration
   void sequence();  // the order-dependent part
 
   Certifier& cert_;
@@ -69,8 +74,12 @@ class certify_pipeline {
   std::deque<std::packaged_task<std::unique_ptr<check>()>> jobs_;
   std::deque<item> items_;
   std::vector<std::unique_ptr<check>> spare_checks_;
-  std::size_t segments_in_flight_ = 0;
-  std::size_t resume_in_flight_;  // a waiting integration goes on at this many in flight
+  std::size_t segments_in_flight_ = 0;  // added, not yet advanced
+  std::size_t unprepared_ = 0;          // added, not yet prepared
+  std::size_t resume_in_flight_;  // a waiting integration goes on at this many unprepared
+  bool room() const {             // for the integration's next segment
+    return unprepared_ <= resume_in_flight_ && segments_in_flight_ < 4 * max_in_flight_;
+  }
   bool stop_ = false, busy_ = false, producer_waits_ = false;
   std::exception_ptr failure_;
   std::vector<std::thread> workers_;
@@ -136,6 +145,10 @@ void certify_pipeline<Certifier>::add_segment(const chebyshev_segment<T, D>& seg
   throw_if_failed();
   // The worker takes (or builds) the check: building one costs more than a segment's copy.
   std::packaged_task<std::unique_ptr<check>()> job([this, seg] {
+    struct prepared_one {  // counted out however the preparation ends
+      certify_pipeline* p;
+      ~prepared_one() { p->preparation_ended(); }
+    } counted{this};
     std::unique_ptr<check> c = take_check();
     c->prepare(seg);
     return c;
@@ -143,12 +156,13 @@ void certify_pipeline<Certifier>::add_segment(const chebyshev_segment<T, D>& seg
   prepared result = job.get_future();
   {
     std::unique_lock<std::mutex> lock(mutex_);
-    if (segments_in_flight_ >= max_in_flight_) {
+    if (unprepared_ >= max_in_flight_ || segments_in_flight_ >= 4 * max_in_flight_) {
       producer_waits_ = true;
-      item_done_.wait(lock, [this] { return segments_in_flight_ <= resume_in_flight_ || failure_ || stop_; });
+      item_done_.wait(lock, [this] { return room() || failure_ || stop_; });
       producer_waits_ = false;
     }
     jobs_.push_back(std::move(job));
+    ++unprepared_;
   }
   job_ready_.notify_one();
   push(std::move(result), true);
@@ -203,6 +217,17 @@ void certify_pipeline<Certifier>::throw_if_failed() {
 }
 
 template <class Certifier>
+void certify_pipeline<Certifier>::preparation_ended() {
+  bool wake = false;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    --unprepared_;
+    wake = producer_waits_ && room();
+  }
+  if (wake) item_done_.notify_all();
+}
+
+template <class Certifier>
 void certify_pipeline<Certifier>::work() {
   for (;;) {
     std::packaged_task<std::unique_ptr<check>()> job;
@@ -247,7 +272,7 @@ void certify_pipeline<Certifier>::sequence() {
       if (failure && !failure_) failure_ = failure;
       busy_ = false;
       // Who waits on item_done_: the integration for room (add_segment), finish() for the end.
-      wake = failure_ || items_.empty() || (producer_waits_ && segments_in_flight_ <= resume_in_flight_);
+      wake = failure_ || items_.empty() || (producer_waits_ && room());
     }
     if (wake) item_done_.notify_all();
     if (failure) return;
