@@ -1,11 +1,15 @@
 #include "compute/run_certificate.hpp"
 
+#include <eulervop/core/scalar.hpp>
+
 #include <algorithm>
 #include <atomic>
 #include <filesystem>
+#include <future>
 #include <stdexcept>
 #include <system_error>
 #include <thread>
+#include <utility>
 
 #include <dlfcn.h>
 #include <sched.h>
@@ -66,17 +70,60 @@ run_certificate_factory load_certificate_module() {
                            (failure.empty() ? "not found at " + searched : failure));
 }
 
+// The certificate of a module being loaded on another thread: loading it (Arb and FLINT, which
+// bind every symbol at load, about 15 million instructions) then overlaps the integrator's own
+// set-up instead of preceding it. Every call waits for it, and a module that could not be loaded
+// throws at the first (close() then has nothing to close).
+class deferred_certificate final : public run_certificate {
+ public:
+  explicit deferred_certificate(std::shared_future<std::shared_ptr<run_certificate>> made) : made_(std::move(made)) {}
+
+  void add_segment(const chebyshev_segment<double, 3>& seg, const std::vector<double>& nodes) override { get().add_segment(seg, nodes); }
+  void add_segment(const chebyshev_segment<double, 7>& seg, const std::vector<double>& nodes) override { get().add_segment(seg, nodes); }
+  void add_segment(const chebyshev_segment<quad, 3>& seg, const std::vector<quad>& nodes) override { get().add_segment(seg, nodes); }
+  void add_segment(const chebyshev_segment<quad, 7>& seg, const std::vector<quad>& nodes) override { get().add_segment(seg, nodes); }
+  void add_segment(const chebyshev_segment<mpfr_real, 3>& seg, const std::vector<mpfr_real>& nodes) override {
+    get().add_segment(seg, nodes);
+  }
+  void add_segment(const chebyshev_segment<mpfr_real, 7>& seg, const std::vector<mpfr_real>& nodes) override {
+    get().add_segment(seg, nodes);
+  }
+  void row(std::function<void()> task) override { get().row(std::move(task)); }
+  void finish() override { get().finish(); }
+  void close() override {
+    try {
+      get().close();
+    } catch (...) {  // never made: nothing runs
+    }
+  }
+  certified_radii radii(const double& tau, const double& t, const certified_cells& cells) override { return get().radii(tau, t, cells); }
+  certified_radii radii(const quad& tau, const quad& t, const certified_cells& cells) override { return get().radii(tau, t, cells); }
+  certified_radii radii(const mpfr_real& tau, const mpfr_real& t, const certified_cells& cells) override {
+    return get().radii(tau, t, cells);
+  }
+  const certified_maxima& maxima() const override { return get().maxima(); }
+  std::string method() const override { return get().method(); }
+
+ private:
+  run_certificate& get() const { return *made_.get(); }  // shared_future::get: safe from any thread
+  std::shared_future<std::shared_ptr<run_certificate>> made_;
+};
+
 }  // namespace
 
 void link_run_certificate(run_certificate_factory make) { linked_factory = make; }
 
 std::unique_ptr<run_certificate> make_run_certificate(const scene& s, const eulervop::precision& p, unsigned workers) {
-  run_certificate_factory make = linked_factory;
-  if (!make) {
-    static const run_certificate_factory loaded = load_certificate_module();
-    make = loaded;
-  }
-  return std::unique_ptr<run_certificate>(make(s, p, workers));
+  if (run_certificate_factory make = linked_factory) return std::unique_ptr<run_certificate>(make(s, p, workers));
+  // The thread takes the caller's MPFR precision (a thread-local setting), as the pipeline's do.
+  const unsigned digits10 = mpfr_real::thread_default_precision();
+  std::shared_future<std::shared_ptr<run_certificate>> made =
+      std::async(std::launch::async, [&s, &p, workers, digits10] {
+        mpfr_real::thread_default_precision(digits10);
+        static const run_certificate_factory loaded = load_certificate_module();
+        return std::shared_ptr<run_certificate>(loaded(s, p, workers));
+      }).share();
+  return std::make_unique<deferred_certificate>(std::move(made));
 }
 
 }  // namespace eulervop::app

@@ -60,10 +60,11 @@ class run_certificate {
   virtual std::string method() const = 0;
 };
 
-// The certificate of a run of scene `s` in precision `p`: from the certificate module, loaded at
-// the first call (from beside the program: <bindir>/../lib/eulervop or, in a build tree,
-// <bindir>/lib/eulervop), or linked in (the Python module links it). A module that cannot be
-// found or loaded is a std::runtime_error naming the places searched.
+// The certificate of a run of scene `s` in precision `p` (both must outlive it): from the
+// certificate module, loaded at the first call (from beside the program: <bindir>/../lib/eulervop
+// or, in a build tree, <bindir>/lib/eulervop) on a thread of its own while the caller goes on, or
+// linked in (the Python module links it). A module that cannot be found or loaded is a
+// std::runtime_error naming the places searched, thrown at the certificate's first use.
 std::unique_ptr<run_certificate> make_run_certificate(const scene& s, const eulervop::precision& p, unsigned workers);
 
 // What the certificate module defines under the name `eulervop_make_run_certificate`, and what it
