@@ -452,12 +452,36 @@ inline void truncate(chebyshev_model& a, slong length) {
 }
 
 // How many leading coefficients to keep so that the trailing ones' magnitudes sum to at most
-// `level` (at least one kept); that sum into `tail`.
+// `level` (at least one kept); that sum into `tail`. The sum runs in doubles rounded up
+// (magnitude_sum.hpp), against `level` as a double (exact: a mag has 30 bits); out of the doubles'
+// range, in Arb's mag arithmetic.
 inline slong length_above(const chebyshev_model& a, const mag_t level, mag_t tail) {
+  double cap = 0;
+  bool fast = magnitude::bound(level, cap);
+  magnitude::upper_sum sum;
+  slong keep = a.length();
+  while (fast && keep > 1) {
+    double mid = 0, r = 0;
+    arb_srcptr c = a.coeff(keep - 1);
+    if (!magnitude::bound(arb_midref(c), mid) || !magnitude::bound(arb_radref(c), r)) {
+      fast = false;
+      break;
+    }
+    magnitude::upper_sum next = sum;
+    next.add(mid);
+    next.add(r);
+    if (next.s > cap) break;
+    sum = next;
+    --keep;
+  }
+  if (fast) {
+    mag_set_d(tail, sum.s);
+    return keep;
+  }
   mag_t t;
   mag_init(t);
   mag_zero(tail);
-  slong keep = a.length();
+  keep = a.length();
   while (keep > 1) {
     arb_get_mag(t, a.coeff(keep - 1));
     mag_add(t, tail, t);
