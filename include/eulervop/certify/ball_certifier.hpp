@@ -267,7 +267,7 @@ inline void ball_segment_check::field_and_residual() {
   for (std::size_t i = 0; i < D; ++i) n = std::max(n, F[i].f.length());
   weights_.set(hl, n, prec);
   for (std::size_t i = 0; i < D; ++i) {
-    detail::picard_residual_model(r[i], r1[i], F[i].f, hl, weights_, start[i], P[i], end[i], prec);
+    detail::picard_residual_model(r[i], r1[i], F[i].f, hl, weights_, ball(), P[i], prec);  // r(-1) = 0
     for (std::size_t k = 0; k < D; ++k) J[i * D + k].swap(F[i].d[k]);  // F's jets take J's old storage
   }
 }

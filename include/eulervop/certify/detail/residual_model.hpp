@@ -17,72 +17,67 @@
 
 namespace eulervop::detail {
 
-// hl / (2k) for k = 1..n.
+// The integral's weights per coefficient k = 1..n, as pairs that multiply (F_{k-1}, F_{k+1}):
+// (2 w_1, -w_1) and (w_k, -w_k), w_k = hl / (2k).
 class integral_weights {
  public:
   void set(const ball& hl, slong n, slong prec) {
-    if (static_cast<slong>(w_.size()) < n + 1) w_.resize(static_cast<std::size_t>(n + 1));
-    for (slong k = 1; k <= n; ++k) arb_div_ui(w_[k].get(), hl.get(), static_cast<ulong>(2 * k), prec);
+    if (static_cast<slong>(pairs_.size()) < 2 * (n + 1)) pairs_.resize(static_cast<std::size_t>(2 * (n + 1)));
+    for (slong k = 1; k <= n; ++k) {
+      arb_ptr p = pairs_[static_cast<std::size_t>(2 * k)].get();
+      arb_div_ui(p, hl.get(), static_cast<ulong>(2 * k), prec);
+      arb_neg(p + 1, p);
+      if (k == 1) arb_mul_2exp_si(p, p, 1);
+    }
     arb_one(one_.get());
   }
-  arb_srcptr operator[](slong k) const { return w_[static_cast<std::size_t>(k)].get(); }
+  arb_srcptr pair(slong k) const { return pairs_[static_cast<std::size_t>(2 * k)].get(); }
   arb_srcptr one() const { return one_.get(); }  // the sums' weight (a dot product of step 0)
 
  private:
-  std::vector<ball> w_;
+  std::vector<ball> pairs_;  // contiguous: ball is an arb_struct
   ball one_;
 };
 
 // r = start + hl int_{-1}^s F - P and r1 = r(1) (a ball holding every value r's remainder
-// allows), `end` a ball holding P(1). `w` holds hl / (2k) up to k = F.length(). r is distinct from
-// F and P.
+// allows). `at_start` holds start - p(-1) for P's polynomial p (0 where start is P's value at
+// s = -1, as for a segment's interpolant); `w` holds the weights up to k = F.length(). r is
+// distinct from F and P.
 //
-// With b_k the integral's coefficients and S_odd, S_even the sums of its odd and even ones, the
-// constant term is start + S_odd - S_even (so that the integral vanishes at s = -1), and since
-// T_k(1) = 1 the integral at s = 1 is 2 S_odd: r(1) = start - P(1) + 2 S_odd, each sum one of
-// Arb's dot products over half the coefficients.
+// Each coefficient k >= 1 is one dot product, w (F_{k-1} - F_{k+1}) - P_k rounded once. With
+// R_odd and R_even the sums of r's odd and even coefficients (k >= 1), r(-1) = at_start gives the
+// constant term at_start + R_odd - R_even, and r(1) = at_start + 2 R_odd (T_k(+-1) = (+-1)^k).
 inline void picard_residual_model(chebyshev_model& r, ball& r1, const chebyshev_model& F, const ball& hl,
-                                  const integral_weights& w, const ball& start, const chebyshev_model& P,
-                                  const ball& end, slong prec) {
-  const slong n = F.length();
-  const slong len = std::max(n + 1, P.length());
+                                  const integral_weights& w, const ball& at_start, const chebyshev_model& P,
+                                  slong prec) {
+  const slong n = F.length(), np = P.length();
+  const slong len = std::max(n + 1, np);
   r.reserve_length(len);
-  ball d;
   for (slong k = 1; k < len; ++k) {
-    arb_ptr b = r.coeff(k);
-    if (k > n) {
-      arb_zero(b);
+    arb_ptr c = r.coeff(k);
+    arb_srcptr p = k < np ? P.coeff(k) : nullptr;
+    const slong terms = k - 1 >= n ? 0 : k + 1 < n ? 2 : 1;  // F_{k-1}, F_{k+1}
+    if (terms == 0) {
+      if (p) arb_neg(c, p); else arb_zero(c);
       continue;
     }
-    arb_srcptr next = k + 1 < n ? F.coeff(k + 1) : nullptr;
-    if (k == 1) {
-      arb_mul_2exp_si(d.get(), F.coeff(0), 1);
-      if (next) arb_sub(d.get(), d.get(), next, prec);
-      arb_mul(b, d.get(), w[k], prec);
-    } else if (next) {
-      arb_sub(d.get(), F.coeff(k - 1), next, prec);
-      arb_mul(b, d.get(), w[k], prec);
-    } else {
-      arb_mul(b, F.coeff(k - 1), w[k], prec);
-    }
+    arb_dot(c, p, 1, F.coeff(k - 1), 2, w.pair(k), 1, terms, prec);  // P_k - w (...)
+    arb_neg(c, c);
   }
-  const slong m = std::min(n, len - 1);  // b_1 .. b_m
-  ball odd;
+  const slong m = len - 1;  // r_1 .. r_m
+  ball odd, d;
   arb_dot(odd.get(), nullptr, 0, r.coeff(1), 2, w.one(), 0, (m + 1) / 2, prec);
-  arb_add(d.get(), start.get(), odd.get(), prec);
+  arb_add(d.get(), at_start.get(), odd.get(), prec);
   if (m >= 2)
     arb_dot(r.coeff(0), d.get(), 1, r.coeff(2), 2, w.one(), 0, m / 2, prec);
   else
     arb_set(r.coeff(0), d.get());
-  const slong np = P.length();
-  for (slong k = 0; k < np; ++k) arb_sub(r.coeff(k), r.coeff(k), P.coeff(k), prec);
   arb_get_mag(r.remainder(), hl.get());
   mag_mul(r.remainder(), r.remainder(), F.remainder());
   mag_mul_2exp_si(r.remainder(), r.remainder(), 1);
   mag_add(r.remainder(), r.remainder(), P.remainder());
   arb_mul_2exp_si(r1.get(), odd.get(), 1);
-  arb_add(r1.get(), r1.get(), start.get(), prec);
-  arb_sub(r1.get(), r1.get(), end.get(), prec);
+  arb_add(r1.get(), r1.get(), at_start.get(), prec);
   arb_add_error_mag(r1.get(), r.remainder());
 }
 
