@@ -413,4 +413,62 @@ TEST(MagnitudeSum, BoundsTheExactSumAndIsNoLooserThanArbsChain) {
   flint_randclear(state);
 }
 
+// A model's tail cut at a level (length_above, which truncate_below and the rows take): the dropped
+// coefficients' magnitudes (midpoints and radii, summed exactly at 5000 bits) never exceed the
+// level and never exceed the returned tail, and the cut is not early: one more coefficient would
+// pass the level (up to 2^-20 of it, the rounded-up partial sums' few units over at most 90
+// terms). Coefficients fall off by 0 to 8 bits each from 2^12 down, sometimes below the doubles'
+// range, and levels reach 2^-1200, so both the sum in doubles and Arb's mag chain are taken.
+TEST(LengthAbove, DropsAtMostTheLevelAndBoundsWhatItDrops) {
+  flint_rand_t state;
+  flint_randinit(state);
+  std::mt19937_64 rng(20261130);
+  mag_value tail, level;
+  arf_t dropped, next, t, cap;
+  arf_init(dropped);
+  arf_init(next);
+  arf_init(t);
+  arf_init(cap);
+  for (int trial = 0; trial < 4000; ++trial) {
+    const slong n = 1 + static_cast<slong>(rng() % 90);
+    const slong drop = static_cast<slong>(rng() % 9);
+    eulervop::detail::chebyshev_model a;
+    a.resize(n);
+    for (slong k = 0; k < n; ++k) {
+      arb_randtest(a.coeff(k), state, 30 + static_cast<slong>(rng() % 400), 4);
+      arb_mul_2exp_si(a.coeff(k), a.coeff(k), 8 - drop * k - (trial % 7 == 0 ? 1000 : 0));
+      if (rng() % 11 == 0) arb_zero(a.coeff(k));
+    }
+    mag_set_ui_2exp_si(level.m, 1 + rng() % 1000, -static_cast<slong>(rng() % (trial % 5 == 0 ? 1200 : 300)));
+    const slong keep = eulervop::detail::length_above(a, level.m, tail.m);
+    ASSERT_GE(keep, 1) << "trial " << trial;
+    ASSERT_LE(keep, n) << "trial " << trial;
+    arf_zero(dropped);
+    for (slong k = keep; k < n; ++k) {
+      arf_abs(t, arb_midref(a.coeff(k)));
+      arf_add(dropped, dropped, t, 5000, ARF_RND_UP);
+      arf_set_mag(t, arb_radref(a.coeff(k)));
+      arf_add(dropped, dropped, t, 5000, ARF_RND_UP);
+    }
+    arf_set_mag(cap, level.m);
+    EXPECT_LE(arf_cmp(dropped, cap), 0) << "trial " << trial << ": more than the level dropped";
+    arf_set_mag(t, tail.m);
+    EXPECT_GE(arf_cmp(t, dropped), 0) << "trial " << trial << ": the tail below what was dropped";
+    if (keep > 1) {
+      arf_abs(t, arb_midref(a.coeff(keep - 1)));
+      arf_add(next, dropped, t, 5000, ARF_RND_DOWN);
+      arf_set_mag(t, arb_radref(a.coeff(keep - 1)));
+      arf_add(next, next, t, 5000, ARF_RND_DOWN);
+      arf_mul_2exp_si(t, cap, -20);
+      arf_sub(cap, cap, t, 5000, ARF_RND_DOWN);
+      EXPECT_GT(arf_cmp(next, cap), 0) << "trial " << trial << ": cut early at " << keep << " of " << n;
+    }
+  }
+  arf_clear(dropped);
+  arf_clear(next);
+  arf_clear(t);
+  arf_clear(cap);
+  flint_randclear(state);
+}
+
 }  // namespace

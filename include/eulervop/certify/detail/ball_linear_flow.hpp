@@ -295,7 +295,7 @@ inline bool ball_linear_flow::integral_term(const std::vector<chebyshev_model>& 
   // Nodes that resolve r's low coefficients, where u's response lies (u integrates J r): 65 for a
   // quadratic field's residual of about 84, where more changed no radius (measured). They follow
   // the residual's whole length, not its cut one: on fewer nodes u_num's residual, an unsigned
-  // ball, grew (mpfr:256 radii 200 to 500 times, with quad's unchanged).
+  // ball, grew (mpfr:256 radii 170 to 850 times, with quad's unchanged).
   const auto rlen = static_cast<std::size_t>(std::max(len, span));
   const std::size_t m = std::min(rlen + 8, std::max<std::size_t>(65, rlen / 2 + 24));
   const chebyshev_basis<double>& b = lobatto_basis(m);

@@ -461,16 +461,9 @@ inline slong length_above(const chebyshev_model& a, const mag_t level, mag_t tai
   magnitude::upper_sum sum;
   slong keep = a.length();
   while (fast && keep > 1) {
-    double mid = 0, r = 0;
-    arb_srcptr c = a.coeff(keep - 1);
-    if (!magnitude::bound(arb_midref(c), mid) || !magnitude::bound(arb_radref(c), r)) {
-      fast = false;
-      break;
-    }
     magnitude::upper_sum next = sum;
-    next.add(mid);
-    next.add(r);
-    if (next.s > cap) break;
+    fast = magnitude::add_ball(next, a.coeff(keep - 1));
+    if (!fast || next.s > cap) break;
     sum = next;
     --keep;
   }

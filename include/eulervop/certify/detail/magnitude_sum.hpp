@@ -84,6 +84,16 @@ inline bool bound(const fmpz* n, slong e, double& out) {
   return true;
 }
 
+// sum += an upper bound of |x| (midpoint and radius) for a ball x; false where either part is
+// out of range (sum then unspecified).
+inline bool add_ball(upper_sum& sum, arb_srcptr x) {
+  double mid = 0, r = 0;
+  if (!bound(arb_midref(x), mid) || !bound(arb_radref(x), r)) return false;
+  sum.add(mid);
+  sum.add(r);
+  return true;
+}
+
 // sum_k of the terms bound(k, t) gives, in doubles rounded up; where a term cannot be bounded
 // (false), the whole sum by `slow` (Arb's mag arithmetic).
 template <class Bound, class Slow>
@@ -98,13 +108,7 @@ void sum_or(mag_t out, slong n, Bound bound, Slow slow) {
 
 // out >= sum_k |x_k| (midpoint and radius) over n balls.
 inline void magnitude_sum(mag_t out, arb_srcptr x, slong n) {
-  const auto bound = [x](slong k, magnitude::upper_sum& sum) {
-    double mid = 0, r = 0;
-    if (!magnitude::bound(arb_midref(x + k), mid) || !magnitude::bound(arb_radref(x + k), r)) return false;
-    sum.add(mid);
-    sum.add(r);
-    return true;
-  };
+  const auto bound = [x](slong k, magnitude::upper_sum& sum) { return magnitude::add_ball(sum, x + k); };
   magnitude::sum_or(out, n, bound, [&] {
     mag_t m;
     mag_init(m);
