@@ -105,6 +105,27 @@ struct column_sum {
     }(std::make_index_sequence<L * L>{});
   }
 
+  // sum += a b 2^(64 S) (negated when `negative`), a of L limbs and b of M limbs, M + S <= L: the
+  // product a b' of a b' whose S low limbs are zero, b = b' 2^(-64 S), with M L limb products
+  // instead of L L.
+  template <std::size_t M, std::size_t S>
+  [[gnu::always_inline]] void add_product_shifted(const mp_limb_t* a, const mp_limb_t* b, unsigned negative) {
+    static_assert(M + S <= L && lowest == 0);
+    wide* lo = low[negative];
+    std::uint64_t* hi = high[negative];
+    [&]<std::size_t... K>(std::index_sequence<K...>) {
+      (
+          [&] {
+            constexpr std::size_t I = K / M, J = K % M;
+            const wide p = static_cast<wide>(a[I]) * b[J];
+            wide& c = lo[I + J + S];
+            c += p;
+            hi[I + J + S] += c < p;
+          }(),
+          ...);
+    }(std::make_index_sequence<L * M>{});
+  }
+
   // The sum in two's complement on out[0, n), out[0] the column `lowest`; n >= count + 2 (each
   // column spans three limbs), and the sum must fit. One pass over the limbs: limb t gathers the
   // low, middle and top words of columns t, t - 1 and t - 2 of each sign.
