@@ -4,14 +4,12 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <filesystem>
 #include <future>
 #include <stdexcept>
 #include <system_error>
 #include <thread>
 #include <utility>
-#include <vector>
 
 #include <dlfcn.h>
 #include <sched.h>
@@ -73,38 +71,26 @@ run_certificate_factory load_certificate_module() {
 }
 
 // The certificate of a module being loaded on another thread: loading it (Arb and FLINT, which
-// bind every symbol at load, about 15 million instructions, and page in their code) then overlaps
-// the integration instead of preceding it. Until the module is made, segments and rows are kept
-// here, in the order they came, and passed on at the first call after it is (or at finish()), so
-// the integration does not wait for it: on a two-core machine the scene of the SciML rigid body
-// to t = 1 had waited 4.6 ms of its 16. A module that could not be loaded throws at the call
-// that finds it so (close() then has nothing to close).
+// bind every symbol at load, about 15 million instructions) then overlaps the integrator's own
+// set-up instead of preceding it. Every call waits for it, and a module that could not be loaded
+// throws at the first (close() then has nothing to close).
 class deferred_certificate final : public run_certificate {
  public:
   explicit deferred_certificate(std::shared_future<std::shared_ptr<run_certificate>> made) : made_(std::move(made)) {}
 
-  void add_segment(const chebyshev_segment<double, 3>& seg, const std::vector<double>& nodes) override { add(seg, nodes); }
-  void add_segment(const chebyshev_segment<double, 7>& seg, const std::vector<double>& nodes) override { add(seg, nodes); }
-  void add_segment(const chebyshev_segment<quad, 3>& seg, const std::vector<quad>& nodes) override { add(seg, nodes); }
-  void add_segment(const chebyshev_segment<quad, 7>& seg, const std::vector<quad>& nodes) override { add(seg, nodes); }
+  void add_segment(const chebyshev_segment<double, 3>& seg, const std::vector<double>& nodes) override { get().add_segment(seg, nodes); }
+  void add_segment(const chebyshev_segment<double, 7>& seg, const std::vector<double>& nodes) override { get().add_segment(seg, nodes); }
+  void add_segment(const chebyshev_segment<quad, 3>& seg, const std::vector<quad>& nodes) override { get().add_segment(seg, nodes); }
+  void add_segment(const chebyshev_segment<quad, 7>& seg, const std::vector<quad>& nodes) override { get().add_segment(seg, nodes); }
   void add_segment(const chebyshev_segment<mpfr_real, 3>& seg, const std::vector<mpfr_real>& nodes) override {
-    add(seg, nodes);
+    get().add_segment(seg, nodes);
   }
   void add_segment(const chebyshev_segment<mpfr_real, 7>& seg, const std::vector<mpfr_real>& nodes) override {
-    add(seg, nodes);
+    get().add_segment(seg, nodes);
   }
-  void row(std::function<void()> task) override {
-    if (made(false))
-      get().row(std::move(task));
-    else
-      pending_.push_back([task = std::move(task)](run_certificate& c) mutable { c.row(std::move(task)); });
-  }
-  void finish() override {
-    made(true);
-    get().finish();
-  }
+  void row(std::function<void()> task) override { get().row(std::move(task)); }
+  void finish() override { get().finish(); }
   void close() override {
-    pending_.clear();  // an abandoned run: nothing kept is wanted
     try {
       get().close();
     } catch (...) {  // never made: nothing runs
@@ -120,30 +106,7 @@ class deferred_certificate final : public run_certificate {
 
  private:
   run_certificate& get() const { return *made_.get(); }  // shared_future::get: safe from any thread
-
-  // True once the module is made (waiting for it when `wait`) and what was kept is passed on.
-  bool made(bool wait) {
-    if (passed_) return true;
-    if (!wait && made_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return false;
-    run_certificate& c = get();
-    for (auto& call : pending_) call(c);
-    pending_.clear();
-    passed_ = true;
-    return true;
-  }
-
-  template <class T, std::size_t D>
-  void add(const chebyshev_segment<T, D>& seg, const std::vector<T>& nodes) {
-    if (made(false))
-      get().add_segment(seg, nodes);
-    else
-      pending_.push_back([seg, nodes](run_certificate& c) { c.add_segment(seg, nodes); });
-  }
-
   std::shared_future<std::shared_ptr<run_certificate>> made_;
-  // Called from the integration's thread only (rows run later, on the certificate's own).
-  std::vector<std::function<void(run_certificate&)>> pending_;
-  bool passed_ = false;
 };
 
 }  // namespace
