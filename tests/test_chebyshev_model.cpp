@@ -1,5 +1,5 @@
 // The Chebyshev models of the general path of --certify (include/eulervop/certify/detail/:
-// chebyshev_model.hpp, residual_model.hpp, kronecker_product.hpp, ball_node_transform.hpp,
+// chebyshev_model.hpp, residual_model.hpp, kronecker_product.hpp, chunked_product.hpp, ball_node_transform.hpp,
 // short_integer_series.hpp, magnitude_sum.hpp), tested as an adversary would: every enclosure must hold the exact
 // value of every function the model stands for, at random and extreme inputs.
 //
@@ -315,6 +315,93 @@ TEST(KroneckerProduct, ChebyshevProductsEqualFlintsExactOnes) {
   EXPECT_TRUE(fmpz_poly_equal(fast.p, flint.p));
   fmpz_clear(f);
   flint_randclear(state);
+}
+
+// The kernel on 52-bit pieces (chunked_product.hpp) equals FLINT's exact products bit for bit:
+// random lengths 1 to 96 and 1 to 208 bits, random signs and zeros, decaying magnitudes as a
+// segment's (where grid_product() takes it), and at its limits every coefficient +-(2^208 - 1) at
+// length 96 (the most terms in a column sum, each piece product at its largest) and each piece
+// at 2^52 - 1 with both signs; one bit or one coefficient more is refused.
+TEST(ChunkedProduct, ChebyshevProductsEqualFlintsExactOnes) {
+  namespace ch = eulervop::detail::chunked;
+  std::mt19937_64 rng(52);
+  fmpz_t f;
+  fmpz_init(f);
+  const auto random_bits = [&](ulong b) {  // a random integer below 2^b
+    fmpz_zero(f);
+    for (ulong w = 0; w < b; w += 60) {
+      fmpz_mul_2exp(f, f, 60);
+      fmpz_add_ui(f, f, rng() >> 4);
+    }
+    fmpz_fdiv_q_2exp(f, f, (b + 59) / 60 * 60 - b);
+  };
+  // kind 0: random bit lengths up to `bits`, a sixth zero; 1: all +-(2^bits - 1); 2: decaying
+  // from `bits` bits by 113 bits over the length, as a segment's coefficients.
+  const auto random_poly = [&](eulervop::detail::integer_poly& p, slong len, ulong bits, int kind) {
+    fmpz_poly_zero(p.p);
+    for (slong k = 0; k < len; ++k) {
+      if (kind == 1) {
+        fmpz_one(f);
+        fmpz_mul_2exp(f, f, bits);
+        fmpz_sub_ui(f, f, 1);
+      } else {
+        const long decayed = static_cast<long>(bits) - 113 * k / len;
+        const ulong b = kind == 2 ? static_cast<ulong>(std::max(1L, decayed)) : 1 + rng() % bits;
+        random_bits(b);
+        if (kind == 0 && rng() % 6 == 0) fmpz_zero(f);
+      }
+      if (rng() % 2) fmpz_neg(f, f);
+      fmpz_poly_set_coeff_fmpz(p.p, k, f);
+    }
+    if (fmpz_poly_length(p.p) == 0) fmpz_poly_set_si(p.p, 1);
+  };
+  eulervop::detail::integer_poly a, b, fast, flint;
+  int taken = 0;
+  const auto check = [&](bool forced, const char* what) {
+    const bool done = ch::product(fast.p, a.p, b.p, !forced);
+    if (forced) ASSERT_TRUE(done) << what;
+    if (!done) return;
+    ++taken;
+    eulervop::detail::grid_product_flint(flint.p, a.p, b.p);
+    EXPECT_TRUE(fmpz_poly_equal(fast.p, flint.p))
+        << what << ": lengths " << fmpz_poly_length(a.p) << ", " << fmpz_poly_length(b.p) << ", bits "
+        << fmpz_poly_max_bits(a.p) << ", " << fmpz_poly_max_bits(b.p);
+  };
+  for (int trial = 0; trial < 3000; ++trial) {
+    const slong la = 1 + static_cast<slong>(rng() % ch::max_length), lb = 1 + static_cast<slong>(rng() % ch::max_length);
+    const ulong bits = 1 + rng() % (ch::piece_bits * ch::max_pieces);
+    const int kind = static_cast<int>(rng() % 3);
+    random_poly(a, la, bits, kind);
+    if (trial % 7 == 0) fmpz_poly_set(b.p, a.p); else random_poly(b, lb, 1 + rng() % (ch::piece_bits * ch::max_pieces), kind);
+    check(trial % 2 == 0, "random");
+  }
+  EXPECT_GT(taken, 1500);
+  // Where grid_product() takes it: the paper scene's factors (42 coefficients, 145 bits decaying).
+  random_poly(a, 42, 145, 2);
+  random_poly(b, 42, 145, 2);
+  EXPECT_TRUE(eulervop::detail::chunked_grid_product(fast.p, a.p, b.p));
+  // The limits: every coefficient +-(2^208 - 1) at the longest length.
+  const ulong widest = ch::piece_bits * ch::max_pieces;
+  random_poly(a, ch::max_length, widest, 1);
+  random_poly(b, ch::max_length, widest, 1);
+  check(true, "widest");
+  fmpz_poly_set(b.p, a.p);
+  check(true, "widest square");
+  // One sign throughout: the column sums at their largest.
+  for (slong k = 0; k < ch::max_length; ++k) {
+    fmpz_poly_get_coeff_fmpz(f, a.p, k);
+    fmpz_abs(f, f);
+    fmpz_poly_set_coeff_fmpz(a.p, k, f);
+  }
+  fmpz_poly_set(b.p, a.p);
+  check(true, "widest, one sign");
+  fmpz_poly_neg(b.p, b.p);
+  check(true, "widest, opposite signs");
+  random_poly(a, ch::max_length, widest + 1, 1);
+  EXPECT_FALSE(ch::product(fast.p, a.p, b.p, false));  // a fifth piece
+  random_poly(a, ch::max_length + 1, 10, 0);
+  EXPECT_FALSE(ch::product(fast.p, a.p, b.p, false));  // one coefficient more
+  fmpz_clear(f);
 }
 
 // The sums of magnitudes (sup bounds, grid moves): never below the exact sum, computed in Arb at

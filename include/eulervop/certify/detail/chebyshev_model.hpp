@@ -19,6 +19,7 @@
 
 #include <eulervop/certify/ball.hpp>
 #include <eulervop/certify/detail/magnitude_sum.hpp>
+#include <eulervop/certify/detail/chunked_product.hpp>
 #include <eulervop/certify/detail/kronecker_product.hpp>
 
 #include <arb.h>
@@ -251,13 +252,14 @@ inline void grid_product_flint(fmpz_poly_t c, const fmpz_poly_t A, const fmpz_po
 }
 
 // 2 c = A * B + (the sums over |i - j| = k), exactly in integers (c distinct from A and B): the
-// same integers as grid_product_flint(), by kronecker_grid_product() where it takes the factors.
+// same integers as grid_product_flint(): on 52-bit pieces (chunked_grid_product()) for short
+// factors whose coefficients fall off, else by kronecker_grid_product() where it takes the factors.
 inline void grid_product(fmpz_poly_t c, const fmpz_poly_t A, const fmpz_poly_t B) {
   if (A->length == 0 || B->length == 0) {
     fmpz_poly_zero(c);
     return;
   }
-  if (!kronecker_grid_product(c, A, B)) grid_product_flint(c, A, B);
+  if (!chunked_grid_product(c, A, B) && !kronecker_grid_product(c, A, B)) grid_product_flint(c, A, B);
 }
 
 // The model of 2^e sum n_k T_k (exact coefficients) with remainder `rem`.
