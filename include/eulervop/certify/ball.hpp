@@ -50,6 +50,8 @@ class ball {
  private:
   arb_t x_;
 };
+// A vector of balls is an array of arb_struct, which Arb's vector functions (arb_dot) take.
+static_assert(sizeof(ball) == sizeof(arb_struct) && std::is_standard_layout_v<ball>);
 
 // An upper bound as Arb's mag (a magnitude rounded up by every operation), freed with its owner.
 struct mag_value {

@@ -87,14 +87,16 @@ class ball_lohner_box {
     set_.image_add(out, prec_);
     balls_.image_add(out, prec_);
   }
-  // Phi e componentwise, for a D x D matrix of balls Phi.
+  // Phi e componentwise, for a D x D matrix of balls Phi: (Phi M) v for each set, so that the
+  // image keeps what M holds of the flow's shear.
   void image(const std::vector<ball>& Phi, std::vector<ball>& out, slong prec) const {
     out.assign(D_, ball());
     std::vector<ball> A(D_ * D_);
+    const auto D = static_cast<slong>(D_);
     for (const part* p : {&set_, &balls_}) {
       p->times(Phi, A, prec);
       for (std::size_t i = 0; i < D_; ++i)
-        for (std::size_t k = 0; k < D_; ++k) arb_addmul(out[i].get(), A[i * D_ + k].get(), p->v[k].get(), prec);
+        arb_dot(out[i].get(), out[i].get(), 0, A[i * D_].get(), 1, p->v[0].get(), 1, D, prec);
     }
   }
   // To the segment's end: e(b) in Phi1 e(a) + w + [-b_i, b_i] in each component. False when a new
@@ -102,16 +104,22 @@ class ball_lohner_box {
   bool step(const std::vector<ball>& Phi1, const std::vector<ball>& w, const std::vector<mag_value>& b);
 
  private:
-  // One set M v: M a point matrix of doubles (row-major), v balls, Minv an enclosure of M^-1.
+  // One set M v: M a point matrix of doubles (row-major; Mb the same numbers as exact balls, for
+  // Arb's dot products), v balls, Minv an enclosure of M^-1.
   struct part {
-    explicit part(std::size_t D) : D(D), M(D * D), v(D), Minv(D * D) { identity(); }
+    explicit part(std::size_t D) : D(D), M(D * D), Mb(D * D), v(D), Minv(D * D) { identity(); }
     void identity() {
-      std::fill(M.begin(), M.end(), 0.0);
+      std::vector<double> I(D * D, 0.0);
       for (std::size_t q = 0; q < D * D; ++q) arb_zero(Minv[q].get());
       for (std::size_t i = 0; i < D; ++i) {
-        M[i * D + i] = 1;
+        I[i * D + i] = 1;
         arb_one(Minv[i * D + i].get());
       }
+      set_matrix(I);
+    }
+    void set_matrix(const std::vector<double>& m) {
+      M = m;
+      for (std::size_t q = 0; q < D * D; ++q) arb_set_d(Mb[q].get(), M[q]);
     }
     // v += M^-1 x.
     void add(const std::vector<ball>& x, slong prec) {
@@ -120,26 +128,15 @@ class ball_lohner_box {
     }
     // out += M v.
     void image_add(std::vector<ball>& out, slong prec) const {
-      ball t;
       for (std::size_t i = 0; i < D; ++i)
-        for (std::size_t k = 0; k < D; ++k) {
-          if (M[i * D + k] == 0) continue;
-          arb_set_d(t.get(), M[i * D + k]);
-          arb_addmul(out[i].get(), t.get(), v[k].get(), prec);
-        }
+        arb_dot(out[i].get(), out[i].get(), 0, Mb[i * D].get(), 1, v[0].get(), 1, static_cast<slong>(D), prec);
     }
     // A = Phi M.
     void times(const std::vector<ball>& Phi, std::vector<ball>& A, slong prec) const {
-      ball d;
       for (std::size_t i = 0; i < D; ++i)
-        for (std::size_t j = 0; j < D; ++j) {
-          arb_zero(A[i * D + j].get());
-          for (std::size_t k = 0; k < D; ++k) {
-            if (M[k * D + j] == 0) continue;
-            arb_set_d(d.get(), M[k * D + j]);
-            arb_addmul(A[i * D + j].get(), Phi[i * D + k].get(), d.get(), prec);
-          }
-        }
+        for (std::size_t j = 0; j < D; ++j)
+          arb_dot(A[i * D + j].get(), nullptr, 0, Phi[i * D].get(), 1, Mb[j].get(), static_cast<slong>(D),
+                  static_cast<slong>(D), prec);
     }
     // An upper bound of sum_i |(M v)_i| (in double, for a comparison only).
     double width() const {
@@ -153,7 +150,7 @@ class ball_lohner_box {
     }
     std::size_t D;
     std::vector<double> M;
-    std::vector<ball> v, Minv;
+    std::vector<ball> Mb, v, Minv;
   };
 
   // Moves p across the segment with A = Phi M_p: p.M = Mnew, p.v = (Mnew^-1 A) v + Mnew^-1 local.
@@ -320,7 +317,7 @@ inline bool ball_lohner_box::move(part& p, const std::vector<ball>& A, const std
       arb_addmul(next[i].get(), p.Minv[i * D + k].get(), local[k].get(), prec_);
     }
   p.v.swap(next);
-  p.M = Mnew;
+  p.set_matrix(Mnew);
   return true;
 }
 
