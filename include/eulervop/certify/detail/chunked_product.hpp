@@ -110,12 +110,15 @@ inline void put_together(mp_limb_t* out, const wide* v, unsigned columns) {
   }
 }
 
-// Whether the pieces' products cost less than the Kronecker kernel's for these factors: a
-// measured model (both within about 30% on lengths 20 to 96, 64 to 250 bits, with and without
-// decay): pieces about 30 times the per-bit cost of a Kronecker pair of coefficients.
+// Whether the pieces' products cost less than the Kronecker kernel's for these factors, by a
+// model of both fitted to their times (lengths 20 to 160, 64 to 250 bits, with and without decay):
+// a pair of pieces costs about 24 times a bit of a Kronecker pair of coefficients. It takes the
+// paper scene's and spacecraft-attitude's factors (42 coefficients from 145 bits down, 84 to 95
+// pieces: 0.66 of the Kronecker kernel's time), and leaves to the Kronecker kernel factors that do
+// not fall off (42 of 145 bits: 1.09) and long ones.
 inline bool worth(const pieces& a, const pieces& b, ulong bits_a, ulong bits_b) {
   const auto pairs = static_cast<double>(a.n) * static_cast<double>(b.n);
-  return 30.0 * static_cast<double>(a.total) * static_cast<double>(b.total) <=
+  return 24.0 * static_cast<double>(a.total) * static_cast<double>(b.total) <=
          pairs * static_cast<double>(bits_a + bits_b) / 2;
 }
 
