@@ -14,6 +14,7 @@
 #pragma once
 
 #include <eulervop/certify/ball.hpp>
+#include <eulervop/certify/detail/magnitude_sum.hpp>
 #include <eulervop/core/limb_arithmetic.hpp>
 
 #include <arb.h>
@@ -66,6 +67,8 @@ class ball_node_transform {
     std::size_t limbs = 0;
     std::vector<mp_limb_t> q, neg;
     std::vector<mag_value> dM, Mmax;
+    std::vector<double> dM_up, Mmax_up;  // the same bounds as doubles (exact), where moderate()
+    bool doubles = true;
   };
   std::shared_ptr<const grid_matrix> grid_;
   // Scratch: one component's folded values on their grid (plus, then minus), a sum, an integer.
@@ -143,6 +146,13 @@ inline void ball_node_transform::enclose_on_grid() {
         mag_add_ui_2exp_si(t.m, t.m, 1, -G);  // whichever way the move went
         mag_max(g->Mmax[k].m, g->Mmax[k].m, t.m);
       }
+    for (std::size_t k = 0; k < n1_; ++k) {
+      double d = 0, m = 0;
+      g->doubles = g->doubles && magnitude::bound(g->dM[k].m, d) && magnitude::bound(g->Mmax[k].m, m) &&
+                   magnitude::moderate(d) && magnitude::moderate(m);
+      g->dM_up.push_back(d);
+      g->Mmax_up.push_back(m);
+    }
     folds_.assign(2 * half_ * L, 0);
     fold_neg_.assign(2 * half_, 0);
     acc_.assign(2 * L + 2, 0);
@@ -264,13 +274,26 @@ void ball_node_transform::apply_on_limbs(arb_mat_t out) {
     mag_zero(radii.m);
     for (std::size_t j = 0; j < n1_; ++j)
       mag_add(radii.m, radii.m, arb_radref(arb_mat_entry(values_, static_cast<slong>(j), static_cast<slong>(i))));
+    // The same bound in doubles rounded up (magnitude_sum.hpp) where every part is moderate.
+    double Fd[2] = {0, 0}, stepsd = 0, radiid = 0;
+    const bool doubles = g.doubles && magnitude::bound(F[0].m, Fd[0]) && magnitude::bound(F[1].m, Fd[1]) &&
+                         magnitude::bound(steps.m, stepsd) && magnitude::bound(radii.m, radiid) &&
+                         magnitude::moderate(Fd[0]) && magnitude::moderate(Fd[1]) && magnitude::moderate(stepsd) &&
+                         magnitude::moderate(radiid);
     for (std::size_t k = 0; k < n1_; ++k) {
       const std::size_t folded = (k % 2) ? half_ : 0;  // differences or sums
-      mag_add(E.m, F[k % 2].m, steps.m);
-      mag_mul(E.m, E.m, g.dM[k].m);
-      mag_addmul(E.m, g.Mmax[k].m, steps.m);
-      mag_add(t.m, g.Mmax[k].m, g.dM[k].m);
-      mag_addmul(E.m, t.m, radii.m);
+      if (doubles) {
+        using namespace magnitude;
+        const double dM = g.dM_up[k], Mmax = g.Mmax_up[k];
+        mag_set_d(E.m, add_up(add_up(mul_up(dM, add_up(Fd[k % 2], stepsd)), mul_up(Mmax, stepsd)),
+                              mul_up(add_up(Mmax, dM), radiid)));
+      } else {
+        mag_add(E.m, F[k % 2].m, steps.m);
+        mag_mul(E.m, E.m, g.dM[k].m);
+        mag_addmul(E.m, g.Mmax[k].m, steps.m);
+        mag_add(t.m, g.Mmax[k].m, g.dM[k].m);
+        mag_addmul(E.m, t.m, radii.m);
+      }
       limbs::column_sum<L> sum;
       if constexpr (L > 1) {
         if (low_limb_zero[k % 2]) {  // the same sum without the zero limb's products

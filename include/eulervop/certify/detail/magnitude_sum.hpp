@@ -94,6 +94,15 @@ inline bool add_ball(upper_sum& sum, arb_srcptr x) {
   return true;
 }
 
+// Whether x is 0 or within [2^-500, 2^500], where a sum or a product of two such numbers is a
+// normal double (the units in the last place below hold).
+inline bool moderate(double x) { return x == 0 || (x >= 0x1p-500 && x <= 0x1p500); }
+// Upper bounds of a + b and a b for moderate nonnegative a, b: the rounded result moved up by one
+// unit in its last place.
+inline double up(double x) { return x == 0 ? 0 : std::bit_cast<double>(std::bit_cast<std::uint64_t>(x) + 1); }
+inline double add_up(double a, double b) { return up(a + b); }
+inline double mul_up(double a, double b) { return up(a * b); }
+
 // sum_k of the terms bound(k, t) gives, in doubles rounded up; where a term cannot be bounded
 // (false), the whole sum by `slow` (Arb's mag arithmetic).
 template <class Bound, class Slow>
