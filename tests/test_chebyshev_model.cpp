@@ -1,7 +1,8 @@
 // The Chebyshev models of the general path of --certify (include/eulervop/certify/detail/:
-// chebyshev_model.hpp, residual_model.hpp, kronecker_product.hpp, chunked_product.hpp, ball_node_transform.hpp,
-// short_integer_series.hpp, magnitude_sum.hpp), tested as an adversary would: every enclosure must hold the exact
-// value of every function the model stands for, at random and extreme inputs.
+// chebyshev_model.hpp, residual_model.hpp, kronecker_product.hpp, chunked_product.hpp,
+// fixed_point.hpp, ball_node_transform.hpp, short_integer_series.hpp, magnitude_sum.hpp), tested as
+// an adversary would: every enclosure must hold the exact value of every function the model
+// stands for, at random and extreme inputs.
 //
 // Truth: MPFR at 1000 bits (about 300 digits, so that its own rounding is far below any radius
 // here), evaluating the functions a model stands for directly: Chebyshev sums with coefficients
@@ -11,6 +12,7 @@
 #include <eulervop/certify/ball.hpp>
 #include <eulervop/certify/detail/ball_node_transform.hpp>
 #include <eulervop/certify/detail/chebyshev_model.hpp>
+#include <eulervop/certify/detail/fixed_point.hpp>
 #include <eulervop/certify/detail/magnitude_sum.hpp>
 #include <eulervop/certify/detail/residual_model.hpp>
 #include <eulervop/certify/detail/short_integer_series.hpp>
@@ -319,6 +321,45 @@ TEST(KroneckerProduct, ChebyshevProductsEqualFlintsExactOnes) {
   EXPECT_TRUE(fmpz_poly_equal(fast.p, flint.p));
   fmpz_clear(f);
   flint_randclear(state);
+}
+
+// The truncation onto a grid (fixed_point.hpp) equals Arb's arf_get_fmpz_fixed_si, integer and
+// inexact flag, on random numbers of 1 to 300 bits (one to five limbs, the last Arb's), of both
+// signs, with grids from far below to far above them, and on zero and exact powers of two.
+TEST(FixedPoint, TruncatesAsArbDoes) {
+  std::mt19937_64 rng(53);
+  fmpz_t mine, arbs, m;
+  fmpz_init(mine);
+  fmpz_init(arbs);
+  fmpz_init(m);
+  arf_t x;
+  arf_init(x);
+  int truncated = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const ulong bits = 1 + rng() % 300;
+    fmpz_zero(m);
+    for (ulong w = 0; w < bits; w += 60) {
+      fmpz_mul_2exp(m, m, 60);
+      fmpz_add_ui(m, m, rng() >> 4);
+    }
+    fmpz_fdiv_q_2exp(m, m, (bits + 59) / 60 * 60 - bits);
+    if (trial % 97 == 0) fmpz_one(m);
+    if (trial % 89 == 0) fmpz_zero(m);
+    if (rng() % 2) fmpz_neg(m, m);
+    const slong exponent = static_cast<slong>(rng() % 600) - 300;
+    arf_set_fmpz(x, m);
+    arf_mul_2exp_si(x, x, exponent);
+    const slong e = exponent + static_cast<slong>(rng() % 400) - 200;
+    const bool a = eulervop::detail::fixed_fmpz(mine, x, e);
+    const bool b = arf_get_fmpz_fixed_si(arbs, x, e) != 0;
+    truncated += b;
+    ASSERT_TRUE(fmpz_equal(mine, arbs) && a == b) << "bits " << bits << " exponent " << exponent << " grid " << e;
+  }
+  EXPECT_GT(truncated, 5000);
+  arf_clear(x);
+  fmpz_clear(mine);
+  fmpz_clear(arbs);
+  fmpz_clear(m);
 }
 
 // The kernel on 52-bit pieces (chunked_product.hpp) equals FLINT's exact products bit for bit:

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <eulervop/certify/ball.hpp>
+#include <eulervop/certify/detail/fixed_point.hpp>
 #include <eulervop/certify/detail/magnitude_sum.hpp>
 #include <eulervop/core/limb_arithmetic.hpp>
 
@@ -210,6 +211,11 @@ void ball_node_transform::load_folds(std::size_t i, slong& exponent, mag_t plus_
   mp_limb_t a[L], b[L], a_neg = 0, b_neg = 0;
   const auto load = [&](std::size_t j, mp_limb_t* out, mp_limb_t& negative) {
     arb_srcptr v = arb_mat_entry(values_, static_cast<slong>(j), static_cast<slong>(i));
+    unsigned sign = 0;
+    if (fixed_limbs(out, L, sign, arb_midref(v), exponent) >= 0) {
+      negative = sign ? ~mp_limb_t(0) : 0;
+      return;
+    }
     arf_get_fmpz_fixed_si(z_, arb_midref(v), exponent);
     negative = fmpz_sgn(z_) < 0 ? ~mp_limb_t(0) : 0;
     fmpz_abs(z_, z_);

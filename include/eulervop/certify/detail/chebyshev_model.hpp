@@ -20,6 +20,7 @@
 #include <eulervop/certify/ball.hpp>
 #include <eulervop/certify/detail/magnitude_sum.hpp>
 #include <eulervop/certify/detail/chunked_product.hpp>
+#include <eulervop/certify/detail/fixed_point.hpp>
 #include <eulervop/certify/detail/kronecker_product.hpp>
 
 #include <arb.h>
@@ -201,7 +202,7 @@ inline void to_grid(fmpz_poly_t n, mag_t moved, const chebyshev_model& a, slong 
   fmpz_poly_fit_length(n, a.length());
   ulong inexact = 0;
   for (slong k = 0; k < a.length(); ++k)
-    if (arf_get_fmpz_fixed_si(n->coeffs + k, arb_midref(a.coeff(k)), e)) ++inexact;
+    if (fixed_fmpz(n->coeffs + k, arb_midref(a.coeff(k)), e)) ++inexact;
   radius_sum(moved, a.coeffs(), a.length());
   if (inexact > 0) {
     mag_t step;
