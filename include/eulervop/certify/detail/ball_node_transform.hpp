@@ -48,8 +48,11 @@ class ball_node_transform {
   void allocate();  // the matrices, of the sizes above
   void fold();
   void enclose_on_grid();
+  struct component_bound;
   template <std::size_t L>
   void apply_on_limbs(arb_mat_t out);
+  template <std::size_t L>
+  void coefficient_on_limbs(arb_ptr c, std::size_t k, bool short_folds, slong e);
   template <std::size_t L>
   void magnitude_sum(std::size_t first, slong exponent, mag_t out);
   template <std::size_t L>
@@ -255,6 +258,72 @@ void ball_node_transform::magnitude_sum(std::size_t first, slong exponent, mag_t
   arf_clear(s);
 }
 
+// The parts of a component's bound that do not depend on k (apply_on_limbs()): the folds'
+// magnitudes F^ (sums, differences), 2 n steps and the values' radii, as mags and, where each is
+// moderate (magnitude_sum.hpp), as doubles, in which at() then bounds in a few roundings up what
+// Arb's magnitudes take seven calls for.
+struct ball_node_transform::component_bound {
+  mag_value F[2], steps, radii;
+  double Fd[2] = {0, 0}, stepsd = 0, radiid = 0;
+  bool doubles = false;
+
+  void to_doubles(bool grid_doubles) {
+    using namespace magnitude;
+    doubles = grid_doubles && bound(F[0].m, Fd[0]) && bound(F[1].m, Fd[1]) && bound(steps.m, stepsd) &&
+              bound(radii.m, radiid) && moderate(Fd[0]) && moderate(Fd[1]) && moderate(stepsd) && moderate(radiid);
+  }
+  // E >= dM_k (F^ + 2 n step) + Mmax_k 2 n step + (Mmax_k + dM_k) sum_j rad v_j.
+  void at(mag_t E, const grid_matrix& g, std::size_t k) const {
+    if (doubles) {
+      using namespace magnitude;
+      const double dM = g.dM_up[k], Mmax = g.Mmax_up[k];
+      mag_set_d(E, add_up(add_up(mul_up(dM, add_up(Fd[k % 2], stepsd)), mul_up(Mmax, stepsd)),
+                          mul_up(add_up(Mmax, dM), radiid)));
+      return;
+    }
+    mag_value t;
+    mag_add(E, F[k % 2].m, steps.m);
+    mag_mul(E, E, g.dM[k].m);
+    mag_addmul(E, g.Mmax[k].m, steps.m);
+    mag_add(t.m, g.Mmax[k].m, g.dM[k].m);
+    mag_addmul(E, t.m, radii.m);
+  }
+};
+
+// c = 2^(e - G) sum_j q_kj f^_j, exactly (rounded to the working precision below), from the folds
+// of k's parity; where their lowest limbs are all zero (`short_folds`) without those limbs'
+// products, which gives the same sum.
+template <std::size_t L>
+void ball_node_transform::coefficient_on_limbs(arb_ptr c, std::size_t k, bool short_folds, slong e) {
+  constexpr std::size_t W = 2 * L + 1;
+  const grid_matrix& g = *grid_;
+  const std::size_t folded = (k % 2) ? half_ : 0;  // differences or sums
+  limbs::column_sum<L> sum;
+  if constexpr (L > 1) {
+    if (short_folds)
+      for (std::size_t j = 0; j < half_; ++j)
+        sum.template add_product_shifted<L - 1, 1>(&g.q[(k * half_ + j) * L], &folds_[(folded + j) * L + 1],
+                                                   (g.neg[k * half_ + j] ^ fold_neg_[folded + j]) & 1);
+  }
+  if (L == 1 || !short_folds)
+    for (std::size_t j = 0; j < half_; ++j)
+      sum.add_product(&g.q[(k * half_ + j) * L], &folds_[(folded + j) * L],
+                      (g.neg[k * half_ + j] ^ fold_neg_[folded + j]) & 1);
+  mp_limb_t* acc = acc_.data();
+  sum.to_limbs(acc, W);
+  const bool negative = acc[W - 1] >> 63;
+  if (negative) mpn_neg(acc, acc, static_cast<mp_size_t>(W));
+  mp_size_t size = static_cast<mp_size_t>(W);
+  while (size > 0 && acc[size - 1] == 0) --size;
+  mag_zero(arb_radref(c));
+  if (size == 0) {
+    arf_zero(arb_midref(c));
+    return;
+  }
+  arf_set_mpn(arb_midref(c), acc, size, negative);
+  arf_mul_2exp_si(arb_midref(c), arb_midref(c), e - (64 * static_cast<slong>(L) - 2));
+}
+
 // The coefficients on L limbs. With f_j the exact folded values (sums for even k, differences for
 // odd k) and f^_j those on the grid (|f_j - f^_j| < 2 steps), F^ = sum_j |f^_j| and n = half_:
 //   |c_k - 2^-G sum_j q_kj f^_j| <= sum_j |M_kj - q_kj 2^-G| |f_j| + |q_kj 2^-G| |f_j - f^_j|
@@ -263,69 +332,26 @@ void ball_node_transform::magnitude_sum(std::size_t first, slong exponent, mag_t
 // sum's rounding to the working precision is Arb's (arb_set_round).
 template <std::size_t L>
 void ball_node_transform::apply_on_limbs(arb_mat_t out) {
-  constexpr std::size_t W = 2 * L + 1;
-  const grid_matrix& g = *grid_;
-  const slong G = 64 * static_cast<slong>(L) - 2;
-  mag_value F[2], E, steps, radii, t;
+  component_bound bound;
+  mag_value E;
   for (std::size_t i = 0; i < D_; ++i) {
     slong e = 0;
-    load_folds<L>(i, e, F[0].m, F[1].m);
+    load_folds<L>(i, e, bound.F[0].m, bound.F[1].m);
     // Where every fold's lowest limb is zero, it is left out of the products (the sum is the same):
     // in quad (L = 3, G = 190) values within 2^-13 of their component's largest are multiples of
     // 2^64 on the grid, which is nearly every segment.
-    bool low_limb_zero[2] = {true, true};
+    bool short_folds[2] = {true, true};
     for (std::size_t f = 0; f < 2 * half_; ++f)
-      if (folds_[f * L] != 0) low_limb_zero[f < half_ ? 0 : 1] = false;
-    mag_set_ui_2exp_si(steps.m, 2 * half_, e);  // 2 n steps
-    mag_zero(radii.m);
+      if (folds_[f * L] != 0) short_folds[f < half_ ? 0 : 1] = false;
+    mag_set_ui_2exp_si(bound.steps.m, 2 * half_, e);  // 2 n steps
+    mag_zero(bound.radii.m);
     for (std::size_t j = 0; j < n1_; ++j)
-      mag_add(radii.m, radii.m, arb_radref(arb_mat_entry(values_, static_cast<slong>(j), static_cast<slong>(i))));
-    // The same bound in doubles rounded up (magnitude_sum.hpp) where every part is moderate.
-    double Fd[2] = {0, 0}, stepsd = 0, radiid = 0;
-    const bool doubles = g.doubles && magnitude::bound(F[0].m, Fd[0]) && magnitude::bound(F[1].m, Fd[1]) &&
-                         magnitude::bound(steps.m, stepsd) && magnitude::bound(radii.m, radiid) &&
-                         magnitude::moderate(Fd[0]) && magnitude::moderate(Fd[1]) && magnitude::moderate(stepsd) &&
-                         magnitude::moderate(radiid);
+      mag_add(bound.radii.m, bound.radii.m, arb_radref(arb_mat_entry(values_, static_cast<slong>(j), static_cast<slong>(i))));
+    bound.to_doubles(grid_->doubles);
     for (std::size_t k = 0; k < n1_; ++k) {
-      const std::size_t folded = (k % 2) ? half_ : 0;  // differences or sums
-      if (doubles) {
-        using namespace magnitude;
-        const double dM = g.dM_up[k], Mmax = g.Mmax_up[k];
-        mag_set_d(E.m, add_up(add_up(mul_up(dM, add_up(Fd[k % 2], stepsd)), mul_up(Mmax, stepsd)),
-                              mul_up(add_up(Mmax, dM), radiid)));
-      } else {
-        mag_add(E.m, F[k % 2].m, steps.m);
-        mag_mul(E.m, E.m, g.dM[k].m);
-        mag_addmul(E.m, g.Mmax[k].m, steps.m);
-        mag_add(t.m, g.Mmax[k].m, g.dM[k].m);
-        mag_addmul(E.m, t.m, radii.m);
-      }
-      limbs::column_sum<L> sum;
-      if constexpr (L > 1) {
-        if (low_limb_zero[k % 2]) {  // the same sum without the zero limb's products
-          for (std::size_t j = 0; j < half_; ++j)
-            sum.template add_product_shifted<L - 1, 1>(&g.q[(k * half_ + j) * L], &folds_[(folded + j) * L + 1],
-                                                       (g.neg[k * half_ + j] ^ fold_neg_[folded + j]) & 1);
-        }
-      }
-      if (L == 1 || !low_limb_zero[k % 2])
-        for (std::size_t j = 0; j < half_; ++j)
-          sum.add_product(&g.q[(k * half_ + j) * L], &folds_[(folded + j) * L],
-                          (g.neg[k * half_ + j] ^ fold_neg_[folded + j]) & 1);
-      mp_limb_t* acc = acc_.data();
-      sum.to_limbs(acc, W);
-      const bool negative = acc[W - 1] >> 63;
-      if (negative) mpn_neg(acc, acc, static_cast<mp_size_t>(W));
-      mp_size_t size = static_cast<mp_size_t>(W);
-      while (size > 0 && acc[size - 1] == 0) --size;
+      bound.at(E.m, *grid_, k);
       arb_ptr c = arb_mat_entry(out, static_cast<slong>(k), static_cast<slong>(i));
-      if (size > 0) {
-        arf_set_mpn(arb_midref(c), acc, size, negative);
-        arf_mul_2exp_si(arb_midref(c), arb_midref(c), e - G);
-      } else {
-        arf_zero(arb_midref(c));
-      }
-      mag_zero(arb_radref(c));
+      coefficient_on_limbs<L>(c, k, short_folds[k % 2], e);
       arb_set_round(c, c, prec_);
       arb_add_error_mag(c, E.m);
     }
