@@ -1,4 +1,5 @@
-// The kernels of the general path of --certify (include/eulervop/certify/: chebyshev_composition.hpp,
+// The kernels of the general path of --certify (include/eulervop/certify/: chebyshev_composition.hpp
+// with trig_of_linear.hpp,
 // field_algebra.hpp, certification_problem.hpp, ball_lohner_box.hpp, ball_linear_flow.hpp,
 // jacobi_enclosure.hpp; the models themselves in test_chebyshev_model.cpp),
 // tested as an adversary would: every enclosure must hold the exact value of every function the
@@ -120,6 +121,68 @@ TEST(ChebyshevComposition, HoldsEveryFunctionOfEveryModel) {
   EXPECT_THROW(eulervop::detail::compose(out, elementary::log, u, 300, 240), std::domain_error);
   EXPECT_THROW(eulervop::detail::compose(out, elementary::sqrt, u, 300, 240), std::domain_error);
   EXPECT_THROW(eulervop::detail::compose(out, elementary::inverse, u, 300, 240), std::domain_error);
+}
+
+// sin and cos of a linear model c0 + c1 s (trig_of_linear.hpp: the closed form in Bessel
+// functions that compose() takes for the time): the model holds f(c0 + c1 s) for every c0, c1 in
+// their balls (MPFR at 1000 bits, at the ends and the middles of the balls), meets the target, and
+// is refused (the interpolation's path then) where c1 may be 0, is beyond 4, or the model has a
+// remainder. Slopes from 1e-12 to 4 and both signs, offsets up to 1e5, with and without radii.
+TEST(ChebyshevComposition, SinAndCosOfALinearModelInClosedForm) {
+  using eulervop::detail::elementary;
+  const eulervop::mpfr_precision_scope scope(truth_bits);
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  int cases = 0;
+  for (const double slope : {1e-12, 1e-3, 0.05, 0.1, 0.7, 1.0, 2.5, 3.9, -0.3, -3.5})
+    for (const double offset : {0.0, 0.4, -2.0, 31.4, 1e5}) {
+      const bool radius = (cases++) % 2 == 1;
+      chebyshev_model u;
+      u.resize(2);
+      arb_set_d(u.coeff(0), offset + unit(rng));
+      arb_set_d(u.coeff(1), slope * (1 + 0.01 * unit(rng)));
+      if (radius) {
+        mag_set_d(arb_radref(u.coeff(0)), 1e-40);
+        mag_set_d(arb_radref(u.coeff(1)), std::abs(slope) * 1e-38);
+      }
+      for (const bool cosine : {false, true}) {
+        const elementary f = cosine ? elementary::cos : elementary::sin;
+        chebyshev_model direct;
+        ASSERT_TRUE(eulervop::detail::trig_of_linear_model(direct, cosine, u, -230, 300, 256)) << slope;
+        mag_value target;
+        mag_set_ui_2exp_si(target.m, 1, -230);
+        EXPECT_LE(mag_cmp(direct.remainder(), target.m), 0) << "slope " << slope << " offset " << offset;
+        chebyshev_model out;
+        eulervop::detail::compose(out, f, u, 300, 240);  // takes the closed form
+        for (const chebyshev_model* m : {&direct, &out})
+          for (int pick_round = 0; pick_round < 3; ++pick_round) {
+            const represented fu = pick(u, rng);
+            for (const mpfr_real& sp : points(rng)) {
+              ball v;
+              eulervop::detail::evaluate(v, *m, point(sp), truth_bits);
+              const mpfr_real x = fu(sp);
+              const mpfr_real fx = cosine ? mpfr_real(cos(x)) : mpfr_real(sin(x));
+              ASSERT_TRUE(holds(v, fx))
+                  << (cosine ? "cos" : "sin") << " slope " << slope << " offset " << offset << " s " << sp;
+            }
+          }
+      }
+    }
+  // Refused: a slope that may be 0, one beyond 4, a remainder, a longer model.
+  chebyshev_model u, out;
+  u.resize(2);
+  arb_set_d(u.coeff(0), 0.5);
+  arb_zero_pm_one(u.coeff(1));
+  EXPECT_FALSE(eulervop::detail::trig_of_linear_model(out, false, u, -200, 300, 256));
+  arb_set_d(u.coeff(1), 4.5);
+  EXPECT_FALSE(eulervop::detail::trig_of_linear_model(out, false, u, -200, 300, 256));
+  arb_set_d(u.coeff(1), 0.5);
+  mag_set_d(u.remainder(), 1e-30);
+  EXPECT_FALSE(eulervop::detail::trig_of_linear_model(out, true, u, -200, 300, 256));
+  mag_zero(u.remainder());
+  u.resize(3);
+  arb_set_d(u.coeff(2), 0.1);
+  EXPECT_FALSE(eulervop::detail::trig_of_linear_model(out, true, u, -200, 300, 256));
 }
 
 // tanh's poles i (pi/2 + k pi) and atan's branch points +-i with their cuts up and down the

@@ -22,6 +22,7 @@
 #include <eulervop/certify/ball.hpp>
 #include <eulervop/certify/detail/ball_node_transform.hpp>
 #include <eulervop/certify/detail/chebyshev_model.hpp>
+#include <eulervop/certify/detail/trig_of_linear.hpp>
 
 #include <acb.h>
 #include <flint/fmpq.h>
@@ -431,6 +432,9 @@ inline void compose(chebyshev_model& out, elementary f, const chebyshev_model& u
   arb_get_mag(scale.m, fr.get());
   if (mag_is_zero(scale.m)) mag_one(scale.m);
   const double log2_target = mag_get_d_log2_approx(scale.m) - static_cast<double>(target_bits);
+  if ((f == elementary::sin || f == elementary::cos) &&
+      trig_of_linear_model(out, f == elementary::cos, u, log2_target, prec, static_cast<slong>(max_degree)))
+    return;  // a linear argument (the time): the series in closed form
   const ellipse_choice e = choose_ellipse(f, u, log2_target, prec);
   if (e.n == 0) {
     // No ellipse avoids f's singularities (u comes close to one): f over the whole range, as a
