@@ -85,42 +85,25 @@ struct column_sum {
     }
   }
 
-  // sum += a b (negative = 0) or -a b (negative = 1), a and b of L limbs: each limb product goes
-  // straight into its column (a multiply and three additions), without product_columns between.
+  // sum += a b 2^(64 S) (negative = 0) or its negative (negative = 1), a of L limbs and b of
+  // M <= L - S (by default a b, both of L limbs): each limb product goes straight into its column
+  // (a multiply and three additions), without product_columns between. With S > 0, b stands for
+  // a number of L limbs whose S low limbs are zero, and takes M L limb products instead of L L.
+  template <std::size_t M = L, std::size_t S = 0>
   [[gnu::always_inline]] void add_product(const mp_limb_t* a, const mp_limb_t* b, unsigned negative) {
+    static_assert(M + S <= L);
     wide* lo = low[negative];
     std::uint64_t* hi = high[negative];
     [&]<std::size_t... K>(std::index_sequence<K...>) {
       (
           [&] {
-            constexpr std::size_t I = K / L, J = K % L;
-            if constexpr (I + J >= lowest) {
+            constexpr std::size_t I = K / M, J = K % M, C = I + J + S;
+            if constexpr (C >= lowest) {
               const wide p = static_cast<wide>(a[I]) * b[J];
-              wide& c = lo[I + J - lowest];
+              wide& c = lo[C - lowest];
               c += p;
-              hi[I + J - lowest] += c < p;
+              hi[C - lowest] += c < p;
             }
-          }(),
-          ...);
-    }(std::make_index_sequence<L * L>{});
-  }
-
-  // sum += a b 2^(64 S) (negated when `negative`), a of L limbs and b of M limbs, M + S <= L: the
-  // product a b' of a b' whose S low limbs are zero, b = b' 2^(-64 S), with M L limb products
-  // instead of L L.
-  template <std::size_t M, std::size_t S>
-  [[gnu::always_inline]] void add_product_shifted(const mp_limb_t* a, const mp_limb_t* b, unsigned negative) {
-    static_assert(M + S <= L && lowest == 0);
-    wide* lo = low[negative];
-    std::uint64_t* hi = high[negative];
-    [&]<std::size_t... K>(std::index_sequence<K...>) {
-      (
-          [&] {
-            constexpr std::size_t I = K / M, J = K % M;
-            const wide p = static_cast<wide>(a[I]) * b[J];
-            wide& c = lo[I + J + S];
-            c += p;
-            hi[I + J + S] += c < p;
           }(),
           ...);
     }(std::make_index_sequence<L * M>{});

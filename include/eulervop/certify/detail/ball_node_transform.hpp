@@ -302,8 +302,8 @@ void ball_node_transform::coefficient_on_limbs(arb_ptr c, std::size_t k, bool sh
   if constexpr (L > 1) {
     if (short_folds)
       for (std::size_t j = 0; j < half_; ++j)
-        sum.template add_product_shifted<L - 1, 1>(&g.q[(k * half_ + j) * L], &folds_[(folded + j) * L + 1],
-                                                   (g.neg[k * half_ + j] ^ fold_neg_[folded + j]) & 1);
+        sum.template add_product<L - 1, 1>(&g.q[(k * half_ + j) * L], &folds_[(folded + j) * L + 1],
+                                            (g.neg[k * half_ + j] ^ fold_neg_[folded + j]) & 1);
   }
   if (L == 1 || !short_folds)
     for (std::size_t j = 0; j < half_; ++j)

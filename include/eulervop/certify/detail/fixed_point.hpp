@@ -62,6 +62,23 @@ inline int fixed_limbs(mp_limb_t* out, std::size_t L, unsigned& negative, const 
   return inexact ? 1 : 0;
 }
 
+// c = the integer of sign `negative` and magnitude d[0, n) (high zero limbs allowed): FLINT's
+// small form where it fits, else written into the GMP integer c already owns, with its limbs.
+inline void set_signed_limbs(fmpz* c, const mp_limb_t* d, mp_size_t n, bool negative) {
+  while (n > 0 && d[n - 1] == 0) --n;
+  if (n == 0) {
+    fmpz_zero(c);
+  } else if (n == 1 && d[0] <= static_cast<mp_limb_t>(COEFF_MAX)) {
+    _fmpz_demote(c);
+    *c = negative ? -static_cast<slong>(d[0]) : static_cast<slong>(d[0]);
+  } else {
+    __mpz_struct* z = _fmpz_promote(c);
+    if (z->_mp_alloc < n) mpz_realloc2(z, static_cast<mp_bitcnt_t>(n) * GMP_NUMB_BITS);
+    for (mp_size_t i = 0; i < n; ++i) z->_mp_d[i] = d[i];
+    z->_mp_size = negative ? -static_cast<int>(n) : static_cast<int>(n);
+  }
+}
+
 // y = trunc(x 2^-e); true where that moved x (as arf_get_fmpz_fixed_si, which takes what the
 // limbs above do not).
 inline bool fixed_fmpz(fmpz_t y, const arf_struct* x, slong e) {
@@ -69,17 +86,7 @@ inline bool fixed_fmpz(fmpz_t y, const arf_struct* x, slong e) {
   unsigned negative = 0;
   const int r = fixed_limbs(limbs, 4, negative, x, e);
   if (r < 0) return arf_get_fmpz_fixed_si(y, x, e) != 0;
-  mp_size_t n = 4;
-  while (n > 0 && limbs[n - 1] == 0) --n;
-  if (n == 0) {
-    fmpz_zero(y);
-  } else if (n == 1 && limbs[0] <= static_cast<mp_limb_t>(COEFF_MAX)) {
-    _fmpz_demote(y);
-    *y = negative ? -static_cast<slong>(limbs[0]) : static_cast<slong>(limbs[0]);
-  } else {
-    fmpz_set_ui_array(y, limbs, n);
-    if (negative) fmpz_neg(y, y);
-  }
+  set_signed_limbs(y, limbs, 4, negative != 0);
   return r == 1;
 }
 

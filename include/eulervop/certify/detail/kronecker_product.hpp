@@ -20,6 +20,8 @@
 // |C_k| < min(la, lb) 2^(bits(A) + bits(B)) <= 2^(w - 1), and b = max(ceil(w / 2), bits(A), bits(B)).
 #pragma once
 
+#include <eulervop/certify/detail/fixed_point.hpp>
+
 #include <flint/fmpz.h>
 #include <flint/fmpz_poly.h>
 #include <flint/fmpz_vec.h>
@@ -188,19 +190,7 @@ inline void set_sum(fmpz* c, const mp_limb_t* const* s, int count, mp_size_t L, 
   for (int i = 1; i < count; ++i) mpn_add_n(t, t, s[i], L);
   const bool negative = (t[L - 1] >> (limb_bits - 1)) != 0;
   if (negative) mpn_neg(t, t, L);
-  mp_size_t n = L;
-  while (n > 0 && t[n - 1] == 0) --n;
-  if (n == 0) {
-    fmpz_zero(c);
-  } else if (n == 1 && t[0] <= static_cast<mp_limb_t>(COEFF_MAX)) {
-    _fmpz_demote(c);
-    *c = negative ? -static_cast<slong>(t[0]) : static_cast<slong>(t[0]);
-  } else {
-    __mpz_struct* z = _fmpz_promote(c);  // keeps an mpz c already owns, with its limbs
-    if (z->_mp_alloc < n) mpz_realloc2(z, static_cast<mp_bitcnt_t>(n) * limb_bits);
-    std::copy(t, t + n, z->_mp_d);
-    z->_mp_size = negative ? -static_cast<int>(n) : static_cast<int>(n);
-  }
+  set_signed_limbs(c, t, L, negative);
 }
 
 }  // namespace eulervop::detail::kronecker
