@@ -258,6 +258,45 @@ TEST(ShortIntegerSeries, SumsOfProductsEqualFlintsExactOnes) {
   }
 }
 
+// f = a random integer below 2^b (60 random bits at a time).
+void random_below(fmpz_t f, ulong b, std::mt19937_64& rng) {
+  fmpz_zero(f);
+  for (ulong w = 0; w < b; w += 60) {
+    fmpz_mul_2exp(f, f, 60);
+    fmpz_add_ui(f, f, rng() >> 4);
+  }
+  fmpz_fdiv_q_2exp(f, f, (b + 59) / 60 * 60 - b);
+}
+
+// A factor for the exact products' tests, of `len` coefficients. kind 0: random bit lengths up to
+// `bits`, a sixth zero; 1: all +-(2^bits - 1), of one sign where same_sign; 2: decaying from
+// `bits` bits by `decay` bits over the length, as a segment's coefficients. Random signs
+// otherwise, and never the zero polynomial.
+void random_factor(eulervop::detail::integer_poly& p, slong len, ulong bits, int kind, bool same_sign, ulong decay,
+                   std::mt19937_64& rng) {
+  fmpz_t f;
+  fmpz_init(f);
+  fmpz_poly_zero(p.p);
+  for (slong k = 0; k < len; ++k) {
+    if (kind == 1) {
+      fmpz_one(f);
+      fmpz_mul_2exp(f, f, bits);
+      fmpz_sub_ui(f, f, 1);
+      if (!same_sign && rng() % 2) fmpz_neg(f, f);
+    } else {
+      const long decayed = static_cast<long>(bits) - static_cast<long>(decay) * k / len;
+      const ulong b = kind == 2 ? static_cast<ulong>(std::max(1L, decayed)) : 1 + rng() % bits;
+      random_below(f, b - 1, rng);  // exactly b bits
+      fmpz_setbit(f, b - 1);
+      if (kind == 0 && rng() % 6 == 0) fmpz_zero(f);
+      if (rng() % 2) fmpz_neg(f, f);
+    }
+    fmpz_poly_set_coeff_fmpz(p.p, k, f);
+  }
+  if (fmpz_poly_length(p.p) == 0) fmpz_poly_set_si(p.p, rng() % 2 ? 1 : -1);
+  fmpz_clear(f);
+}
+
 // The Kronecker kernel's Chebyshev products (kronecker_product.hpp) equal FLINT's exact ones
 // (grid_product_flint(), two fmpz_poly_mul), bit for bit, on random integer polynomials: lengths
 // 1 to 90, 1 to 1200 bits, random signs and zeros, decaying magnitudes as a segment's, and
@@ -265,29 +304,10 @@ TEST(ShortIntegerSeries, SumsOfProductsEqualFlintsExactOnes) {
 // kernel takes, and one past it (then grid_product() falls back to FLINT).
 TEST(KroneckerProduct, ChebyshevProductsEqualFlintsExactOnes) {
   namespace kr = eulervop::detail::kronecker;
-  flint_rand_t state;
-  flint_randinit(state);
   std::mt19937_64 rng(51);
-  fmpz_t f;
-  fmpz_init(f);
-  // kind 0: random bit lengths up to `bits`, a sixth zero; 1: all +-(2^bits - 1), one sign when
-  // same_sign; 2: decaying from `bits` bits by bits/len per index, as a segment's coefficients.
+  // Decaying from `bits` by `bits` over the length.
   const auto random_poly = [&](eulervop::detail::integer_poly& p, slong len, ulong bits, int kind, bool same_sign) {
-    fmpz_poly_zero(p.p);
-    for (slong k = 0; k < len; ++k) {
-      if (kind == 1) {
-        fmpz_one(f);
-        fmpz_mul_2exp(f, f, bits);
-        fmpz_sub_ui(f, f, 1);
-        if (!same_sign && rng() % 2) fmpz_neg(f, f);
-      } else {
-        const ulong b = kind == 2 ? std::max<ulong>(1, bits - bits * static_cast<ulong>(k) / static_cast<ulong>(len))
-                                  : 1 + rng() % bits;
-        if (kind == 0 && rng() % 6 == 0) fmpz_zero(f); else fmpz_randbits(f, state, static_cast<flint_bitcnt_t>(b));
-      }
-      fmpz_poly_set_coeff_fmpz(p.p, k, f);
-    }
-    if (fmpz_poly_length(p.p) == 0) fmpz_poly_set_si(p.p, rng() % 2 ? 1 : -1);  // a nonzero factor
+    random_factor(p, len, bits, kind, same_sign, bits, rng);
   };
   eulervop::detail::integer_poly a, b, fast, flint;
   const auto check = [&](const char* what) {
@@ -319,8 +339,6 @@ TEST(KroneckerProduct, ChebyshevProductsEqualFlintsExactOnes) {
   eulervop::detail::grid_product(fast.p, a.p, b.p);
   eulervop::detail::grid_product_flint(flint.p, a.p, b.p);
   EXPECT_TRUE(fmpz_poly_equal(fast.p, flint.p));
-  fmpz_clear(f);
-  flint_randclear(state);
 }
 
 // The truncation onto a grid (fixed_point.hpp) equals Arb's arf_get_fmpz_fixed_si, integer and
@@ -337,12 +355,7 @@ TEST(FixedPoint, TruncatesAsArbDoes) {
   int truncated = 0;
   for (int trial = 0; trial < 20000; ++trial) {
     const ulong bits = 1 + rng() % 300;
-    fmpz_zero(m);
-    for (ulong w = 0; w < bits; w += 60) {
-      fmpz_mul_2exp(m, m, 60);
-      fmpz_add_ui(m, m, rng() >> 4);
-    }
-    fmpz_fdiv_q_2exp(m, m, (bits + 59) / 60 * 60 - bits);
+    random_below(m, bits, rng);
     if (trial % 97 == 0) fmpz_one(m);
     if (trial % 89 == 0) fmpz_zero(m);
     if (rng() % 2) fmpz_neg(m, m);
@@ -372,33 +385,9 @@ TEST(ChunkedProduct, ChebyshevProductsEqualFlintsExactOnes) {
   std::mt19937_64 rng(52);
   fmpz_t f;
   fmpz_init(f);
-  const auto random_bits = [&](ulong b) {  // a random integer below 2^b
-    fmpz_zero(f);
-    for (ulong w = 0; w < b; w += 60) {
-      fmpz_mul_2exp(f, f, 60);
-      fmpz_add_ui(f, f, rng() >> 4);
-    }
-    fmpz_fdiv_q_2exp(f, f, (b + 59) / 60 * 60 - b);
-  };
-  // kind 0: random bit lengths up to `bits`, a sixth zero; 1: all +-(2^bits - 1); 2: decaying
-  // from `bits` bits by 113 bits over the length, as a segment's coefficients.
+  // Decaying from `bits` by 113 bits over the length, as a quad segment's coefficients.
   const auto random_poly = [&](eulervop::detail::integer_poly& p, slong len, ulong bits, int kind) {
-    fmpz_poly_zero(p.p);
-    for (slong k = 0; k < len; ++k) {
-      if (kind == 1) {
-        fmpz_one(f);
-        fmpz_mul_2exp(f, f, bits);
-        fmpz_sub_ui(f, f, 1);
-      } else {
-        const long decayed = static_cast<long>(bits) - 113 * k / len;
-        const ulong b = kind == 2 ? static_cast<ulong>(std::max(1L, decayed)) : 1 + rng() % bits;
-        random_bits(b);
-        if (kind == 0 && rng() % 6 == 0) fmpz_zero(f);
-      }
-      if (rng() % 2) fmpz_neg(f, f);
-      fmpz_poly_set_coeff_fmpz(p.p, k, f);
-    }
-    if (fmpz_poly_length(p.p) == 0) fmpz_poly_set_si(p.p, 1);
+    random_factor(p, len, bits, kind, false, 113, rng);
   };
   eulervop::detail::integer_poly a, b, fast, flint;
   int taken = 0;
