@@ -255,12 +255,16 @@ inline void grid_product_flint(fmpz_poly_t c, const fmpz_poly_t A, const fmpz_po
 // 2 c = A * B + (the sums over |i - j| = k), exactly in integers (c distinct from A and B): the
 // same integers as grid_product_flint(): on 52-bit pieces (chunked_grid_product()) for short
 // factors whose coefficients fall off, else by kronecker_grid_product() where it takes the factors.
-inline void grid_product(fmpz_poly_t c, const fmpz_poly_t A, const fmpz_poly_t B) {
+// With `allowance` (in units of the integers' products), the pieces' kernel may leave out
+// products that sum to at most that and add their bound to `dropped` (chunked::leave_out()).
+inline void grid_product(fmpz_poly_t c, const fmpz_poly_t A, const fmpz_poly_t B,
+                         const mag_struct* allowance = nullptr, mag_struct* dropped = nullptr) {
   if (A->length == 0 || B->length == 0) {
     fmpz_poly_zero(c);
     return;
   }
-  if (!chunked_grid_product(c, A, B) && !kronecker_grid_product(c, A, B)) grid_product_flint(c, A, B);
+  if (!chunked_grid_product(c, A, B, allowance, dropped) && !kronecker_grid_product(c, A, B))
+    grid_product_flint(c, A, B);
 }
 
 // The model of 2^e sum n_k T_k (exact coefficients) with remainder `rem`.
@@ -308,19 +312,28 @@ inline bool takes_grid(const chebyshev_model& a) {
   return !a.is_zero() && !(a.length() == 1 && mag_is_zero(a.remainder()));
 }
 
-// out = a b of two factors on their grids (A and B may be one): the product is exact in integers
-// (grid_product()), and the remainder |(p + e)(q + d) - p q| <= sup|p| |d| + |e| (sup|q| + |d|).
+// out = a b of two factors on their grids (A and B may be one): the remainder
+// |(p + e)(q + d) - p q| <= sup|p| |d| + |e| (sup|q| + |d|), and p q in integers (grid_product()),
+// but for products of the integers' lowest pieces that sum to at most 2^-12 of that remainder
+// (whose bound joins it): they lie some 2^-30 below the factors' own distance to their grids.
 inline void multiply_grids(chebyshev_model& out, const grid_factor& A, const grid_factor& B) {
   thread_local integer_poly scratch_c;
   fmpz_poly_struct* C = scratch_c.p;
-  grid_product(C, A.n.p, B.n.p);
-  mag_t t;
+  mag_t t, allowance, dropped;
   mag_init(t);
+  mag_init(allowance);
+  mag_init(dropped);
   mag_add(t, B.magnitude, B.moved);
   mag_mul(t, t, A.moved);
   mag_addmul(t, A.magnitude, B.moved);
+  mag_mul_2exp_si(allowance, t, -12 - (A.e + B.e));
+  grid_product(C, A.n.p, B.n.p, allowance, dropped);
+  mag_mul_2exp_si(dropped, dropped, A.e + B.e);
+  mag_add(t, t, dropped);
   from_grid(out, C, A.e + B.e - 1, t);
   mag_clear(t);
+  mag_clear(allowance);
+  mag_clear(dropped);
 }
 
 // out = a x for a constant x (b's one coefficient), in balls at bits + 64.

@@ -19,6 +19,7 @@
 
 #include <eulervop/certify/detail/kronecker_product.hpp>
 
+#include <arb.h>
 #include <flint/fmpz.h>
 #include <flint/fmpz_poly.h>
 
@@ -45,6 +46,8 @@ struct pieces {
   slong n = 0, count[max_pieces] = {};
   unsigned positions = 0;  // 1 + the highest nonzero piece position
   slong total = 0;         // sum of count[c]: the work of a product is total(A) total(B)
+  // sum_i |piece c of A_i|: below max_length 2^52 < 2^59, exact.
+  std::uint64_t size[max_pieces] = {};
 
   // False (and the factor unusable) where a coefficient needs more than max_pieces pieces.
   bool set(const fmpz* a, slong len) {
@@ -53,6 +56,7 @@ struct pieces {
     positions = 0;
     total = 0;
     for (slong& c : count) c = 0;
+    for (std::uint64_t& m : size) m = 0;
     for (slong i = 0; i < len; ++i) {
       mp_limb_t small;
       const kronecker::limbs_of v(a + i, small);
@@ -71,6 +75,7 @@ struct pieces {
         d[c * static_cast<std::size_t>(len) + static_cast<std::size_t>(i)] =
             v.negative ? -static_cast<std::int64_t>(x) : static_cast<std::int64_t>(x);
         count[c] = i + 1;
+        size[c] += x;
         positions = std::max(positions, c + 1);
       }
     }
@@ -122,11 +127,40 @@ inline bool worth(const pieces& a, const pieces& b, ulong bits_a, ulong bits_b) 
          pairs * static_cast<double>(bits_a + bits_b) / 2;
 }
 
-// conv and corr (columns side by side per slot, corr at index i - j + lb - 1) += the pieces'
-// products.
-inline void accumulate(wide* conv, wide* corr, const pieces& pa, const pieces& pb, unsigned columns) {
+// Which pairs of piece positions a product may leave out: those whose products sum to at most
+// `allowance` / 16 (16 pairs at most, so all of them to at most `allowance`), in units of the
+// factors' integers' products. Their sum's bound sum_i |a_ip| sum_j |b_jq| 2^(52 (p + q)) is
+// added to `dropped`: each left-out product changes 2 c_k (once in conv, once in corr), so the
+// product's coefficients c_k move by at most that sum in all.
+struct left_out {
+  bool pair[max_pieces][max_pieces] = {};
+};
+inline void leave_out(left_out& out, const pieces& pa, const pieces& pb, const mag_t allowance, mag_t dropped) {
+  mag_t bound, share;
+  mag_init(bound);
+  mag_init(share);
+  mag_mul_2exp_si(share, allowance, -4);
   for (unsigned p = 0; p < pa.positions; ++p)
     for (unsigned q = 0; q < pb.positions; ++q) {
+      const unsigned __int128 m = static_cast<unsigned __int128>(pa.size[p]) * pb.size[q];  // < 2^118
+      const auto hi = static_cast<ulong>(m >> 60), lo = static_cast<ulong>(m & ((ulong{1} << 60) - 1));
+      // m <= (hi + 1) 2^60 where lo > 0; hi < 2^58.
+      mag_set_ui_2exp_si(bound, hi + (lo != 0 ? 1 : 0), 60 + static_cast<slong>(piece_bits * (p + q)));
+      if (m == 0 || mag_cmp(bound, share) > 0) continue;
+      out.pair[p][q] = true;
+      mag_add(dropped, dropped, bound);
+    }
+  mag_clear(bound);
+  mag_clear(share);
+}
+
+// conv and corr (columns side by side per slot, corr at index i - j + lb - 1) += the pieces'
+// products, but for the pairs of positions left out.
+inline void accumulate(wide* conv, wide* corr, const pieces& pa, const pieces& pb, unsigned columns,
+                       const left_out& skip) {
+  for (unsigned p = 0; p < pa.positions; ++p)
+    for (unsigned q = 0; q < pb.positions; ++q) {
+      if (skip.pair[p][q]) continue;
       const std::int64_t *a = pa.piece(p), *b = pb.piece(q);
       const slong na = pa.count[p], nb = pb.count[q];
       wide* up = conv + (p + q);
@@ -144,10 +178,13 @@ inline void accumulate(wide* conv, wide* corr, const pieces& pa, const pieces& p
     }
 }
 
-// The product as grid_product() defines it, exactly; false, c untouched, where a factor is longer
-// than max_length or a coefficient wider than max_pieces pieces, or (only_where_worth) where the
-// Kronecker kernel would cost less.
-inline bool product(fmpz_poly_t c, const fmpz_poly_t A, const fmpz_poly_t B, bool only_where_worth) {
+// The product as grid_product() defines it; false, c untouched, where a factor is longer than
+// max_length or a coefficient wider than max_pieces pieces, or (only_where_worth) where the
+// Kronecker kernel would cost less. Exact, unless `allowance` is given: then the pairs of piece
+// positions whose products sum to at most `allowance` are left out and their bound is added to
+// `dropped` (both in units of the integers' products; leave_out()).
+inline bool product(fmpz_poly_t c, const fmpz_poly_t A, const fmpz_poly_t B, bool only_where_worth,
+                    const mag_struct* allowance = nullptr, mag_struct* dropped = nullptr) {
   const slong la = A->length, lb = B->length;
   if (la > max_length || lb > max_length) return false;
   thread_local pieces tl_a, tl_b;
@@ -163,7 +200,9 @@ inline bool product(fmpz_poly_t c, const fmpz_poly_t A, const fmpz_poly_t B, boo
   conv_v.assign(static_cast<std::size_t>(columns * slots), 0);
   corr_v.assign(static_cast<std::size_t>(columns * slots), 0);
   wide *const conv = conv_v.data(), *const corr = corr_v.data();
-  accumulate(conv, corr, pa, pb, columns);
+  left_out skip;
+  if (allowance != nullptr) leave_out(skip, pa, pb, allowance, dropped);
+  accumulate(conv, corr, pa, pb, columns, skip);
   fmpz_poly_fit_length(c, slots);
   mp_limb_t sum[sum_limbs], scratch[sum_limbs];
   wide v[2 * max_pieces - 1];
@@ -188,8 +227,9 @@ inline bool product(fmpz_poly_t c, const fmpz_poly_t A, const fmpz_poly_t B, boo
 // 2 c_k = sum_{i+j=k} A_i B_j + sum_{|i-j|=k} A_i B_j exactly, as grid_product() (c distinct from A
 // and B, both nonzero and normalised); false, c untouched, where the factors are beyond the
 // pieces' limits or the Kronecker kernel would cost less (chunked::worth()).
-inline bool chunked_grid_product(fmpz_poly_t c, const fmpz_poly_t A, const fmpz_poly_t B) {
-  return chunked::product(c, A, B, true);
+inline bool chunked_grid_product(fmpz_poly_t c, const fmpz_poly_t A, const fmpz_poly_t B,
+                                 const mag_struct* allowance = nullptr, mag_struct* dropped = nullptr) {
+  return chunked::product(c, A, B, true, allowance, dropped);
 }
 
 }  // namespace eulervop::detail
