@@ -270,15 +270,22 @@ class box_algebra {
     return v;
   }
   value independent(const ball& x) const { return constant(x); }
+  // The gradients and Hessians of a state's field are mostly zero (a product of two variables has
+  // two Hessian entries): every term with an exactly zero factor is skipped, which leaves Arb's
+  // results as they were (x + 0 and 0 y are exact, and x is already at prec_).
   void add(value& a, const value& b) const {
     arb_add(a.f.get(), a.f.get(), b.f.get(), prec_);
-    for (std::size_t k = 0; k < n_; ++k) arb_add(a.g[k].get(), a.g[k].get(), b.g[k].get(), prec_);
-    for (std::size_t k = 0; k < n_ * n_; ++k) arb_add(a.H[k].get(), a.H[k].get(), b.H[k].get(), prec_);
+    for (std::size_t k = 0; k < n_; ++k)
+      if (!arb_is_zero(b.g[k].get())) arb_add(a.g[k].get(), a.g[k].get(), b.g[k].get(), prec_);
+    for (std::size_t k = 0; k < n_ * n_; ++k)
+      if (!arb_is_zero(b.H[k].get())) arb_add(a.H[k].get(), a.H[k].get(), b.H[k].get(), prec_);
   }
   void sub(value& a, const value& b) const {
     arb_sub(a.f.get(), a.f.get(), b.f.get(), prec_);
-    for (std::size_t k = 0; k < n_; ++k) arb_sub(a.g[k].get(), a.g[k].get(), b.g[k].get(), prec_);
-    for (std::size_t k = 0; k < n_ * n_; ++k) arb_sub(a.H[k].get(), a.H[k].get(), b.H[k].get(), prec_);
+    for (std::size_t k = 0; k < n_; ++k)
+      if (!arb_is_zero(b.g[k].get())) arb_sub(a.g[k].get(), a.g[k].get(), b.g[k].get(), prec_);
+    for (std::size_t k = 0; k < n_ * n_; ++k)
+      if (!arb_is_zero(b.H[k].get())) arb_sub(a.H[k].get(), a.H[k].get(), b.H[k].get(), prec_);
   }
   void neg(value& a) const {
     arb_neg(a.f.get(), a.f.get());
@@ -287,8 +294,10 @@ class box_algebra {
   }
   void scale(value& a, const ball& x) const {
     arb_mul(a.f.get(), a.f.get(), x.get(), prec_);
-    for (ball& y : a.g) arb_mul(y.get(), y.get(), x.get(), prec_);
-    for (ball& y : a.H) arb_mul(y.get(), y.get(), x.get(), prec_);
+    for (ball& y : a.g)
+      if (!arb_is_zero(y.get())) arb_mul(y.get(), y.get(), x.get(), prec_);
+    for (ball& y : a.H)
+      if (!arb_is_zero(y.get())) arb_mul(y.get(), y.get(), x.get(), prec_);
   }
   // a = f(a): grad f(a) = f'(a) grad a, H f(a) = f'(a) H a + f''(a) grad a grad a^T, with f, f'
   // and f'' over a's ball. std::domain_error where the ball leaves f's domain.
@@ -299,26 +308,32 @@ class box_algebra {
     for (std::size_t i = 0; i < n_; ++i)
       for (std::size_t j = 0; j < n_; ++j) {
         arb_ptr h = a.H[i * n_ + j].get();
-        arb_mul(h, h, d1.get(), prec_);
+        if (!arb_is_zero(h)) arb_mul(h, h, d1.get(), prec_);
+        if (arb_is_zero(a.g[i].get()) || arb_is_zero(a.g[j].get())) continue;
         arb_mul(gg.get(), a.g[i].get(), a.g[j].get(), prec_);
         arb_addmul(h, gg.get(), d2.get(), prec_);
       }
-    for (ball& x : a.g) arb_mul(x.get(), x.get(), d1.get(), prec_);
+    for (ball& x : a.g)
+      if (!arb_is_zero(x.get())) arb_mul(x.get(), x.get(), d1.get(), prec_);
     a.f = v;
   }
   void invert(value& a) const { function(elementary::inverse, a); }
   // a = a b: H(ab) = a H(b) + b H(a) + grad a grad b^T + grad b grad a^T.
   void mul(value& a, const value& b) const {
-    ball t;
+    const auto zero = [](const ball& x) { return arb_is_zero(x.get()) != 0; };
+    const bool af = !zero(a.f);
     for (std::size_t i = 0; i < n_; ++i)
       for (std::size_t j = 0; j < n_; ++j) {
         arb_ptr h = a.H[i * n_ + j].get();
-        arb_mul(h, h, b.f.get(), prec_);
-        arb_addmul(h, a.f.get(), b.H[i * n_ + j].get(), prec_);
-        arb_addmul(h, a.g[i].get(), b.g[j].get(), prec_);
-        arb_addmul(h, b.g[i].get(), a.g[j].get(), prec_);
+        const ball& bh = b.H[i * n_ + j];
+        if (!arb_is_zero(h)) arb_mul(h, h, b.f.get(), prec_);
+        if (af && !zero(bh)) arb_addmul(h, a.f.get(), bh.get(), prec_);
+        if (!zero(a.g[i]) && !zero(b.g[j])) arb_addmul(h, a.g[i].get(), b.g[j].get(), prec_);
+        if (!zero(b.g[i]) && !zero(a.g[j])) arb_addmul(h, b.g[i].get(), a.g[j].get(), prec_);
       }
+    ball t;
     for (std::size_t k = 0; k < n_; ++k) {
+      if (zero(a.g[k]) && zero(b.g[k])) continue;
       arb_mul(t.get(), a.g[k].get(), b.f.get(), prec_);
       arb_addmul(t.get(), a.f.get(), b.g[k].get(), prec_);
       std::swap(a.g[k], t);
