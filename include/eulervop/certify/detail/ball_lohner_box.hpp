@@ -19,16 +19,16 @@
 // z), whichever gives the smaller image. Measured on the shipped datasets: spin-up 1.50e-29 to
 // 2.02e-30 (its error about 1.9e-30), the paper scene 3.25e-31 to 3.11e-31, long-bounded and
 // near-separatrix-free 4% and 2% smaller, every other largest radius the same. Should M'
-// pass a condition of 10^6 (an exponentially stretching flow), M' is such a Q too. Q's inverse is
-// enclosed from Q: Q^-1 = (I + E)^-1 Q^T with E = Q^T Q - I, |Q^-1 - Q^T|_inf <= d/(1 - d)
-// |Q^T|_inf, d = |E|_inf; a general M' is inverted in balls (Arb).
+// pass a condition of 10^6 (an exponentially stretching flow), M' is such a Q too. Each inverse is
+// enclosed from an approximate one in double (Q^T for Q; Gaussian elimination for M') by a
+// Neumann series in balls (enclose_inverse()).
 // The first segment's e(a), which may be a box of initial states, starts in M v.
 #pragma once
 
 #include <eulervop/certify/ball.hpp>
+#include <eulervop/certify/detail/small_solve.hpp>
 
 #include <arb.h>
-#include <arb_mat.h>
 
 #include <algorithm>
 #include <cmath>
@@ -156,6 +156,7 @@ class ball_lohner_box {
   // Moves p across the segment with A = Phi M_p: p.M = Mnew, p.v = (Mnew^-1 A) v + Mnew^-1 local.
   bool move(part& p, const std::vector<ball>& A, const std::vector<double>& Mnew, const std::vector<ball>& local);
   void orthogonal_factor(const std::vector<ball>& A, const std::vector<ball>& v, std::vector<double>& Q) const;
+  bool enclose_inverse(const std::vector<double>& M, const std::vector<double>& X, std::vector<ball>& inv) const;
   bool enclose_orthogonal_inverse(const std::vector<double>& Q, std::vector<ball>& inv) const;
   bool enclose_general_inverse(const std::vector<double>& M, double limit, std::vector<ball>& inv,
                                double* condition = nullptr) const;
@@ -221,101 +222,100 @@ inline void ball_lohner_box::orthogonal_factor(const std::vector<ball>& A, const
   }
 }
 
-inline bool ball_lohner_box::enclose_orthogonal_inverse(const std::vector<double>& Q, std::vector<ball>& inv) const {
+// M^-1 enclosed from an approximate inverse X (both point matrices of doubles, row-major): with
+// E = I - X M in balls and d >= |E|_inf below 1,
+//   M^-1 = (I - E)^-1 X = X + E X + E^2 (I - E)^-1 X,  |E^2 (I - E)^-1 X|_inf <= d^2 / (1 - d) |X|_inf
+// (the Neumann series; Rump, "Verification methods: Rigorous results using floating-point
+// arithmetic", Acta Numerica 19, 2010, section 10), so each entry lies in X + E X widened by that
+// bound. false where d is not below 1.
+inline bool ball_lohner_box::enclose_inverse(const std::vector<double>& M, const std::vector<double>& X,
+                                             std::vector<ball>& inv) const {
   const std::size_t D = D_;
-  ball delta, row, t, p, q, qt_inf, slack;
-  for (std::size_t i = 0; i < D; ++i) {
-    arb_zero(row.get());
-    for (std::size_t j = 0; j < D; ++j) {
-      arb_set_si(t.get(), i == j ? -1 : 0);
-      for (std::size_t k = 0; k < D; ++k) {
-        arb_set_d(p.get(), Q[k * D + i]);
-        arb_set_d(q.get(), Q[k * D + j]);
-        arb_addmul(t.get(), p.get(), q.get(), prec_);
-      }
-      arb_abs(t.get(), t.get());
-      arb_add(row.get(), row.get(), t.get(), prec_);
-    }
-    arb_max(delta.get(), delta.get(), row.get(), prec_);
-    arb_zero(row.get());  // row i of Q^T: column i of Q
-    for (std::size_t k = 0; k < D; ++k) {
-      arb_set_d(p.get(), std::abs(Q[k * D + i]));
-      arb_add(row.get(), row.get(), p.get(), prec_);
-    }
-    arb_max(qt_inf.get(), qt_inf.get(), row.get(), prec_);
+  const auto n = static_cast<slong>(D);
+  std::vector<ball> Mb(D * D), Xb(D * D), E(D * D);
+  for (std::size_t q = 0; q < D * D; ++q) {
+    arb_set_d(Mb[q].get(), M[q]);
+    arb_set_d(Xb[q].get(), X[q]);
   }
-  ball one(1);
-  arb_sub(one.get(), one.get(), delta.get(), prec_);
-  if (!arb_is_positive(one.get())) return false;
-  arb_div(slack.get(), delta.get(), one.get(), prec_);
-  arb_mul(slack.get(), slack.get(), qt_inf.get(), prec_);
-  mag_value m;
-  arb_get_mag(m.m, slack.get());
+  const ball one(1);
+  mag_value d, x_norm, row, m;
+  for (std::size_t i = 0; i < D; ++i) {
+    mag_zero(row.m);
+    for (std::size_t j = 0; j < D; ++j) {
+      arb_dot(E[i * D + j].get(), i == j ? one.get() : nullptr, 1, Xb[i * D].get(), 1, Mb[j].get(), n, n, 64);
+      arb_get_mag(m.m, E[i * D + j].get());
+      mag_add(row.m, row.m, m.m);
+    }
+    mag_max(d.m, d.m, row.m);
+    mag_zero(row.m);
+    for (std::size_t j = 0; j < D; ++j) {
+      arb_get_mag(m.m, Xb[i * D + j].get());
+      mag_add(row.m, row.m, m.m);
+    }
+    mag_max(x_norm.m, x_norm.m, row.m);
+  }
+  if (!mag_is_finite(d.m) || !mag_is_finite(x_norm.m) || mag_cmp_2exp_si(d.m, 0) >= 0) return false;
+  mag_value tail, gap;
+  mag_one(gap.m);
+  mag_sub_lower(gap.m, gap.m, d.m);
+  mag_mul(tail.m, d.m, d.m);
+  mag_mul(tail.m, tail.m, x_norm.m);
+  mag_div(tail.m, tail.m, gap.m);
   inv.assign(D * D, ball());
   for (std::size_t i = 0; i < D; ++i)
     for (std::size_t j = 0; j < D; ++j) {
-      arb_set_d(inv[i * D + j].get(), Q[j * D + i]);
-      arb_add_error_mag(inv[i * D + j].get(), m.m);
+      ball& x = inv[i * D + j];
+      arb_dot(x.get(), Xb[i * D + j].get(), 0, E[i * D].get(), 1, Xb[j].get(), n, n, 64);
+      arb_add_error_mag(x.get(), tail.m);
     }
   return true;
 }
 
-// The inverse of the point matrix M (row-major) in balls; false if it is singular or its condition
-// exceeds `limit` (|M|_inf |M^-1|_inf, from the enclosure).
+// Q's inverse from Q^T.
+inline bool ball_lohner_box::enclose_orthogonal_inverse(const std::vector<double>& Q, std::vector<ball>& inv) const {
+  const std::size_t D = D_;
+  std::vector<double> QT(D * D);
+  for (std::size_t i = 0; i < D; ++i)
+    for (std::size_t j = 0; j < D; ++j) QT[i * D + j] = Q[j * D + i];
+  return enclose_inverse(Q, QT, inv);
+}
+
+// The inverse of the point matrix M (row-major) in balls, from Gaussian elimination in double;
+// false if it is singular or its condition exceeds `limit` (|M|_inf |M^-1|_inf, from the
+// enclosure).
 inline bool ball_lohner_box::enclose_general_inverse(const std::vector<double>& M, double limit,
                                                      std::vector<ball>& inv, double* condition) const {
   const std::size_t D = D_;
-  const slong n = static_cast<slong>(D);
-  arb_mat_t m, r;
-  arb_mat_init(m, n, n);
-  arb_mat_init(r, n, n);
+  std::vector<double> X;
+  if (!approximate_inverse(M, D, X) || !enclose_inverse(M, X, inv)) return false;
   double norm = 0, inv_norm = 0;
+  mag_value e;
   for (std::size_t i = 0; i < D; ++i) {
-    double row = 0;
+    double row = 0, inv_row = 0;
     for (std::size_t j = 0; j < D; ++j) {
-      arb_set_d(arb_mat_entry(m, static_cast<slong>(i), static_cast<slong>(j)), M[i * D + j]);
       row += std::abs(M[i * D + j]);
+      arb_get_mag(e.m, inv[i * D + j].get());
+      inv_row += mag_get_d(e.m);
     }
     norm = std::max(norm, row);
+    inv_norm = std::max(inv_norm, inv_row);
   }
-  bool ok = arb_mat_inv(r, m, prec_) != 0 && arb_mat_is_finite(r);
-  if (ok) {
-    mag_value e;
-    for (std::size_t i = 0; i < D; ++i) {
-      double row = 0;
-      for (std::size_t j = 0; j < D; ++j) {
-        arb_get_mag(e.m, arb_mat_entry(r, static_cast<slong>(i), static_cast<slong>(j)));
-        row += mag_get_d(e.m);
-      }
-      inv_norm = std::max(inv_norm, row);
-    }
-    ok = norm * inv_norm <= limit;
-    if (condition) *condition = norm * inv_norm;
-  }
-  if (ok) {
-    inv.assign(D * D, ball());
-    for (std::size_t i = 0; i < D; ++i)
-      for (std::size_t j = 0; j < D; ++j)
-        arb_set(inv[i * D + j].get(), arb_mat_entry(r, static_cast<slong>(i), static_cast<slong>(j)));
-  }
-  arb_mat_clear(m);
-  arb_mat_clear(r);
-  return ok;
+  if (condition) *condition = norm * inv_norm;
+  return norm * inv_norm <= limit;
 }
 
 inline bool ball_lohner_box::move(part& p, const std::vector<ball>& A, const std::vector<double>& Mnew,
                                   const std::vector<ball>& local) {
   const std::size_t D = D_;
+  const auto n = static_cast<slong>(D);
   std::vector<ball> C(D * D), next(D);
   for (std::size_t i = 0; i < D; ++i)
     for (std::size_t j = 0; j < D; ++j)
-      for (std::size_t k = 0; k < D; ++k)
-        arb_addmul(C[i * D + j].get(), p.Minv[i * D + k].get(), A[k * D + j].get(), prec_);
-  for (std::size_t i = 0; i < D; ++i)
-    for (std::size_t k = 0; k < D; ++k) {
-      arb_addmul(next[i].get(), C[i * D + k].get(), p.v[k].get(), prec_);
-      arb_addmul(next[i].get(), p.Minv[i * D + k].get(), local[k].get(), prec_);
-    }
+      arb_dot(C[i * D + j].get(), nullptr, 0, p.Minv[i * D].get(), 1, A[j].get(), n, n, prec_);
+  for (std::size_t i = 0; i < D; ++i) {
+    arb_dot(next[i].get(), nullptr, 0, C[i * D].get(), 1, p.v[0].get(), 1, n, prec_);
+    arb_dot(next[i].get(), next[i].get(), 0, p.Minv[i * D].get(), 1, local[0].get(), 1, n, prec_);
+  }
   p.v.swap(next);
   p.set_matrix(Mnew);
   return true;

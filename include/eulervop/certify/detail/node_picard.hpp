@@ -13,6 +13,7 @@
 #pragma once
 
 #include <eulervop/certify/detail/chebyshev_model.hpp>
+#include <eulervop/certify/detail/small_solve.hpp>
 #include <eulervop/reference/detail/chebyshev_basis.hpp>
 
 #include <flint/fmpz_poly.h>
@@ -265,35 +266,6 @@ class node_picard {
   std::vector<std::size_t> term_start_, term_j_, term_y_, column_;
   std::map<const double*, std::vector<double>> transposed_;  // transposed()
 };
-
-// Solves A x = v in place (A: D x D row-major, overwritten; v: D), by Gaussian elimination with
-// partial pivoting in double. false where a pivot is zero or not finite. N > 0 fixes D at compile
-// time (the same operations, unrolled).
-template <std::size_t N>
-bool solve_in_place(double* A, double* v, std::size_t dimension) {
-  const std::size_t D = N > 0 ? N : dimension;
-  for (std::size_t c = 0; c < D; ++c) {
-    std::size_t p = c;
-    for (std::size_t r = c + 1; r < D; ++r)
-      if (std::abs(A[r * D + c]) > std::abs(A[p * D + c])) p = r;
-    if (!(std::abs(A[p * D + c]) > 0) || !std::isfinite(A[p * D + c])) return false;
-    if (p != c) {
-      for (std::size_t k = 0; k < D; ++k) std::swap(A[p * D + k], A[c * D + k]);
-      std::swap(v[p], v[c]);
-    }
-    for (std::size_t r = c + 1; r < D; ++r) {
-      const double f = A[r * D + c] / A[c * D + c];
-      for (std::size_t k = c; k < D; ++k) A[r * D + k] -= f * A[c * D + k];
-      v[r] -= f * v[c];
-    }
-  }
-  for (std::size_t c = D; c-- > 0;) {
-    double x = v[c];
-    for (std::size_t k = c + 1; k < D; ++k) x -= A[c * D + k] * v[k];
-    v[c] = x / A[c * D + c];
-  }
-  return true;
-}
 
 inline bool node_picard::integral_term_by_variation(const chebyshev_basis<double>& b, const double* Jn,
                                                     const double* rn, const double* Pn, std::size_t D, double hl,
