@@ -236,15 +236,18 @@ void add_attitude(const certification_problem& p, const Algebra& alg, const std:
     arb_mul_2exp_si(h.get(), h.get(), -1);
     return h;
   }();
-  std::array<value, 3> W;  // halved
+  // Scratch kept per thread: the copies and products land in storage that earlier segments left,
+  // and the sums in F's own, instead of values made and freed for every segment.
+  thread_local std::array<value, 3> W;  // halved
+  thread_local value term;
   for (int i = 0; i < 3; ++i) {
-    value w = x[i];
+    value& w = W[p.rates.identity ? i : p.rates.axes.axis(i)];
+    w = x[i];
     if (!p.rates.identity) {
       alg.scale(w, p.rates.scale[i]);
       if (p.rates.axes.sign(i) < 0) alg.neg(w);
     }
     alg.scale(w, half);
-    W[p.rates.identity ? i : p.rates.axes.axis(i)] = std::move(w);
   }
   const auto q = [&](int r) -> const value& { return x[3 + r]; };
   // (q0, q1, q2, q3) (x) (0, W1, W2, W3), term by term.
@@ -255,16 +258,16 @@ void add_attitude(const certification_problem& p, const Algebra& alg, const std:
       {{1, 0, 2}, {1, 1, 1}, {-1, 2, 0}},    // q3' = q0 W3 + q1 W2 - q2 W1
   };
   for (int r = 0; r < 4; ++r) {
-    value sum = product(alg, q(terms[r][0][1]), W[terms[r][0][2]]);
+    value& sum = F[3 + r];
+    alg.product(sum, q(terms[r][0][1]), W[terms[r][0][2]]);
     if (terms[r][0][0] < 0) alg.neg(sum);
     for (int t = 1; t < 3; ++t) {
-      const value term = product(alg, q(terms[r][t][1]), W[terms[r][t][2]]);
+      alg.product(term, q(terms[r][t][1]), W[terms[r][t][2]]);
       if (terms[r][t][0] < 0)
         alg.sub(sum, term);
       else
         alg.add(sum, term);
     }
-    F[3 + r] = std::move(sum);
   }
 }
 
