@@ -121,8 +121,8 @@ class ball_linear_flow {
   std::vector<char> live_;
   std::vector<std::size_t> entries_;  // the live (i, j) of Phi as i * D + j
   std::vector<std::vector<std::size_t>> through_;  // for a live (i, j): the k with J_ik != 0, Phi_kj live
-  std::vector<chebyshev_model> rs_;  // W r 2^u_exp
-  grid_models rg_;  // rs_ on its grid
+  std::vector<slong> r_shift_;  // log2 of W 2^u_exp per component
+  grid_models rg_;  // W r 2^u_exp on its grid
   std::vector<integer_poly> wr_;  // u_num + W r 2^u_exp on one grid
   std::vector<mag_value> phi_mag_, w_mag_;  // sup |phi_kj|; sup |w_k| plus r's move to its grid
   std::vector<short_integer_series> phi_short_, w_short_;
@@ -315,7 +315,7 @@ inline bool ball_linear_flow::integral_term(const std::vector<chebyshev_model>& 
   return mag_is_finite(u_res_.m);
 }
 
-// rs_ = W r 2^u_exp (u_exp_: r's largest sup bound to order one) and rg_, rs_ on a grid 56 bits
+// rg_: W r 2^u_exp (u_exp_: r's largest sup bound to order one) on a grid 56 bits
 // below its largest coefficient (the moves into its remainders). Returns r's longest length (1 at
 // least).
 inline slong ball_linear_flow::scale_residual(const std::vector<chebyshev_model>& r) {
@@ -334,13 +334,9 @@ inline slong ball_linear_flow::scale_residual(const std::vector<chebyshev_model>
     u_exp_ = -static_cast<long>(arf_abs_bound_lt_2exp_si(b));
     arf_clear(b);
   }
-  rs_.resize(D_);
-  for (std::size_t i = 0; i < D_; ++i) {
-    rs_[i] = r[i];
-    for (slong k = 0; k < rs_[i].length(); ++k) arb_mul_2exp_si(rs_[i].coeff(k), rs_[i].coeff(k), u_exp_ + w_[i]);
-    mag_mul_2exp_si(rs_[i].remainder(), rs_[i].remainder(), u_exp_ + w_[i]);
-  }
-  rg_.load(rs_, grid_bits);
+  r_shift_.resize(D_);
+  for (std::size_t i = 0; i < D_; ++i) r_shift_[i] = u_exp_ + w_[i];
+  rg_.load(r, grid_bits, r_shift_);
   return len;
 }
 

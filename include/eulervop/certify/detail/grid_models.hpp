@@ -21,15 +21,23 @@ class grid_models {
  public:
   explicit grid_models(std::size_t count) : n_(count), rem_(count), mag_(count) {}
 
-  // The models `m` on the grid `bits` bits below their largest coefficient.
-  void load(const std::vector<chebyshev_model>& m, slong bits) {
+  // The models `m`, each times 2^shift[q] (no shifts: 1), on the grid `bits` bits below their
+  // largest coefficient (a model's integers on 2^(e - shift) are its scaled ones' on 2^e).
+  void load(const std::vector<chebyshev_model>& m, slong bits, const std::vector<slong>& shift = {}) {
+    const auto by = [&](std::size_t q) { return shift.empty() ? 0 : shift[q]; };
     slong top = WORD_MIN;
-    for (const chebyshev_model& x : m)
-      if (!x.is_zero()) top = std::max(top, grid_exponent(x, 0));
+    for (std::size_t q = 0; q < m.size(); ++q) {
+      if (m[q].is_zero()) continue;
+      slong e = WORD_MIN;  // the largest midpoint's, scaled (0 where every midpoint is 0)
+      for (slong k = 0; k < m[q].length(); ++k)
+        if (!arf_is_zero(arb_midref(m[q].coeff(k)))) e = std::max(e, arf_abs_bound_lt_2exp_si(arb_midref(m[q].coeff(k))));
+      top = std::max(top, e == WORD_MIN ? 0 : e + by(q));
+    }
     e_ = top == WORD_MIN ? 0 : top - bits;
     for (std::size_t q = 0; q < m.size(); ++q) {
-      to_grid(n_[q].p, rem_[q].m, m[q], e_);
+      to_grid(n_[q].p, rem_[q].m, m[q], e_ - by(q));
       mag_add(rem_[q].m, rem_[q].m, m[q].remainder());
+      mag_mul_2exp_si(rem_[q].m, rem_[q].m, by(q));
       grid_magnitude(mag_[q].m, n_[q].p, e_);
     }
     short_.resize(m.size());
