@@ -46,6 +46,79 @@ inline constexpr double parallelepiped_condition = 1e6;
 // grew 1.5 times (a QR step taken for a smaller image then, which wrapped later).
 inline constexpr double balls_condition = 1e5;
 
+// M^-1 enclosed from an approximate inverse X (both point matrices of doubles, row-major): with
+// E = I - X M in balls and d >= |E|_inf below 1,
+//   M^-1 = (I - E)^-1 X = X + E X + E^2 (I - E)^-1 X,  |E^2 (I - E)^-1 X|_inf <= d^2 / (1 - d) |X|_inf
+// (the Neumann series; Rump, "Verification methods: Rigorous results using floating-point
+// arithmetic", Acta Numerica 19, 2010, section 10), so each entry lies in X + E X widened by that
+// bound. false where d is not below 1. E and E X are taken at 64 bits: E's entries are near
+// 2^-52 |X| |M| and E X a correction of that size, whose own last bits move no radius of the box
+// (measured: every shipped scene's radii the same as at 128 bits).
+inline bool enclose_inverse(const std::vector<double>& M, const std::vector<double>& X, std::size_t D,
+                            std::vector<ball>& inv) {
+  const auto n = static_cast<slong>(D);
+  std::vector<ball> Mb(D * D), Xb(D * D), E(D * D);
+  for (std::size_t q = 0; q < D * D; ++q) {
+    arb_set_d(Mb[q].get(), M[q]);
+    arb_set_d(Xb[q].get(), X[q]);
+  }
+  const ball one(1);
+  mag_value d, x_norm, row, m;
+  for (std::size_t i = 0; i < D; ++i) {
+    mag_zero(row.m);
+    for (std::size_t j = 0; j < D; ++j) {
+      arb_dot(E[i * D + j].get(), i == j ? one.get() : nullptr, 1, Xb[i * D].get(), 1, Mb[j].get(), n, n, 64);
+      arb_get_mag(m.m, E[i * D + j].get());
+      mag_add(row.m, row.m, m.m);
+    }
+    mag_max(d.m, d.m, row.m);
+    mag_zero(row.m);
+    for (std::size_t j = 0; j < D; ++j) {
+      arb_get_mag(m.m, Xb[i * D + j].get());
+      mag_add(row.m, row.m, m.m);
+    }
+    mag_max(x_norm.m, x_norm.m, row.m);
+  }
+  if (!mag_is_finite(d.m) || !mag_is_finite(x_norm.m) || mag_cmp_2exp_si(d.m, 0) >= 0) return false;
+  mag_value tail, gap;
+  mag_one(gap.m);
+  mag_sub_lower(gap.m, gap.m, d.m);
+  mag_mul(tail.m, d.m, d.m);
+  mag_mul(tail.m, tail.m, x_norm.m);
+  mag_div(tail.m, tail.m, gap.m);
+  inv.assign(D * D, ball());
+  for (std::size_t i = 0; i < D; ++i)
+    for (std::size_t j = 0; j < D; ++j) {
+      ball& x = inv[i * D + j];
+      arb_dot(x.get(), Xb[i * D + j].get(), 0, E[i * D].get(), 1, Xb[j].get(), n, n, 64);
+      arb_add_error_mag(x.get(), tail.m);
+    }
+  return true;
+}
+
+// The inverse of the point matrix M (row-major) in balls, from Gaussian elimination in double;
+// false if it is singular or its condition exceeds `limit` (|M|_inf |M^-1|_inf, from the
+// enclosure).
+inline bool enclose_general_inverse(const std::vector<double>& M, std::size_t D, double limit, std::vector<ball>& inv,
+                                    double* condition = nullptr) {
+  std::vector<double> X;
+  if (!approximate_inverse(M, D, X) || !enclose_inverse(M, X, D, inv)) return false;
+  double norm = 0, inv_norm = 0;
+  mag_value e;
+  for (std::size_t i = 0; i < D; ++i) {
+    double row = 0, inv_row = 0;
+    for (std::size_t j = 0; j < D; ++j) {
+      row += std::abs(M[i * D + j]);
+      arb_get_mag(e.m, inv[i * D + j].get());
+      inv_row += mag_get_d(e.m);
+    }
+    norm = std::max(norm, row);
+    inv_norm = std::max(inv_norm, inv_row);
+  }
+  if (condition) *condition = norm * inv_norm;
+  return norm * inv_norm <= limit;
+}
+
 class ball_lohner_box {
  public:
   ball_lohner_box(std::size_t dimension, slong prec)
@@ -156,10 +229,7 @@ class ball_lohner_box {
   // Moves p across the segment with A = Phi M_p: p.M = Mnew, p.v = (Mnew^-1 A) v + Mnew^-1 local.
   bool move(part& p, const std::vector<ball>& A, const std::vector<double>& Mnew, const std::vector<ball>& local);
   void orthogonal_factor(const std::vector<ball>& A, const std::vector<ball>& v, std::vector<double>& Q) const;
-  bool enclose_inverse(const std::vector<double>& M, const std::vector<double>& X, std::vector<ball>& inv) const;
   bool enclose_orthogonal_inverse(const std::vector<double>& Q, std::vector<ball>& inv) const;
-  bool enclose_general_inverse(const std::vector<double>& M, double limit, std::vector<ball>& inv,
-                               double* condition = nullptr) const;
 
   // x's midpoints (exact) and radii (as balls 0 +- rad).
   static void split(const std::vector<ball>& x, std::vector<ball>& mid, std::vector<ball>& rad) {
@@ -222,86 +292,13 @@ inline void ball_lohner_box::orthogonal_factor(const std::vector<ball>& A, const
   }
 }
 
-// M^-1 enclosed from an approximate inverse X (both point matrices of doubles, row-major): with
-// E = I - X M in balls and d >= |E|_inf below 1,
-//   M^-1 = (I - E)^-1 X = X + E X + E^2 (I - E)^-1 X,  |E^2 (I - E)^-1 X|_inf <= d^2 / (1 - d) |X|_inf
-// (the Neumann series; Rump, "Verification methods: Rigorous results using floating-point
-// arithmetic", Acta Numerica 19, 2010, section 10), so each entry lies in X + E X widened by that
-// bound. false where d is not below 1.
-inline bool ball_lohner_box::enclose_inverse(const std::vector<double>& M, const std::vector<double>& X,
-                                             std::vector<ball>& inv) const {
-  const std::size_t D = D_;
-  const auto n = static_cast<slong>(D);
-  std::vector<ball> Mb(D * D), Xb(D * D), E(D * D);
-  for (std::size_t q = 0; q < D * D; ++q) {
-    arb_set_d(Mb[q].get(), M[q]);
-    arb_set_d(Xb[q].get(), X[q]);
-  }
-  const ball one(1);
-  mag_value d, x_norm, row, m;
-  for (std::size_t i = 0; i < D; ++i) {
-    mag_zero(row.m);
-    for (std::size_t j = 0; j < D; ++j) {
-      arb_dot(E[i * D + j].get(), i == j ? one.get() : nullptr, 1, Xb[i * D].get(), 1, Mb[j].get(), n, n, 64);
-      arb_get_mag(m.m, E[i * D + j].get());
-      mag_add(row.m, row.m, m.m);
-    }
-    mag_max(d.m, d.m, row.m);
-    mag_zero(row.m);
-    for (std::size_t j = 0; j < D; ++j) {
-      arb_get_mag(m.m, Xb[i * D + j].get());
-      mag_add(row.m, row.m, m.m);
-    }
-    mag_max(x_norm.m, x_norm.m, row.m);
-  }
-  if (!mag_is_finite(d.m) || !mag_is_finite(x_norm.m) || mag_cmp_2exp_si(d.m, 0) >= 0) return false;
-  mag_value tail, gap;
-  mag_one(gap.m);
-  mag_sub_lower(gap.m, gap.m, d.m);
-  mag_mul(tail.m, d.m, d.m);
-  mag_mul(tail.m, tail.m, x_norm.m);
-  mag_div(tail.m, tail.m, gap.m);
-  inv.assign(D * D, ball());
-  for (std::size_t i = 0; i < D; ++i)
-    for (std::size_t j = 0; j < D; ++j) {
-      ball& x = inv[i * D + j];
-      arb_dot(x.get(), Xb[i * D + j].get(), 0, E[i * D].get(), 1, Xb[j].get(), n, n, 64);
-      arb_add_error_mag(x.get(), tail.m);
-    }
-  return true;
-}
-
 // Q's inverse from Q^T.
 inline bool ball_lohner_box::enclose_orthogonal_inverse(const std::vector<double>& Q, std::vector<ball>& inv) const {
   const std::size_t D = D_;
   std::vector<double> QT(D * D);
   for (std::size_t i = 0; i < D; ++i)
     for (std::size_t j = 0; j < D; ++j) QT[i * D + j] = Q[j * D + i];
-  return enclose_inverse(Q, QT, inv);
-}
-
-// The inverse of the point matrix M (row-major) in balls, from Gaussian elimination in double;
-// false if it is singular or its condition exceeds `limit` (|M|_inf |M^-1|_inf, from the
-// enclosure).
-inline bool ball_lohner_box::enclose_general_inverse(const std::vector<double>& M, double limit,
-                                                     std::vector<ball>& inv, double* condition) const {
-  const std::size_t D = D_;
-  std::vector<double> X;
-  if (!approximate_inverse(M, D, X) || !enclose_inverse(M, X, inv)) return false;
-  double norm = 0, inv_norm = 0;
-  mag_value e;
-  for (std::size_t i = 0; i < D; ++i) {
-    double row = 0, inv_row = 0;
-    for (std::size_t j = 0; j < D; ++j) {
-      row += std::abs(M[i * D + j]);
-      arb_get_mag(e.m, inv[i * D + j].get());
-      inv_row += mag_get_d(e.m);
-    }
-    norm = std::max(norm, row);
-    inv_norm = std::max(inv_norm, inv_row);
-  }
-  if (condition) *condition = norm * inv_norm;
-  return norm * inv_norm <= limit;
+  return enclose_inverse(Q, QT, D, inv);
 }
 
 inline bool ball_lohner_box::move(part& p, const std::vector<ball>& A, const std::vector<double>& Mnew,
@@ -334,7 +331,7 @@ inline bool ball_lohner_box::step(const std::vector<ball>& Phi1, const std::vect
   // same step (the same A, M' and inverse).
   const bool shared = balls_.M == set_.M;
   double condition = 0;
-  if (!enclose_general_inverse(M, parallelepiped_condition, set_.Minv, &condition)) {
+  if (!enclose_general_inverse(M, D, parallelepiped_condition, set_.Minv, &condition)) {
     condition = parallelepiped_condition * 2;
     orthogonal_factor(A, set_.v, M);
     if (!enclose_orthogonal_inverse(M, set_.Minv)) return false;
@@ -353,7 +350,7 @@ inline bool ball_lohner_box::step(const std::vector<ball>& Phi1, const std::vect
   for (std::size_t q = 0; q < D * D; ++q) M[q] = arf_get_d(arb_midref(A[q].get()), ARF_RND_NEAR);
   part by_parallelepiped = balls_;
   const bool parallelepiped =
-      enclose_general_inverse(M, parallelepiped_condition, by_parallelepiped.Minv, &condition);
+      enclose_general_inverse(M, D, parallelepiped_condition, by_parallelepiped.Minv, &condition);
   if (parallelepiped) {
     move(by_parallelepiped, A, M, local);
     if (condition <= balls_condition) {
