@@ -15,6 +15,7 @@
 
 #include <arb.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <vector>
@@ -30,7 +31,7 @@ class weighted_jacobian_bounds {
 
  private:
   static int group(std::size_t i) { return i < 3 ? 0 : 1; }
-  void entry_ranges(const std::vector<chebyshev_model>& J, slong prec);
+  void entry_ranges(const std::vector<chebyshev_model>& J);
   void gershgorin_mu(int e, arf_t out, slong prec);
 
   std::size_t D_ = 0;
@@ -49,7 +50,7 @@ class weighted_jacobian_bounds {
   weighted_jacobian_bounds& operator=(const weighted_jacobian_bounds&) = delete;
 };
 
-inline void weighted_jacobian_bounds::entry_ranges(const std::vector<chebyshev_model>& J, slong prec) {
+inline void weighted_jacobian_bounds::entry_ranges(const std::vector<chebyshev_model>& J) {
   const std::size_t D = D_;
   range_.resize(D * D);
   sym_.resize(D * D);
@@ -59,11 +60,20 @@ inline void weighted_jacobian_bounds::entry_ranges(const std::vector<chebyshev_m
     arb_get_mag(range_[q].m, x_.get());
     if (q % (D + 1) == 0) diag_[q / D] = x_;
   }
+  // J_ik + J_ki coefficient by coefficient at 64 bits: only its range's magnitude is taken, and
+  // a skew pair still sums to exactly zero.
   for (std::size_t i = 0; i < D; ++i)
     for (std::size_t k = i + 1; k < D; ++k) {
       if (group(i) != group(k)) continue;
-      sum_ = J[i * D + k];
-      add_to(sum_, J[k * D + i], prec);
+      const chebyshev_model &a = J[i * D + k], &b = J[k * D + i];
+      sum_.reserve_length(std::max(a.length(), b.length()));
+      for (slong c = 0; c < sum_.length(); ++c) {
+        if (c < a.length() && c < b.length())
+          arb_add(sum_.coeff(c), a.coeff(c), b.coeff(c), 64);
+        else
+          arb_set_round(sum_.coeff(c), (c < a.length() ? a : b).coeff(c), 64);
+      }
+      mag_add(sum_.remainder(), a.remainder(), b.remainder());
       range_of(x_, sum_);
       arb_get_mag(sym_[i * D + k].m, x_.get());
       mag_mul_2exp_si(sym_[i * D + k].m, sym_[i * D + k].m, -1);
@@ -100,7 +110,7 @@ inline void weighted_jacobian_bounds::gershgorin_mu(int e, arf_t out, slong prec
 inline bool weighted_jacobian_bounds::compute(const std::vector<chebyshev_model>& J, std::size_t D, slong prec,
                                               std::vector<double>& weight, mag_t jmax, mag_t mu_plus) {
   D_ = D;
-  entry_ranges(J, prec);
+  entry_ranges(J);
   int best_e = 0;
   arf_t mu_e, best;
   arf_init(mu_e);
