@@ -61,7 +61,22 @@ class ball_node_transform {
   slong prec_;
   std::size_t N_, n1_, D_, half_, even_, odd_;
   arb_mat_t values_;
-  arb_mat_t M_even_, M_odd_;     // rows k = 0, 2, ... and k = 1, 3, ...; columns j < (N + 2) / 2
+  // M's rows k = 0, 2, ... and k = 1, 3, ...; columns j < (N + 2) / 2: enclosed once, and shared
+  // by the copies (one per check: two thousand numbers each, a third of a check's memory).
+  struct matrices {
+    arb_mat_t even, odd;
+    matrices(slong even_rows, slong odd_rows, slong columns) {
+      arb_mat_init(even, even_rows, columns);
+      arb_mat_init(odd, odd_rows, columns);
+    }
+    ~matrices() {
+      arb_mat_clear(even);
+      arb_mat_clear(odd);
+    }
+    matrices(const matrices&) = delete;
+    matrices& operator=(const matrices&) = delete;
+  };
+  std::shared_ptr<const matrices> M_;
   arb_mat_t plus_, minus_;        // folded values
   arb_mat_t c_even_, c_odd_;
   // M on the grid 2^-G, G = 64 limbs - 2: row k, column j as |q| (limbs' limbs) and a sign mask;
@@ -83,8 +98,6 @@ class ball_node_transform {
 inline void ball_node_transform::allocate() {
   const auto rows = [](std::size_t n) { return static_cast<slong>(n); };
   arb_mat_init(values_, rows(n1_), rows(D_));
-  arb_mat_init(M_even_, rows(even_), rows(half_));
-  arb_mat_init(M_odd_, rows(odd_), rows(half_));
   arb_mat_init(plus_, rows(half_), rows(D_));
   arb_mat_init(minus_, rows(half_), rows(D_));
   arb_mat_init(c_even_, rows(even_), rows(D_));
@@ -105,6 +118,7 @@ inline ball_node_transform::ball_node_transform(slong prec, std::size_t degree, 
     arb_cos_pi_fmpq(cosines + m, angle, prec_);
   }
   fmpq_clear(angle);
+  const auto M = std::make_shared<matrices>(static_cast<slong>(even_), static_cast<slong>(odd_), static_cast<slong>(half_));
   arb_t w;
   arb_init(w);
   for (std::size_t k = 0; k < n1_; ++k)
@@ -117,14 +131,15 @@ inline ball_node_transform::ball_node_transform(slong prec, std::size_t degree, 
       // The end columns j = 0 and N (folded together) and the rows k = 0 and N are halved.
       if (j == 0) arb_mul_2exp_si(w, w, -1);
       if (k == 0 || k == N_) arb_mul_2exp_si(w, w, -1);
-      arb_set(arb_mat_entry(k % 2 ? M_odd_ : M_even_, static_cast<slong>(k / 2), static_cast<slong>(j)), w);
+      arb_set(arb_mat_entry(k % 2 ? M->odd : M->even, static_cast<slong>(k / 2), static_cast<slong>(j)), w);
     }
   arb_clear(w);
   _arb_vec_clear(cosines, static_cast<slong>(2 * N_));
+  M_ = M;
   enclose_on_grid();
 }
 
-// grid_ from M_even_ and M_odd_ (rows k in order).
+// grid_ from M_'s even and odd rows (rows k in order).
 inline void ball_node_transform::enclose_on_grid() {
   auto g = std::make_shared<grid_matrix>();
   const std::size_t L = (static_cast<std::size_t>(prec_) + 2 + 63) / 64;
@@ -138,7 +153,7 @@ inline void ball_node_transform::enclose_on_grid() {
     mag_value t;
     for (std::size_t k = 0; k < n1_; ++k)
       for (std::size_t j = 0; j < half_; ++j) {
-        arb_srcptr m = arb_mat_entry(k % 2 ? M_odd_ : M_even_, static_cast<slong>(k / 2), static_cast<slong>(j));
+        arb_srcptr m = arb_mat_entry(k % 2 ? M_->odd : M_->even, static_cast<slong>(k / 2), static_cast<slong>(j));
         arf_get_fmpz_fixed_si(z_, arb_midref(m), -G);  // |mid - q 2^-G| < 2^-G; |q| <= |mid| 2^G <= 2^G
         g->neg[k * half_ + j] = fmpz_sgn(z_) < 0 ? ~mp_limb_t(0) : 0;
         fmpz_abs(z_, z_);
@@ -167,8 +182,6 @@ inline void ball_node_transform::enclose_on_grid() {
 inline ball_node_transform::~ball_node_transform() {
   fmpz_clear(z_);
   arb_mat_clear(values_);
-  arb_mat_clear(M_even_);
-  arb_mat_clear(M_odd_);
   arb_mat_clear(plus_);
   arb_mat_clear(minus_);
   arb_mat_clear(c_even_);
@@ -177,11 +190,9 @@ inline ball_node_transform::~ball_node_transform() {
 
 inline ball_node_transform::ball_node_transform(const ball_node_transform& o)
     : prec_(o.prec_), N_(o.N_), n1_(o.n1_), D_(o.D_), half_(o.half_), even_(o.even_), odd_(o.odd_),
-      grid_(o.grid_), folds_(o.folds_), fold_neg_(o.fold_neg_), acc_(o.acc_) {
+      M_(o.M_), grid_(o.grid_), folds_(o.folds_), fold_neg_(o.fold_neg_), acc_(o.acc_) {
   fmpz_init(z_);
   allocate();
-  arb_mat_set(M_even_, o.M_even_);
-  arb_mat_set(M_odd_, o.M_odd_);
 }
 
 // The sums and differences of mirrored values (the middle node, N even, is its own mirror: once).
@@ -363,8 +374,8 @@ inline void ball_node_transform::apply(arb_mat_t out) {
       limbs::with_limb_count(grid_->limbs, [&](auto L) { apply_on_limbs<decltype(L)::value>(out); }))
     return;
   fold();
-  arb_mat_mul(c_even_, M_even_, plus_, prec_);
-  if (odd_ > 0) arb_mat_mul(c_odd_, M_odd_, minus_, prec_);
+  arb_mat_mul(c_even_, M_->even, plus_, prec_);
+  if (odd_ > 0) arb_mat_mul(c_odd_, M_->odd, minus_, prec_);
   // Swapped, not copied: the products overwrite c_even_ and c_odd_ on the next call, and the
   // numbers' storage (at the working precision, on the heap) goes round instead of being copied.
   for (std::size_t k = 0; k < n1_; ++k)
