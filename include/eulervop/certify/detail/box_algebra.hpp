@@ -43,20 +43,8 @@ class box_algebra {
   // The gradients and Hessians of a state's field are mostly zero (a product of two variables has
   // two Hessian entries): every term with an exactly zero factor is skipped, which leaves Arb's
   // results as they were (x + 0 and 0 y are exact, and x is already at prec_).
-  void add(value& a, const value& b) const {
-    arb_add(a.f.get(), a.f.get(), b.f.get(), prec_);
-    for (std::size_t k = 0; k < n_; ++k)
-      if (!arb_is_zero(b.g[k].get())) arb_add(a.g[k].get(), a.g[k].get(), b.g[k].get(), prec_);
-    for (std::size_t k = 0; k < n_ * n_; ++k)
-      if (!arb_is_zero(b.H[k].get())) arb_add(a.H[k].get(), a.H[k].get(), b.H[k].get(), prec_);
-  }
-  void sub(value& a, const value& b) const {
-    arb_sub(a.f.get(), a.f.get(), b.f.get(), prec_);
-    for (std::size_t k = 0; k < n_; ++k)
-      if (!arb_is_zero(b.g[k].get())) arb_sub(a.g[k].get(), a.g[k].get(), b.g[k].get(), prec_);
-    for (std::size_t k = 0; k < n_ * n_; ++k)
-      if (!arb_is_zero(b.H[k].get())) arb_sub(a.H[k].get(), a.H[k].get(), b.H[k].get(), prec_);
-  }
+  void add(value& a, const value& b) const { combine(a, b, arb_add); }
+  void sub(value& a, const value& b) const { combine(a, b, arb_sub); }
   void neg(value& a) const {
     arb_neg(a.f.get(), a.f.get());
     for (ball& x : a.g) arb_neg(x.get(), x.get());
@@ -119,6 +107,15 @@ class box_algebra {
  private:
   slong prec_;
   std::size_t n_;
+
+  // a = op(a, b) entry by entry (op: arb_add or arb_sub), b's zero partials skipped.
+  void combine(value& a, const value& b, void (*op)(arb_t, const arb_t, const arb_t, slong)) const {
+    op(a.f.get(), a.f.get(), b.f.get(), prec_);
+    for (std::size_t k = 0; k < n_; ++k)
+      if (!arb_is_zero(b.g[k].get())) op(a.g[k].get(), a.g[k].get(), b.g[k].get(), prec_);
+    for (std::size_t k = 0; k < n_ * n_; ++k)
+      if (!arb_is_zero(b.H[k].get())) op(a.H[k].get(), a.H[k].get(), b.H[k].get(), prec_);
+  }
 };
 
 }  // namespace eulervop::detail

@@ -215,11 +215,17 @@ inline void to_grid(fmpz_poly_t n, mag_t moved, const chebyshev_model& a, slong 
   _fmpz_poly_normalise(n);
 }
 
-// The exponent of the grid with `bits` bits below the largest midpoint of a (0 for zero).
-inline slong grid_exponent(const chebyshev_model& a, slong bits) {
+// The exponent t with every midpoint of a below 2^t in magnitude (WORD_MIN where all are zero).
+inline slong midpoint_top(const chebyshev_model& a) {
   slong top = WORD_MIN;
   for (slong k = 0; k < a.length(); ++k)
     if (!arf_is_zero(arb_midref(a.coeff(k)))) top = std::max(top, arf_abs_bound_lt_2exp_si(arb_midref(a.coeff(k))));
+  return top;
+}
+
+// The exponent of the grid with `bits` bits below the largest midpoint of a (0 for zero).
+inline slong grid_exponent(const chebyshev_model& a, slong bits) {
+  const slong top = midpoint_top(a);
   return top == WORD_MIN ? 0 : top - bits;
 }
 
@@ -320,21 +326,15 @@ inline bool takes_grid(const chebyshev_model& a) {
 inline void multiply_grids(chebyshev_model& out, const grid_factor& A, const grid_factor& B) {
   thread_local integer_poly scratch_c;
   fmpz_poly_struct* C = scratch_c.p;
-  mag_t t, allowance, dropped;
-  mag_init(t);
-  mag_init(allowance);
-  mag_init(dropped);
-  mag_add(t, B.magnitude, B.moved);
-  mag_mul(t, t, A.moved);
-  mag_addmul(t, A.magnitude, B.moved);
-  mag_mul_2exp_si(allowance, t, -12 - (A.e + B.e));
-  grid_product(C, A.n.p, B.n.p, allowance, dropped);
-  mag_mul_2exp_si(dropped, dropped, A.e + B.e);
-  mag_add(t, t, dropped);
-  from_grid(out, C, A.e + B.e - 1, t);
-  mag_clear(t);
-  mag_clear(allowance);
-  mag_clear(dropped);
+  mag_value t, allowance, dropped;
+  mag_add(t.m, B.magnitude, B.moved);
+  mag_mul(t.m, t.m, A.moved);
+  mag_addmul(t.m, A.magnitude, B.moved);
+  mag_mul_2exp_si(allowance.m, t.m, -12 - (A.e + B.e));
+  grid_product(C, A.n.p, B.n.p, allowance.m, dropped.m);
+  mag_mul_2exp_si(dropped.m, dropped.m, A.e + B.e);
+  mag_add(t.m, t.m, dropped.m);
+  from_grid(out, C, A.e + B.e - 1, t.m);
 }
 
 // out = a x for a constant x (b's one coefficient), in balls at bits + 64.

@@ -19,6 +19,8 @@
 
 #include <eulervop/certify/detail/kronecker_product.hpp>
 
+#include <eulervop/certify/ball.hpp>
+
 #include <arb.h>
 #include <flint/fmpz.h>
 #include <flint/fmpz_poly.h>
@@ -136,22 +138,18 @@ struct left_out {
   bool pair[max_pieces][max_pieces] = {};
 };
 inline void leave_out(left_out& out, const pieces& pa, const pieces& pb, const mag_t allowance, mag_t dropped) {
-  mag_t bound, share;
-  mag_init(bound);
-  mag_init(share);
-  mag_mul_2exp_si(share, allowance, -4);
+  mag_value bound, share;
+  mag_mul_2exp_si(share.m, allowance, -4);
   for (unsigned p = 0; p < pa.positions; ++p)
     for (unsigned q = 0; q < pb.positions; ++q) {
       const unsigned __int128 m = static_cast<unsigned __int128>(pa.size[p]) * pb.size[q];  // < 2^118
       const auto hi = static_cast<ulong>(m >> 60), lo = static_cast<ulong>(m & ((ulong{1} << 60) - 1));
       // m <= (hi + 1) 2^60 where lo > 0; hi < 2^58.
-      mag_set_ui_2exp_si(bound, hi + (lo != 0 ? 1 : 0), 60 + static_cast<slong>(piece_bits * (p + q)));
-      if (m == 0 || mag_cmp(bound, share) > 0) continue;
+      mag_set_ui_2exp_si(bound.m, hi + (lo != 0 ? 1 : 0), 60 + static_cast<slong>(piece_bits * (p + q)));
+      if (m == 0 || mag_cmp(bound.m, share.m) > 0) continue;
       out.pair[p][q] = true;
-      mag_add(dropped, dropped, bound);
+      mag_add(dropped, dropped, bound.m);
     }
-  mag_clear(bound);
-  mag_clear(share);
 }
 
 // conv and corr (columns side by side per slot, corr at index i - j + lb - 1) += the pieces'

@@ -28,9 +28,7 @@ class grid_models {
     slong top = WORD_MIN;
     for (std::size_t q = 0; q < m.size(); ++q) {
       if (m[q].is_zero()) continue;
-      slong e = WORD_MIN;  // the largest midpoint's, scaled (0 where every midpoint is 0)
-      for (slong k = 0; k < m[q].length(); ++k)
-        if (!arf_is_zero(arb_midref(m[q].coeff(k)))) e = std::max(e, arf_abs_bound_lt_2exp_si(arb_midref(m[q].coeff(k))));
+      const slong e = midpoint_top(m[q]);  // scaled; 0 where every midpoint is 0, as grid_exponent
       top = std::max(top, e == WORD_MIN ? 0 : e + by(q));
     }
     e_ = top == WORD_MIN ? 0 : top - bits;
