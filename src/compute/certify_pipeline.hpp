@@ -1,19 +1,21 @@
 // The certificate of a streamed reference, on threads (docs/certified.md, "Threads"). While the
 // reference integrates on, `workers` threads prepare the segments it has accepted (the checks
 // that do not depend on earlier segments: certify/ball_certifier.hpp's ball_segment_check), and
-// one more thread takes everything that depends on order, in order: it advances the certificate
-// through the prepared segments and runs the row tasks (a row's radius and its line of output)
-// between them. So the output is the same bytes as checking and writing on one thread.
+// take what depends on order, in order: advancing the certificate through the prepared segments,
+// and the row tasks (a row's radius and its line of output) between them. One worker at a time
+// holds that in-order part, and a worker takes it before a new preparation whenever the oldest
+// item is ready. So the output is the same bytes as checking and writing on one thread, and the
+// prepared segments do not pile up behind a thread of their own: with one more thread than the
+// workers for the in-order part, it got a fourth of the two cores where it needed a sixth and fell
+// behind by up to 40 segments in the SciML rigid body to t = 100 (three times the checks' memory,
+// 3,300 more page faults, and 2.5 ms at the end to free them).
 //
 // At most `max_in_flight` segments wait for a worker or are being prepared: the integration waits
 // when the workers fall behind, so memory does not grow with the span, until a quarter of them
 // are prepared (woken once for those, not once per item: a wake-up costs about as much as a
-// row). Prepared segments may wait for the in-order thread up to four times that many: it is
-// fast on average, but behind for a while at a time (a run of rows), and an integration waiting
-// for it left both workers without work (on two cores, 20 ms of one core idle in the paper
-// scene's 0.7 s, and 13 ms more with one worker on the oldest segment). The first failure
-// (of a preparation, in segment order, or of an advance or a row) stops the pipeline and is
-// rethrown to the caller at its next call.
+// row). Prepared segments may wait for the in-order part up to four times that many. The first
+// failure (of a preparation, in segment order, or of an advance or a row) stops the pipeline and
+// is rethrown to the caller at its next call.
 #pragma once
 
 #include <eulervop/core/scalar.hpp>
@@ -25,14 +27,12 @@
 #include <deque>
 #include <exception>
 #include <functional>
-#include <future>
 #include <memory>
 #include <mutex>
 #include <pthread.h>
 #include <sched.h>
 #include <thread>
 #include <utility>
-#include <variant>
 #include <vector>
 
 namespace eulervop::app {
@@ -56,22 +56,31 @@ class certify_pipeline {
   void finish();
 
  private:
-  using prepared = std::future<std::unique_ptr<check>>;
-  using item = std::variant<prepared, std::function<void()>>;
+  // One step of the run, in order: a segment (prepared on a worker, then advanced) or a row.
+  struct item {
+    std::function<void()> row;  // empty for a segment
+    std::unique_ptr<check> prepared;
+    std::exception_ptr failure;  // the preparation's
+    bool ready = false;          // a row, or a segment whose preparation ended
+  };
+  struct job {
+    std::function<void(check&)> prepare;
+    item* slot;  // in items_, whose elements a push or pop at either end does not move
+  };
 
   std::unique_ptr<check> take_check();
-  void push(item next, bool is_segment);
   void throw_if_failed();
-  void work();      // a worker: preparations, in the order given
-  void preparation_ended();  // room for the integration
-  void sequence();  // the order-dependent part
+  void work();  // a worker's loop: the in-order part when it is free and ready, else a preparation
+  void prepare(std::unique_lock<std::mutex>& lock);
+  void run_in_order(std::unique_lock<std::mutex>& lock);
+  bool head_ready() const { return !items_.empty() && items_.front().ready; }
 
   Certifier& cert_;
   std::size_t max_in_flight_;
   std::mutex mutex_;
   // Each waits for its own condition, so that a change wakes only who can act on it.
-  std::condition_variable job_ready_, item_ready_, item_done_;
-  std::deque<std::packaged_task<std::unique_ptr<check>()>> jobs_;
+  std::condition_variable work_ready_, item_done_;
+  std::deque<job> jobs_;
   std::deque<item> items_;
   std::vector<std::unique_ptr<check>> spare_checks_;
   std::size_t segments_in_flight_ = 0;  // added, not yet advanced
@@ -80,10 +89,9 @@ class certify_pipeline {
   bool room() const {             // for the integration's next segment
     return unprepared_ <= resume_in_flight_ && segments_in_flight_ < 4 * max_in_flight_;
   }
-  bool stop_ = false, busy_ = false, producer_waits_ = false;
+  bool stop_ = false, in_order_ = false, producer_waits_ = false;
   std::exception_ptr failure_;
   std::vector<std::thread> workers_;
-  std::thread sequencer_;
 };
 
 // The pipeline's threads are CPU-bound, and with the integration there are more of them than cores.
@@ -107,17 +115,12 @@ certify_pipeline<Certifier>::certify_pipeline(Certifier& cert, unsigned workers,
       max_in_flight_(std::max<std::size_t>(max_in_flight, 1)),
       resume_in_flight_(max_in_flight_ - 1 - (max_in_flight_ - 1) / 4) {
   const unsigned digits10 = mpfr_real::thread_default_precision();
-  for (unsigned w = 0; w < workers; ++w)
+  for (unsigned w = 0; w < std::max(workers, 1u); ++w)
     workers_.emplace_back([this, digits10] {
       mpfr_real::thread_default_precision(digits10);
       run_as_batch();
       work();
     });
-  sequencer_ = std::thread([this, digits10] {
-    mpfr_real::thread_default_precision(digits10);
-    run_as_batch();
-    sequence();
-  });
 }
 
 template <class Certifier>
@@ -126,17 +129,9 @@ certify_pipeline<Certifier>::~certify_pipeline() {
     const std::lock_guard<std::mutex> lock(mutex_);
     stop_ = true;
   }
-  job_ready_.notify_all();
-  item_ready_.notify_all();
+  work_ready_.notify_all();
   item_done_.notify_all();
   for (std::thread& t : workers_) t.join();
-  {
-    // Preparations that never ran leave broken promises, which wake the sequencer.
-    const std::lock_guard<std::mutex> lock(mutex_);
-    jobs_.clear();
-  }
-  item_ready_.notify_all();
-  sequencer_.join();
 }
 
 template <class Certifier>
@@ -144,16 +139,7 @@ template <scalar T, std::size_t D>
 void certify_pipeline<Certifier>::add_segment(const chebyshev_segment<T, D>& seg) {
   throw_if_failed();
   // The worker takes (or builds) the check: building one costs more than a segment's copy.
-  std::packaged_task<std::unique_ptr<check>()> job([this, seg] {
-    struct prepared_one {  // counted out however the preparation ends
-      certify_pipeline* p;
-      ~prepared_one() { p->preparation_ended(); }
-    } counted{this};
-    std::unique_ptr<check> c = take_check();
-    c->prepare(seg);
-    return c;
-  });
-  prepared result = job.get_future();
+  std::function<void(check&)> prepare = [seg](check& c) { c.prepare(seg); };
   {
     std::unique_lock<std::mutex> lock(mutex_);
     if (unprepared_ >= max_in_flight_ || segments_in_flight_ >= 4 * max_in_flight_) {
@@ -161,24 +147,33 @@ void certify_pipeline<Certifier>::add_segment(const chebyshev_segment<T, D>& seg
       item_done_.wait(lock, [this] { return room() || failure_ || stop_; });
       producer_waits_ = false;
     }
-    jobs_.push_back(std::move(job));
+    items_.emplace_back();
+    jobs_.push_back({std::move(prepare), &items_.back()});
     ++unprepared_;
+    ++segments_in_flight_;
   }
-  job_ready_.notify_one();
-  push(std::move(result), true);
+  work_ready_.notify_one();
 }
 
 template <class Certifier>
 void certify_pipeline<Certifier>::add_row(std::function<void()> task) {
   throw_if_failed();
-  push(std::move(task), false);
+  bool wake = false;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    items_.emplace_back();
+    items_.back().row = std::move(task);
+    items_.back().ready = true;
+    wake = items_.size() == 1 && !in_order_;  // else who ends the item before it takes this one
+  }
+  if (wake) work_ready_.notify_one();
 }
 
 template <class Certifier>
 void certify_pipeline<Certifier>::finish() {
   {
     std::unique_lock<std::mutex> lock(mutex_);
-    item_done_.wait(lock, [this] { return (items_.empty() && !busy_) || failure_; });
+    item_done_.wait(lock, [this] { return (items_.empty() && !in_order_) || failure_; });
   }
   throw_if_failed();
 }
@@ -197,16 +192,6 @@ auto certify_pipeline<Certifier>::take_check() -> std::unique_ptr<check> {
 }
 
 template <class Certifier>
-void certify_pipeline<Certifier>::push(item next, bool is_segment) {
-  {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    items_.push_back(std::move(next));
-    if (is_segment) ++segments_in_flight_;
-  }
-  item_ready_.notify_one();
-}
-
-template <class Certifier>
 void certify_pipeline<Certifier>::throw_if_failed() {
   std::exception_ptr failure;
   {
@@ -217,66 +202,73 @@ void certify_pipeline<Certifier>::throw_if_failed() {
 }
 
 template <class Certifier>
-void certify_pipeline<Certifier>::preparation_ended() {
-  bool wake = false;
-  {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    --unprepared_;
-    wake = producer_waits_ && room();
-  }
-  if (wake) item_done_.notify_all();
-}
-
-template <class Certifier>
 void certify_pipeline<Certifier>::work() {
+  std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
-    std::packaged_task<std::unique_ptr<check>()> job;
-    {
-      std::unique_lock<std::mutex> lock(mutex_);
-      job_ready_.wait(lock, [this] { return !jobs_.empty() || stop_; });
-      if (stop_) return;
-      job = std::move(jobs_.front());
-      jobs_.pop_front();
-    }
-    job();  // its exception goes to the future, which the sequencer reads in order
+    if (stop_ || failure_) return;
+    if (!in_order_ && head_ready())
+      run_in_order(lock);
+    else if (!jobs_.empty())
+      prepare(lock);
+    else
+      work_ready_.wait(lock);
   }
 }
 
+// The oldest unprepared segment, prepared with the lock released. Its failure is kept in its item
+// for the in-order part, which reports it only if nothing before it failed.
 template <class Certifier>
-void certify_pipeline<Certifier>::sequence() {
-  for (;;) {
-    item next;
-    {
-      std::unique_lock<std::mutex> lock(mutex_);
-      item_ready_.wait(lock, [this] { return !items_.empty() || stop_; });
-      if (items_.empty() || failure_) return;
-      next = std::move(items_.front());
-      items_.pop_front();
-      busy_ = true;
-    }
-    std::unique_ptr<check> spare;
-    std::exception_ptr failure;
-    try {
-      if (auto* segment = std::get_if<prepared>(&next))
-        spare = cert_.advance(segment->get());
-      else
-        std::get<std::function<void()>>(next)();
-    } catch (...) {
-      failure = std::current_exception();
-    }
-    bool wake = false;
-    {
-      const std::lock_guard<std::mutex> lock(mutex_);
-      if (std::holds_alternative<prepared>(next)) --segments_in_flight_;
-      if (spare) spare_checks_.push_back(std::move(spare));
-      if (failure && !failure_) failure_ = failure;
-      busy_ = false;
-      // Who waits on item_done_: the integration for room (add_segment), finish() for the end.
-      wake = failure_ || items_.empty() || (producer_waits_ && room());
-    }
-    if (wake) item_done_.notify_all();
-    if (failure) return;
+void certify_pipeline<Certifier>::prepare(std::unique_lock<std::mutex>& lock) {
+  job next = std::move(jobs_.front());
+  jobs_.pop_front();
+  lock.unlock();
+  std::unique_ptr<check> c;
+  std::exception_ptr failure;
+  try {
+    c = take_check();
+    next.prepare(*c);
+  } catch (...) {
+    failure = std::current_exception();
   }
+  lock.lock();
+  next.slot->prepared = std::move(c);
+  next.slot->failure = failure;
+  next.slot->ready = true;
+  --unprepared_;
+  if (producer_waits_ && room()) item_done_.notify_all();
+}
+
+// The ready items from the oldest on, each with the lock released; the in-order part is this
+// thread's until the oldest is not ready (then the next worker to end a preparation takes it).
+template <class Certifier>
+void certify_pipeline<Certifier>::run_in_order(std::unique_lock<std::mutex>& lock) {
+  in_order_ = true;
+  while (head_ready() && !failure_ && !stop_) {
+    item next = std::move(items_.front());
+    items_.pop_front();
+    lock.unlock();
+    std::unique_ptr<check> spare;
+    std::exception_ptr failure = next.failure;
+    if (!failure) {
+      try {
+        if (next.row)
+          next.row();
+        else
+          spare = cert_.advance(std::move(next.prepared));
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    }
+    lock.lock();
+    if (!next.row) --segments_in_flight_;
+    if (spare) spare_checks_.push_back(std::move(spare));
+    if (failure && !failure_) failure_ = failure;
+    if (producer_waits_ && room()) item_done_.notify_all();
+  }
+  in_order_ = false;
+  // Who waits: finish() for the end, the integration for a failure, the other workers to stop.
+  if (items_.empty() || failure_) item_done_.notify_all();
+  if (failure_) work_ready_.notify_all();
 }
 
 }  // namespace eulervop::app

@@ -109,19 +109,29 @@ class deferred_certificate final : public run_certificate {
   std::shared_future<std::shared_ptr<run_certificate>> made_;
 };
 
+// The module's factory, loaded once on a thread of its own from the first call on.
+std::shared_future<run_certificate_factory> loaded_module() {
+  static const std::shared_future<run_certificate_factory> loading =
+      std::async(std::launch::async, load_certificate_module).share();
+  return loading;
+}
+
 }  // namespace
 
 void link_run_certificate(run_certificate_factory make) { linked_factory = make; }
+
+void start_loading_certificate_module() {
+  if (!linked_factory) (void)loaded_module();
+}
 
 std::unique_ptr<run_certificate> make_run_certificate(const scene& s, const eulervop::precision& p, unsigned workers) {
   if (run_certificate_factory make = linked_factory) return std::unique_ptr<run_certificate>(make(s, p, workers));
   // The thread takes the caller's MPFR precision (a thread-local setting), as the pipeline's do.
   const unsigned digits10 = mpfr_real::thread_default_precision();
   std::shared_future<std::shared_ptr<run_certificate>> made =
-      std::async(std::launch::async, [&s, &p, workers, digits10] {
+      std::async(std::launch::async, [module = loaded_module(), &s, &p, workers, digits10] {
         mpfr_real::thread_default_precision(digits10);
-        static const run_certificate_factory loaded = load_certificate_module();
-        return std::shared_ptr<run_certificate>(loaded(s, p, workers));
+        return std::shared_ptr<run_certificate>(module.get()(s, p, workers));
       }).share();
   return std::make_unique<deferred_certificate>(std::move(made));
 }

@@ -67,6 +67,12 @@ class run_certificate {
 // std::runtime_error naming the places searched, thrown at the certificate's first use.
 std::unique_ptr<run_certificate> make_run_certificate(const scene& s, const eulervop::precision& p, unsigned workers);
 
+// Starts loading the certificate module (if it is not linked in) on a thread of its own, so that
+// the load (Arb and FLINT bind every symbol at load: about 4 ms) overlaps the reading of the scene
+// as well as the integrator's set-up; make_run_certificate then takes the module loaded. Any
+// number of calls load it once.
+void start_loading_certificate_module();
+
 // What the certificate module defines under the name `eulervop_make_run_certificate`, and what it
 // registers when linked into a program or module (certificate_module.cpp).
 using run_certificate_factory = run_certificate* (*)(const scene&, const eulervop::precision&, unsigned);

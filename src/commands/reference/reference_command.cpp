@@ -3,6 +3,7 @@
 #include "cli/exit_codes.hpp"
 #include "cli/scene_overrides.hpp"
 #include "commands/reference/reference_job.hpp"
+#include "compute/run_certificate.hpp"
 #include "compute/scene_library.hpp"
 #include "io/atomic_file.hpp"
 #include "io/reference_csv.hpp"
@@ -85,6 +86,7 @@ void add_reference_flags(CLI::App& sub, reference_options& o) {
 }
 
 int run_reference(const reference_options& options, std::ostream& standard_output) {
+  if (options.certify) start_loading_certificate_module();
   const reference_job job = reference_job_of(options);
   // Open the output first, so an unwritable path fails before any computation.
   std::unique_ptr<atomic_file> file;
