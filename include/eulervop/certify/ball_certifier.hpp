@@ -499,7 +499,10 @@ ball_row ball_certifier::enclose(const T& tau) const {
     n = std::max({n, c.r_row[i].length, c.u_row[i].length});
     np = std::max(np, c.P[i].length());
   }
-  const detail::chebyshev_values Ts(n, s, row_error_prec), Tp(np, s, prec);
+  // The tables are the thread's, kept from row to row (rows run one at a time on a thread).
+  thread_local detail::chebyshev_values Ts, Tp;
+  Ts.assign(n, s, row_error_prec);
+  Tp.assign(np, s, prec);
   std::vector<ball> Phi, e;
   c.flow.Phi_at(Ts, Phi, row_error_prec);
   c.box_at_a->image(Phi, e, row_error_prec);

@@ -388,7 +388,23 @@ inline void multiply(chebyshev_model& out, const chebyshev_model& a, const cheby
 // that decay faster (Clenshaw's algorithm would instead multiply the coefficients' own widths).
 class chebyshev_values {
  public:
-  chebyshev_values(slong n, const ball& s, slong prec) : n_(n), T_(_arb_vec_init(n)) {
+  chebyshev_values() = default;  // no values, for assign()
+  chebyshev_values(slong n, const ball& s, slong prec) { assign(n, s, prec); }
+  ~chebyshev_values() {
+    if (T_) _arb_vec_clear(T_, capacity_);
+  }
+  chebyshev_values(const chebyshev_values&) = delete;
+  chebyshev_values& operator=(const chebyshev_values&) = delete;
+
+  // The values at s, in the storage kept (grown where n is longer): tables kept from row to row
+  // take no allocation, where a new one took one per value at the working precision.
+  void assign(slong n, const ball& s, slong prec) {
+    if (n > capacity_) {
+      if (T_) _arb_vec_clear(T_, capacity_);
+      T_ = _arb_vec_init(n);
+      capacity_ = n;
+    }
+    n_ = n;
     ball unit, x;
     arb_zero_pm_one(unit.get());
     if (!arb_intersection(x.get(), s.get(), unit.get(), prec)) arb_set(x.get(), unit.get());
@@ -406,9 +422,6 @@ class chebyshev_values {
       }
     }
   }
-  ~chebyshev_values() { _arb_vec_clear(T_, n_); }
-  chebyshev_values(const chebyshev_values&) = delete;
-  chebyshev_values& operator=(const chebyshev_values&) = delete;
 
   slong length() const { return n_; }
   arb_srcptr get() const { return T_; }
@@ -427,8 +440,8 @@ class chebyshev_values {
     return in;
   }
 
-  slong n_;
-  arb_ptr T_;
+  slong n_ = 0, capacity_ = 0;
+  arb_ptr T_ = nullptr;
 };
 
 // f(s) enclosed from its first `length` coefficients, the rest bounded by `tail` (>= the sum of
