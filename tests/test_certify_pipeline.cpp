@@ -16,6 +16,7 @@
 
 #include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -41,9 +42,12 @@ std::string exact_text(const ball& x) {
 
 // The paper scene (G = (1, 1, 1), Omega(0) = (0.5, 0, 1)) in quad to tau = 12, 49 rows, certified
 // with `workers` threads (0: on this thread, with ball_certifier::add_segment). `tamper` may alter
-// a segment before the sampler and the certificate see it. Returns each row's radius, exactly.
+// a segment before the sampler and the certificate see it. With `rows_expected` the certifier is
+// told the rows' times first, so that each segment's check evaluates its rows' parts when it is
+// prepared. Returns each row's radius, exactly.
 std::vector<std::string> radii(unsigned workers,
-                               const std::function<void(eulervop::chebyshev_segment<quad>&, std::size_t)>& tamper = {}) {
+                               const std::function<void(eulervop::chebyshev_segment<quad>&, std::size_t)>& tamper = {},
+                               bool rows_expected = false) {
   const sc::scene s = sc::parse_scene(R"(name = "paper"
 [torque]
 G = [1, 1, 1]
@@ -78,6 +82,11 @@ samples = 49
     sampler(c, nodes);
     if (!cert) {
       cert.emplace(sc::certification_problem_of<quad>(s, working_bits), nodes.size() - 1);
+      if (rows_expected) {
+        auto times = std::make_shared<std::vector<ball>>(taus.size());
+        for (std::size_t k = 0; k < taus.size(); ++k) eulervop::set_exact((*times)[k], taus[k]);
+        cert->expect_rows(times);
+      }
       if (workers > 0) pipeline.emplace(*cert, workers, 4 * workers);
     }
     if (pipeline) pipeline->add_segment(c); else cert->add_segment(c);
@@ -91,6 +100,14 @@ TEST(CertifyPipeline, ThreadsGiveTheRadiiOfOneThread) {
   const std::vector<std::string> one = radii(0);
   ASSERT_EQ(one.size(), 49u);
   for (unsigned workers : {1u, 2u, 3u}) EXPECT_EQ(radii(workers), one) << workers << " workers";
+}
+
+// A row's part evaluated with its segment's check (on a worker, before the segments between
+// are prepared) is the ball the row evaluates when it runs: the same radii, bit for bit.
+TEST(CertifyPipeline, RowsPreparedWithTheirSegmentGiveTheRadiiOfRowsEvaluatedWhenTheyRun) {
+  const std::vector<std::string> when_run = radii(0);
+  ASSERT_EQ(when_run.size(), 49u);
+  for (unsigned workers : {0u, 2u}) EXPECT_EQ(radii(workers, {}, true), when_run) << workers << " workers";
 }
 
 // Two segments made non-finite: the failure reported is the first one's, at its start, as on one

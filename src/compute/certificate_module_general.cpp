@@ -8,6 +8,7 @@
 #include <eulervop/certify/ball_row_radius.hpp>
 #include <eulervop/scene/scene_certification_problem.hpp>
 
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -32,6 +33,7 @@ class general_path {
   void add_segment(const chebyshev_segment<T, D>& seg, const std::vector<T>& nodes) {
     if (!certifier_) {
       certifier_.emplace(eulervop::scene::certification_problem_of<T>(scene_, bits_), nodes.size() - 1);
+      certifier_->expect_rows(row_times_);
       if (workers_ > 0)
         pipeline_.emplace(*certifier_, workers_, segments_in_flight(nodes.size(), bits_, workers_));
     }
@@ -39,6 +41,15 @@ class general_path {
       pipeline_->add_segment(seg);
     else
       certifier_->add_segment(seg);
+  }
+
+  // Before the first segment (later, the rows are evaluated when they run).
+  template <scalar T>
+  void expect_rows(const std::vector<T>& tau) {
+    if (certifier_) return;
+    auto balls = std::make_shared<std::vector<ball>>(tau.size());
+    for (std::size_t k = 0; k < tau.size(); ++k) set_exact((*balls)[k], tau[k]);
+    row_times_ = std::move(balls);
   }
 
   template <scalar T>
@@ -55,6 +66,7 @@ class general_path {
   const scene& scene_;
   mpfr_prec_t bits_;
   unsigned workers_;
+  std::shared_ptr<const std::vector<ball>> row_times_;
   std::optional<ball_certifier> certifier_;
   // Last: stopped before the certifier goes.
   std::optional<certify_pipeline<ball_certifier>> pipeline_;

@@ -65,7 +65,8 @@ inline std::size_t segments_in_flight(std::size_t n1, mpfr_prec_t bits, unsigned
 
 // The certificate of one streamed run, as run_certificate: created at the first segment (which
 // tells the degree). Path holds the certifier and its pipeline (certify_pipeline.hpp, an optional
-// that pipeline() returns, empty without workers), and has add_segment<T, D>, radii<T> and method;
+// that pipeline() returns, empty without workers), and has add_segment<T, D>, expect_rows<T>,
+// radii<T> and method;
 // this keeps the largest radii.
 template <class Path>
 class path_certificate final : public run_certificate {
@@ -90,6 +91,9 @@ class path_certificate final : public run_certificate {
   void add_segment(const chebyshev_segment<mpfr_real, 7>& seg, const std::vector<mpfr_real>& nodes) override {
     path_.add_segment(seg, nodes);
   }
+  void expect_rows(const std::vector<double>& tau) override { path_.expect_rows(tau); }
+  void expect_rows(const std::vector<quad>& tau) override { path_.expect_rows(tau); }
+  void expect_rows(const std::vector<mpfr_real>& tau) override { path_.expect_rows(tau); }
   void row(std::function<void()> task) override {
     if (auto& pipeline = path_.pipeline())
       pipeline->add_row(std::move(task));

@@ -88,6 +88,9 @@ class deferred_certificate final : public run_certificate {
   void add_segment(const chebyshev_segment<mpfr_real, 7>& seg, const std::vector<mpfr_real>& nodes) override {
     get().add_segment(seg, nodes);
   }
+  void expect_rows(const std::vector<double>& tau) override { get().expect_rows(tau); }
+  void expect_rows(const std::vector<quad>& tau) override { get().expect_rows(tau); }
+  void expect_rows(const std::vector<mpfr_real>& tau) override { get().expect_rows(tau); }
   void row(std::function<void()> task) override { get().row(std::move(task)); }
   void finish() override { get().finish(); }
   void close() override {

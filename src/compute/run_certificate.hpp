@@ -45,6 +45,12 @@ class run_certificate {
   virtual void add_segment(const chebyshev_segment<quad, 7>& seg, const std::vector<quad>& nodes) = 0;
   virtual void add_segment(const chebyshev_segment<mpfr_real, 3>& seg, const std::vector<mpfr_real>& nodes) = 0;
   virtual void add_segment(const chebyshev_segment<mpfr_real, 7>& seg, const std::vector<mpfr_real>& nodes) = 0;
+  // The times of the rows to come (increasing), given before the first segment: each segment's
+  // check then evaluates what a row takes from that segment alone while the segment's models are
+  // in the cache. Rows at other times, or without this, are evaluated when they run.
+  virtual void expect_rows(const std::vector<double>& tau) = 0;
+  virtual void expect_rows(const std::vector<quad>& tau) = 0;
+  virtual void expect_rows(const std::vector<mpfr_real>& tau) = 0;
   // Runs `task` (a row: it may call radii) once every segment added before it is checked, and
   // before any added after it.
   virtual void row(std::function<void()> task) = 0;

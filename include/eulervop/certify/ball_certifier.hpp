@@ -60,6 +60,14 @@ struct ball_row {
   mag_value reach;              // <= R_cap - R: how far y may move (2-norm) and stay in the tube
 };
 
+// What a row at tau takes from its segment alone (s = (tau - a) / hl - 1): Phi(s), r(s) and
+// u_num(s) at the error's precision, P(s) at the problem's, and |tau - a|.
+struct ball_row_part {
+  ball tau;
+  std::vector<ball> Phi, r, u, P;
+  mag_value dt;
+};
+
 // The precision of the error's own arithmetic (the Lohner box, Phi and u at a row): e is about
 // 2^-113 of the state or less, and a bound of it needs far fewer than 128 bits (at which Arb's
 // numbers need no allocation); the state and the residual keep the problem's precision.
@@ -85,6 +93,9 @@ class ball_segment_check {
   // The ball of e at a + dt (after ball_certifier::advance): |Phi - Phi_num| |W e(a)| +
   // |W (u - u_num)|, each propagated, + dt exp(mu+ dt) c R^2.
   void error_ball(const mag_t dt, mag_t out) const;
+  // A row's part at tau (an exact ball), and the one prepared with the segment, if any.
+  void evaluate_row(ball_row_part& out, const ball& tau) const;
+  const ball_row_part* prepared_row(const ball& tau) const;
 
   const certification_problem* problem;
   std::size_t D, n1;
@@ -111,6 +122,10 @@ class ball_segment_check {
   // Filled in order by ball_certifier::advance, for the rows: |e(a)|, R, the box at a.
   mag_value rho_a, R, R_plain;  // |W e(a)|; |W e| <= R and |e|_2 <= R_plain on the segment
   std::unique_ptr<detail::ball_lohner_box> box_at_a;
+  // The times of the rows to come (exact, increasing), if known: prepare() evaluates the parts of
+  // those in [a, b] while the segment's models are in the cache (a row that ran after the
+  // preparation of other segments took a quarter more time).
+  std::shared_ptr<const std::vector<ball>> row_times;
 
  private:
   template <scalar T, std::size_t Dim>
@@ -132,6 +147,10 @@ class ball_segment_check {
   std::vector<detail::series_jet> x_, F_;
   detail::integral_weights weights_;  // hl / (2k), shared by the components' residuals
   slong residual_span_ = 0;            // r's length before F's tail went into its remainder
+  std::vector<ball_row_part> rows_;    // the first row_count_ hold the rows in [a, b]
+  std::size_t row_count_ = 0;
+  static constexpr std::size_t max_prepared_rows = 64;  // beyond, a row is evaluated when it runs
+  void prepare_rows();
 
  public:
   ~ball_segment_check() { arb_mat_clear(coefficients_); }
@@ -174,6 +193,52 @@ void ball_segment_check::prepare(const chebyshev_segment<T, Dim>& seg) {
   if (!flow.variational(hl, jh)) fail(outcome_kind::certify_non_finite);
   if (!flow.integral_term(r, hl, residual_span_)) fail(outcome_kind::certify_non_finite);
   row_models();
+  prepare_rows();
+}
+
+inline void ball_segment_check::prepare_rows() {
+  row_count_ = 0;
+  if (!row_times) return;
+  const auto below = [](const ball& t, const ball& x) { return arf_cmp(arb_midref(t.get()), arb_midref(x.get())) < 0; };
+  auto t = std::lower_bound(row_times->begin(), row_times->end(), a, below);
+  for (; t != row_times->end() && !below(b, *t) && row_count_ < max_prepared_rows; ++t) {
+    if (row_count_ == rows_.size()) rows_.emplace_back();
+    evaluate_row(rows_[row_count_++], *t);
+  }
+}
+
+inline const ball_row_part* ball_segment_check::prepared_row(const ball& tau) const {
+  for (std::size_t k = 0; k < row_count_; ++k)
+    if (arf_equal(arb_midref(rows_[k].tau.get()), arb_midref(tau.get()))) return &rows_[k];
+  return nullptr;
+}
+
+inline void ball_segment_check::evaluate_row(ball_row_part& out, const ball& tau) const {
+  const slong prec = problem->prec;
+  ball s;
+  arb_set(out.tau.get(), tau.get());
+  arb_sub(s.get(), tau.get(), a.get(), prec);
+  arb_get_mag(out.dt.m, s.get());
+  arb_div(s.get(), s.get(), hl.get(), prec);
+  arb_sub_ui(s.get(), s.get(), 1, prec);
+  slong n = flow.phi_length(), np = 1;
+  for (std::size_t i = 0; i < D; ++i) {
+    n = std::max({n, r_row[i].length, u_row[i].length});
+    np = std::max(np, P[i].length());
+  }
+  // The tables are the thread's, kept from row to row.
+  thread_local detail::chebyshev_values Ts, Tp;
+  Ts.assign(n, s, row_error_prec);
+  Tp.assign(np, s, prec);
+  flow.Phi_at(Ts, out.Phi, row_error_prec);
+  out.r.resize(D);
+  out.u.resize(D);
+  out.P.resize(D);
+  for (std::size_t i = 0; i < D; ++i) {
+    detail::evaluate_head(out.r[i], r[i], r_row[i].length, r_row[i].tail.m, Ts, row_error_prec);
+    detail::evaluate_head(out.u[i], flow.u()[i], u_row[i].length, u_row[i].tail.m, Ts, row_error_prec);
+    detail::evaluate(out.P[i], P[i], Tp, prec);
+  }
 }
 
 // A row evaluates e's parts r(s) and u_num(s) from their models. Their coefficients fall off fast
@@ -335,8 +400,12 @@ class ball_certifier {
 
   // An empty check (safe from any thread: it only reads the problem).
   std::unique_ptr<ball_segment_check> make_segment() const {
-    return std::make_unique<ball_segment_check>(*problem_, transform_);
+    auto c = std::make_unique<ball_segment_check>(*problem_, transform_);
+    c->row_times = row_times_;
+    return c;
   }
+  // The times of the rows to come (exact balls, increasing), before the first check is made.
+  void expect_rows(std::shared_ptr<const std::vector<ball>> taus) { row_times_ = std::move(taus); }
   // The next segment's prepared check, in order; returns the previous segment's check for reuse.
   std::unique_ptr<ball_segment_check> advance(std::unique_ptr<ball_segment_check> prepared);
 
@@ -356,6 +425,7 @@ class ball_certifier {
   detail::ball_node_transform transform_;  // enclosed once, copied into every check
   detail::ball_lohner_box box_;
   std::unique_ptr<ball_segment_check> current_, spare_;
+  std::shared_ptr<const std::vector<ball>> row_times_;
   std::vector<ball> prev_end_;
   ball prev_b_;
   bool started_ = false;
@@ -486,44 +556,31 @@ ball_row ball_certifier::enclose(const T& tau) const {
   const ball_segment_check& c = *current_;
   const std::size_t D = problem_->dimension;
   const slong prec = problem_->prec;
-  ball dt, s, tb;
+  ball tb;
   set_exact(tb, tau);
-  set_exact(dt, tau);
-  arb_sub(dt.get(), dt.get(), c.a.get(), prec);
-  arb_div(s.get(), dt.get(), c.hl.get(), prec);
-  arb_sub_ui(s.get(), s.get(), 1, prec);
+  thread_local ball_row_part evaluated;  // where the segment did not prepare this row
+  const ball_row_part* part = c.prepared_row(tb);
+  if (part == nullptr) {
+    c.evaluate_row(evaluated, tb);
+    part = &evaluated;
+  }
   // e(tau) in Phi(tau, a) B x + r(tau) + u(tau) + ball(dt), at the error's precision; P(tau) at
   // the problem's.
-  slong n = c.flow.phi_length(), np = 1;
-  for (std::size_t i = 0; i < D; ++i) {
-    n = std::max({n, c.r_row[i].length, c.u_row[i].length});
-    np = std::max(np, c.P[i].length());
-  }
-  // The tables are the thread's, kept from row to row (rows run one at a time on a thread).
-  thread_local detail::chebyshev_values Ts, Tp;
-  Ts.assign(n, s, row_error_prec);
-  Tp.assign(np, s, prec);
-  std::vector<ball> Phi, e;
-  c.flow.Phi_at(Ts, Phi, row_error_prec);
-  c.box_at_a->image(Phi, e, row_error_prec);
-  mag_value dtm, rowball;
-  arb_get_mag(dtm.m, dt.get());
-  c.error_ball(dtm.m, rowball.m);
+  std::vector<ball> e;
+  c.box_at_a->image(part->Phi, e, row_error_prec);
+  mag_value rowball;
+  c.error_ball(part->dt.m, rowball.m);
   ball_row out;
   out.y.resize(D);
-  ball v;
   std::vector<mag_value> radius;
   detail::per_component(rowball, c.weight, radius);
   for (std::size_t i = 0; i < D; ++i) {
-    detail::evaluate_head(v, c.r[i], c.r_row[i].length, c.r_row[i].tail.m, Ts, row_error_prec);
-    arb_add(e[i].get(), e[i].get(), v.get(), row_error_prec);
-    detail::evaluate_head(v, c.flow.u()[i], c.u_row[i].length, c.u_row[i].tail.m, Ts, row_error_prec);
-    arb_add(e[i].get(), e[i].get(), v.get(), row_error_prec);
+    arb_add(e[i].get(), e[i].get(), part->r[i].get(), row_error_prec);
+    arb_add(e[i].get(), e[i].get(), part->u[i].get(), row_error_prec);
     arb_add_error_mag(e[i].get(), radius[i].m);
     for (const detail::breakpoint_term::touching_window& w : c.breakpoints.windows)
       if (arb_overlaps(w.hull.get(), tb.get())) arb_add_error_mag(e[i].get(), w.bound[i].m);
-    detail::evaluate(out.y[i], c.P[i], Tp, prec);
-    arb_add(out.y[i].get(), out.y[i].get(), e[i].get(), prec);
+    arb_add(out.y[i].get(), part->P[i].get(), e[i].get(), prec);
   }
   out.rate = c.fabs;
   mag_sub_lower(out.reach.m, c.R_cap.m, c.R_plain.m);

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <memory>
+#include <utility>
 #include <optional>
 #include <string>
 #include <vector>
@@ -181,7 +182,8 @@ sample_times<T> times_of(const reference_job& job) {
 // Integrates the job's scene in T and hands each sample to `emit` as it is evaluated: the rates
 // alone, or with q beside them (integrated beside the rates, reference/attitude_cascade.hpp, or
 // with them as one problem for a torque of the attitude, model/coupled_problem.hpp). `kept` and
-// `kept_q`, if given, receive the samples too. With --certify, `certificate` checks every segment.
+// `kept_q`, if given, receive the samples too. With --certify, `certificate` checks every segment,
+// told the rows' times at the first (as it waits for the module there anyway).
 template <scalar T>
 reference_run stream_rows(const reference_job& job, const T& tau_end, const sample_times<T>& times,
                           row_emitter<T>& emit, std::vector<vec3<T>>* kept, std::vector<quaternion<T>>* kept_q,
@@ -194,7 +196,8 @@ reference_run stream_rows(const reference_job& job, const T& tau_end, const samp
   if (job.scn.has_attitude()) {
     segment_sink<T, 7> certify_segment;
     if (certificate)
-      certify_segment = [&](const chebyshev_segment<T, 7>& seg, const std::vector<T>& nodes) {
+      certify_segment = [&, first = true](const chebyshev_segment<T, 7>& seg, const std::vector<T>& nodes) mutable {
+        if (std::exchange(first, false)) certificate->expect_rows(times.tau);
         certificate->add_segment(seg, nodes);
       };
     const auto on_sample = [&](std::size_t i, const vec3<T>& y, const quaternion<T>& q) {
@@ -207,7 +210,8 @@ reference_run stream_rows(const reference_job& job, const T& tau_end, const samp
   } else {
     segment_sink<T> certify_segment;
     if (certificate)
-      certify_segment = [&](const chebyshev_segment<T>& seg, const std::vector<T>& nodes) {
+      certify_segment = [&, first = true](const chebyshev_segment<T>& seg, const std::vector<T>& nodes) mutable {
+        if (std::exchange(first, false)) certificate->expect_rows(times.tau);
         certificate->add_segment(seg, nodes);
       };
     const auto on_sample = [&](std::size_t i, const vec3<T>& y) {
