@@ -98,6 +98,11 @@ class box_algebra {
     }
     arb_mul(a.f.get(), a.f.get(), b.f.get(), prec_);
   }
+  // a = a a (mul() updates a in place, so it takes a copy).
+  void square(value& a) const {
+    const value b = a;
+    mul(a, b);
+  }
   // out = a b.
   void product(value& out, const value& a, const value& b) const {
     out = a;

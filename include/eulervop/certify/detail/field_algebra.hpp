@@ -206,6 +206,8 @@ class series_algebra {
     a.d.swap(t.d);
     a.grid.reset();
   }
+  // a = a a, with no copy of a: product() only reads its factors (a's grid is made once, for both).
+  void square(value& a) const { mul(a, a); }
   // out = a b (out distinct from a and b; its models keep their storage), as mul() would make it
   // of a copy of a: a product needs no copy of its first factor.
   void product(value& out, const value& a, const value& b) const {
@@ -447,6 +449,10 @@ void ball_formula::power_step(const Algebra& alg, std::int32_t n, slot<typename 
     return;
   }
   if (n < 0) defined([&] { alg.invert(a.v); });
+  if (n == 2 || n == -2) {
+    alg.square(a.v);
+    return;
+  }
   const typename Algebra::value base = a.v;
   for (std::int32_t k = 1; k < (n < 0 ? -n : n); ++k) alg.mul(a.v, base);
 }

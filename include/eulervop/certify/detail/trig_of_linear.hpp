@@ -67,8 +67,15 @@ inline void bessel_values(std::vector<ball>& J, slong n, const ball& x, slong pr
   arb_mul(minus_y2.get(), y.get(), y.get(), prec);
   arb_neg(minus_y2.get(), minus_y2.get());
   arb_pow_ui(first.get(), y.get(), static_cast<ulong>(n), prec);
-  arb_fac_ui(t.get(), static_cast<ulong>(n), prec);
-  arb_div(first.get(), first.get(), t.get(), prec);  // (x/2)^n / n!
+  // n! at prec, kept per thread (every segment's degree is about the same).
+  thread_local slong fac_n = -1, fac_prec = 0;
+  thread_local ball fac;
+  if (fac_n != n || fac_prec != prec) {
+    arb_fac_ui(fac.get(), static_cast<ulong>(n), prec);
+    fac_n = n;
+    fac_prec = prec;
+  }
+  arb_div(first.get(), first.get(), fac.get(), prec);  // (x/2)^n / n!
   bessel_series(J[static_cast<std::size_t>(n)], n, first, minus_y2, prec);
   arb_mul(first.get(), first.get(), y.get(), prec);
   arb_div_ui(first.get(), first.get(), static_cast<ulong>(n + 1), prec);  // (x/2)^(n+1) / (n+1)!
