@@ -35,7 +35,10 @@ inline mpfr_prec_t certify_bits(const eulervop::precision& p) {
   return static_cast<mpfr_prec_t>(bits + 64);
 }
 
-// An upper bound of |x| as a decimal with three significant digits, rounded up ("2.35e-27").
+// An upper bound of |x| as a decimal with three significant digits, rounded up ("2.35e-27"), as
+// printf's "%.2e" writes it (MPFR's "%.2RUe"): the digits from mpfr_get_str, which rounds them
+// up itself, and the exponent of at least two digits. Zero and non-finite bounds go through
+// mpfr_asprintf; the regular ones do not, as its format machinery took three times as long.
 inline std::string upper_text(const ball& x) {
   arf_t u;
   arf_init(u);
@@ -43,10 +46,20 @@ inline std::string upper_text(const ball& x) {
   mpfr_t m;
   mpfr_init2(m, 64);
   arf_get_mpfr(m, u, MPFR_RNDU);
-  char* text = nullptr;
-  mpfr_asprintf(&text, "%.2RUe", m);
-  std::string out = text;
-  mpfr_free_str(text);
+  std::string out;
+  if (mpfr_regular_p(m)) {
+    mpfr_exp_t e = 0;  // m rounds up to 0.d1d2d3 10^e
+    char* digits = mpfr_get_str(nullptr, &e, 10, 3, m, MPFR_RNDU);
+    const long exponent = static_cast<long>(e) - 1;
+    out = fmt::format("{}.{}{}e{}{:02d}", digits[0], digits[1], digits[2], exponent < 0 ? '-' : '+',
+                      exponent < 0 ? -exponent : exponent);
+    mpfr_free_str(digits);
+  } else {
+    char* text = nullptr;
+    mpfr_asprintf(&text, "%.2RUe", m);
+    out = text;
+    mpfr_free_str(text);
+  }
   mpfr_clear(m);
   arf_clear(u);
   return out;
