@@ -132,28 +132,36 @@ class path_certificate final : public run_certificate {
 
  private:
   certified_radii kept(certified_radii out) {
-    raise(max_.state, out.state);
-    if (out.omega) raise(max_.omega, *out.omega);
-    if (out.q) raise(max_.q, *out.q);
+    state_max_.raise(max_.state, out.state);
+    if (out.omega) omega_max_.raise(max_.omega, *out.omega);
+    if (out.q) q_max_.raise(max_.q, *out.q);
     return out;
   }
-  static void raise(std::string& max, const std::string& text) {
-    if (max.empty() || exceeds(text, max)) max = text;
-  }
-  // text > max for two texts of upper_text, compared in MPFR: radii in mpfr:1024 go below a
-  // double's range (1e-308), where std::stod throws. Three-digit decimals that differ stay apart
-  // at 64 bits.
-  static bool exceeds(const std::string& text, const std::string& max) {
-    mpfr_t a, b;
-    mpfr_init2(a, 64);
-    mpfr_init2(b, 64);
-    mpfr_set_str(a, text.c_str(), 10, MPFR_RNDU);
-    mpfr_set_str(b, max.c_str(), 10, MPFR_RNDU);
-    const bool out = mpfr_greater_p(a, b) != 0;
-    mpfr_clear(a);
-    mpfr_clear(b);
-    return out;
-  }
+  // A column's largest radius as a value, parsed once when it changes (not again at every row).
+  // The texts of upper_text compare in MPFR: radii in mpfr:1024 go below a double's range (1e-308),
+  // where std::stod throws, and three-digit decimals that differ stay apart at 64 bits.
+  class largest {
+   public:
+    largest() { mpfr_init2(value_, 64); }
+    ~largest() { mpfr_clear(value_); }
+    largest(const largest&) = delete;
+    largest& operator=(const largest&) = delete;
+    // max = text where text is the larger (or the first).
+    void raise(std::string& max, const std::string& text) {
+      mpfr_t v;
+      mpfr_init2(v, 64);
+      mpfr_set_str(v, text.c_str(), 10, MPFR_RNDU);
+      if (max.empty() || mpfr_greater_p(v, value_)) {
+        max = text;
+        mpfr_swap(value_, v);
+      }
+      mpfr_clear(v);
+    }
+
+   private:
+    mpfr_t value_;
+  };
+  largest state_max_, omega_max_, q_max_;
 
   // Before the path: a row still running while the path's pipeline stops may raise the maxima.
   certified_maxima max_;
