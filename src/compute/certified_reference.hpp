@@ -35,17 +35,11 @@ inline mpfr_prec_t certify_bits(const eulervop::precision& p) {
   return static_cast<mpfr_prec_t>(bits + 64);
 }
 
-// An upper bound of |x| as a decimal with three significant digits, rounded up ("2.35e-27"), as
-// printf's "%.2e" writes it (MPFR's "%.2RUe"): the digits from mpfr_get_str, which rounds them
-// up itself, and the exponent of at least two digits. Zero and non-finite bounds go through
-// mpfr_asprintf; the regular ones do not, as its format machinery took three times as long.
-inline std::string upper_text(const ball& x) {
-  arf_t u;
-  arf_init(u);
-  arb_get_abs_ubound_arf(u, x.get(), 64);
-  mpfr_t m;
-  mpfr_init2(m, 64);
-  arf_get_mpfr(m, u, MPFR_RNDU);
+// m (>= 0) as a decimal with three significant digits, rounded up ("2.35e-27"), as printf's "%.2e"
+// writes it (MPFR's "%.2RUe"): the digits from mpfr_get_str, which rounds them up itself, and the
+// exponent of at least two digits. Zero and non-finite m go through mpfr_asprintf; the regular
+// ones do not, as its format machinery took three times as long.
+inline std::string rounded_up_text(const mpfr_t m) {
   std::string out;
   if (mpfr_regular_p(m)) {
     mpfr_exp_t e = 0;  // m rounds up to 0.d1d2d3 10^e
@@ -60,6 +54,18 @@ inline std::string upper_text(const ball& x) {
     out = text;
     mpfr_free_str(text);
   }
+  return out;
+}
+
+// An upper bound of |x| as rounded_up_text writes it.
+inline std::string upper_text(const ball& x) {
+  arf_t u;
+  arf_init(u);
+  arb_get_abs_ubound_arf(u, x.get(), 64);
+  mpfr_t m;
+  mpfr_init2(m, 64);
+  arf_get_mpfr(m, u, MPFR_RNDU);
+  std::string out = rounded_up_text(m);
   mpfr_clear(m);
   arf_clear(u);
   return out;
