@@ -177,6 +177,7 @@ inline void ball_segment_check::fail(outcome_kind cause, double value, const std
 template <scalar T, std::size_t Dim>
 void ball_segment_check::prepare(const chebyshev_segment<T, Dim>& seg) {
   if (Dim != D || seg.values.size() != n1) throw std::invalid_argument("ball_segment_check: the segment's shape differs");
+  row_count_ = 0;  // a reused check's rows belong to its last segment, even if this one fails
   load(seg);
   // 1. P's coefficients.
   polynomial();
@@ -197,7 +198,6 @@ void ball_segment_check::prepare(const chebyshev_segment<T, Dim>& seg) {
 }
 
 inline void ball_segment_check::prepare_rows() {
-  row_count_ = 0;
   if (!row_times) return;
   const auto below = [](const ball& t, const ball& x) { return arf_cmp(arb_midref(t.get()), arb_midref(x.get())) < 0; };
   auto t = std::lower_bound(row_times->begin(), row_times->end(), a, below);
