@@ -592,4 +592,62 @@ TEST(LengthAbove, DropsAtMostTheLevelAndBoundsWhatItDrops) {
   flint_randclear(state);
 }
 
+// A table of T_k(s) at 64 bits made from one at 177 bits (the rows' two tables, ball_certifier's
+// evaluate_row) holds T_k at every point of s, checked against cos(k acos x) in MPFR at 1000 bits
+// at both ends and the midpoint of random balls s (and s = -1, 1), up to k = 60, beyond the finer
+// table's 42 values. Where it rounds the finer table, its radius is that of a 64-bit rounding,
+// at most 2^-63 more than the finer one's (|T_k| <= 1), where the recurrence at 64 bits widens
+// like 2.4^k 2^-64: no wider than that recurrence from k = 8 on.
+TEST(ChebyshevValues, RoundedFromAFinerTableHoldEveryValueAndAreNoWider) {
+  std::mt19937_64 rng(20261129);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  for (int trial = 0; trial < 200; ++trial) {
+    eulervop::ball s;
+    arb_set_d(s.get(), unit(rng));
+    arb_div_ui(s.get(), s.get(), 3, 177);  // a ball with a radius, as a row's s
+    if (trial % 10 == 0) arb_set_si(s.get(), trial % 20 == 0 ? 1 : -1);  // the segment's ends
+    eulervop::detail::chebyshev_values finer(42, s, 177), coarse, plain(60, s, 64);
+    coarse.assign_rounded(60, s, finer, 64);
+    ASSERT_EQ(coarse.length(), 60);
+    for (slong k = 0; k < 60; ++k) {
+      if (k < 42) {
+        mag_t bound;
+        mag_init(bound);
+        mag_set_ui_2exp_si(bound, 1, -63);
+        mag_add(bound, bound, arb_radref(finer.get() + k));
+        EXPECT_LE(mag_cmp(arb_radref(coarse.get() + k), bound), 0) << k;
+        mag_clear(bound);
+      }
+      if (k >= 8) EXPECT_LE(mag_cmp(arb_radref(coarse.get() + k), arb_radref(plain.get() + k)), 0) << k;
+      for (int end = -1; end <= 1; ++end) {
+        mpfr_t x, t;
+        mpfr_init2(x, 1000);
+        mpfr_init2(t, 1000);
+        arf_get_mpfr(x, arb_midref(s.get()), MPFR_RNDN);
+        mpfr_t r;
+        mpfr_init2(r, 1000);
+        arf_t rad;
+        arf_init(rad);
+        arf_set_mag(rad, arb_radref(s.get()));
+        arf_get_mpfr(r, rad, MPFR_RNDN);  // exact: a radius has 30 bits
+        arf_clear(rad);
+        if (end < 0) mpfr_sub(x, x, r, MPFR_RNDN);
+        if (end > 0) mpfr_add(x, x, r, MPFR_RNDN);
+        if (mpfr_cmp_si(x, 1) > 0) mpfr_set_si(x, 1, MPFR_RNDN);
+        if (mpfr_cmp_si(x, -1) < 0) mpfr_set_si(x, -1, MPFR_RNDN);
+        mpfr_acos(t, x, MPFR_RNDN);
+        mpfr_mul_si(t, t, k, MPFR_RNDN);
+        mpfr_cos(t, t, MPFR_RNDN);
+        eulervop::ball exact;  // within 2^-900 of T_k at that point (MPFR's own rounding)
+        arf_set_mpfr(arb_midref(exact.get()), t);
+        mag_set_ui_2exp_si(arb_radref(exact.get()), 1, -900);
+        EXPECT_TRUE(arb_overlaps(coarse.get() + k, exact.get())) << "k " << k << " trial " << trial;
+        mpfr_clear(x);
+        mpfr_clear(t);
+        mpfr_clear(r);
+      }
+    }
+  }
+}
+
 }  // namespace

@@ -7,8 +7,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -64,6 +66,51 @@ TEST(RadiusText, OfABallIsItsUpperBoundsText) {
   EXPECT_EQ(eulervop::app::upper_text(x), "2.78e-32");
   mag_set_d(arb_radref(x.get()), 1e-34);
   EXPECT_EQ(eulervop::app::upper_text(x), "2.79e-32");  // 2.775e-32 + 1e-34 rounds up to 2.79e-32
+}
+
+// The largest of a column's texts, against the order of their values in MPFR (the reference:
+// each text read at 200 bits, whose value is then exact): random texts of rounded_up_text
+// mixed with zero, infinity and texts of other forms, which take MPFR's way.
+TEST(RadiusText, LargestIsTheLargestValue) {
+  std::mt19937_64 rng(20261129);
+  number x;
+  std::vector<std::string> texts = {"0.00e+00", "inf", "1e-30", "9.999e-31", "5.00e-31"};
+  for (int k = 0; k < 3000; ++k) {
+    mpfr_set_ui_2exp(x.m, rng() | 1, static_cast<mpfr_exp_t>(rng() % 700) - 600, MPFR_RNDU);
+    texts.push_back(eulervop::app::rounded_up_text(x.m));
+  }
+  for (int run = 0; run < 40; ++run) {
+    std::shuffle(texts.begin() + (run % 2 == 0 ? 1 : 0), texts.end() - (run % 3 == 0 ? 1 : 0), rng);
+    const std::size_t count = 2 + rng() % 200;
+    eulervop::app::largest_radius_text largest;
+    std::string max;
+    mpfr_t best, v;
+    mpfr_init2(best, 200);
+    mpfr_init2(v, 200);
+    std::string expected;
+    for (std::size_t i = 0; i < count; ++i) {
+      largest.raise(max, texts[i]);
+      mpfr_set_str(v, texts[i].c_str(), 10, MPFR_RNDN);
+      if (expected.empty() || mpfr_greater_p(v, best)) {
+        expected = texts[i];
+        mpfr_set(best, v, MPFR_RNDN);
+      }
+    }
+    mpfr_clear(best);
+    mpfr_clear(v);
+    ASSERT_EQ(max, expected) << run;
+  }
+}
+
+TEST(RadiusText, RegularKeyOrdersAsTheValue) {
+  using key = eulervop::app::largest_radius_text;
+  EXPECT_LT(*key::regular_key("9.99e-33"), *key::regular_key("1.00e-32"));
+  EXPECT_LT(*key::regular_key("1.00e-32"), *key::regular_key("1.01e-32"));
+  EXPECT_LT(*key::regular_key("9.99e-100"), *key::regular_key("1.00e-99"));
+  EXPECT_LT(*key::regular_key("9.99e+00"), *key::regular_key("1.00e+01"));
+  EXPECT_FALSE(key::regular_key("0.00e+00"));  // zero is not regular: MPFR compares it
+  EXPECT_FALSE(key::regular_key("inf"));
+  EXPECT_FALSE(key::regular_key("1e-30"));
 }
 
 }  // namespace

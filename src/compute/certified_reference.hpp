@@ -17,9 +17,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -70,6 +72,52 @@ inline std::string upper_text(const ball& x) {
   arf_clear(u);
   return out;
 }
+
+// A column's largest radius, of the texts upper_text writes, compared as values: by their three
+// digits and exponent where they have rounded_up_text's regular form (d.dd 10^x orders exactly as
+// (x, ddd), with no parse), else in MPFR, whose 64 bits keep apart the three-digit decimals that
+// differ even below a double's range (radii in mpfr:1024 reach 1e-308, where std::stod throws).
+class largest_radius_text {
+ public:
+  // max = text where text is the larger (or the first).
+  void raise(std::string& max, const std::string& text) {
+    const std::optional<long> key = regular_key(text);
+    if (max.empty() || (key && key_ ? *key > *key_ : mpfr_greater(text, max))) {
+      max = text;
+      key_ = key;
+    }
+  }
+  // (x, ddd) as one number, for "d.dde±x" with d.dd in [1, 10): what rounded_up_text writes for
+  // a regular m.
+  static std::optional<long> regular_key(const std::string& t) {
+    if (t.size() < 8 || t.size() > 12 || t[0] < '1' || t[0] > '9' || t[1] != '.' || t[4] != 'e' ||
+        (t[5] != '+' && t[5] != '-'))
+      return std::nullopt;
+    long x = 0;
+    for (std::size_t i = 6; i < t.size(); ++i) {
+      if (t[i] < '0' || t[i] > '9') return std::nullopt;
+      x = 10 * x + (t[i] - '0');
+    }
+    if (!std::isdigit(static_cast<unsigned char>(t[2])) || !std::isdigit(static_cast<unsigned char>(t[3])))
+      return std::nullopt;
+    const long ddd = 100 * (t[0] - '0') + 10 * (t[2] - '0') + (t[3] - '0');
+    return (t[5] == '-' ? -x : x) * 1000 + ddd;
+  }
+
+ private:
+  static bool mpfr_greater(const std::string& a, const std::string& b) {
+    mpfr_t x, y;
+    mpfr_init2(x, 64);
+    mpfr_init2(y, 64);
+    mpfr_set_str(x, a.c_str(), 10, MPFR_RNDU);
+    mpfr_set_str(y, b.c_str(), 10, MPFR_RNDU);
+    const bool greater = mpfr_greater_p(x, y) != 0;
+    mpfr_clear(x);
+    mpfr_clear(y);
+    return greater;
+  }
+  std::optional<long> key_;
+};
 
 // Segments a certificate's pipeline may hold: as many as about 16 MB of checks allow, a check of
 // n1 nodes at `bits` taking about 200 x n1 x bits bytes, at least 2 per worker and 2 more, at most
@@ -143,31 +191,7 @@ class path_certificate final : public run_certificate {
     if (out.q) q_max_.raise(max_.q, *out.q);
     return out;
   }
-  // A column's largest radius as a value, parsed once when it changes (not again at every row).
-  // The texts of upper_text compare in MPFR: radii in mpfr:1024 go below a double's range (1e-308),
-  // where std::stod throws, and three-digit decimals that differ stay apart at 64 bits.
-  class largest {
-   public:
-    largest() { mpfr_init2(value_, 64); }
-    ~largest() { mpfr_clear(value_); }
-    largest(const largest&) = delete;
-    largest& operator=(const largest&) = delete;
-    // max = text where text is the larger (or the first).
-    void raise(std::string& max, const std::string& text) {
-      mpfr_t v;
-      mpfr_init2(v, 64);
-      mpfr_set_str(v, text.c_str(), 10, MPFR_RNDU);
-      if (max.empty() || mpfr_greater_p(v, value_)) {
-        max = text;
-        mpfr_swap(value_, v);
-      }
-      mpfr_clear(v);
-    }
-
-   private:
-    mpfr_t value_;
-  };
-  largest state_max_, omega_max_, q_max_;
+  largest_radius_text state_max_, omega_max_, q_max_;
 
   // Before the path: a row still running while the path's pipeline stops may raise the maxima.
   certified_maxima max_;

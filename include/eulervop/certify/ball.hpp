@@ -8,6 +8,7 @@
 #include <eulervop/core/scalar.hpp>
 
 #include <arb.h>
+#include <flint/fmpz.h>
 #include <mpfr.h>
 
 #include <bit>
@@ -16,6 +17,7 @@
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 namespace eulervop {
 
@@ -112,9 +114,96 @@ void set_exact(ball& out, const T& x) {
   }
 }
 
-// A ball that holds the real number a decimal text denotes ("0.1" is one tenth).
+namespace detail {
+
+// The ball arb_set_str makes of a plain decimal ("-1.25e-3": a sign, digits with at most one
+// point, an exponent), by its own steps (Arb's arb/set_str.c): the digits without their trailing
+// zeros as an integer n, the exponent e adjusted for the digits after the point, then n rounded to
+// prec if e = 0, else n times or divided by 10^|e| as arb_pow_fmpz_binexp makes it at prec + 4,
+// negated for a minus sign. The powers are kept per thread: a certified row reads three or more
+// printed decimals, and their powers were most of arb_set_str's time. False (out untouched) where
+// the text is not of that form or has more than 38 digits; arb_set_str then reads it.
+inline bool plain_decimal_ball(ball& out, const std::string& text, slong prec) {
+  std::size_t i = 0;
+  const bool negative = !text.empty() && text[0] == '-';
+  if (!text.empty() && (text[0] == '-' || text[0] == '+')) ++i;
+  unsigned __int128 n = 0;
+  int digits = 0, after_point = 0, zeros = 0;  // zeros: the trailing zeros so far
+  bool point = false;
+  for (; i < text.size() && text[i] != 'e' && text[i] != 'E'; ++i) {
+    const char c = text[i];
+    if (c == '.' && !point) {
+      point = true;
+      continue;
+    }
+    if (c < '0' || c > '9' || ++digits > 38) return false;
+    after_point += point;
+    zeros = c == '0' ? zeros + 1 : 0;
+    n = 10 * n + static_cast<unsigned>(c - '0');
+  }
+  if (digits == 0) return false;
+  long exponent = 0;
+  if (i < text.size()) {  // the exponent: [+-]digits, at most 6 of them
+    std::size_t j = i + 1;
+    const bool minus = j < text.size() && text[j] == '-';
+    if (j < text.size() && (text[j] == '-' || text[j] == '+')) ++j;
+    if (j == text.size() || text.size() - j > 6) return false;
+    for (; j < text.size(); ++j) {
+      if (text[j] < '0' || text[j] > '9') return false;
+      exponent = 10 * exponent + (text[j] - '0');
+    }
+    if (minus) exponent = -exponent;
+  }
+  // Arb moves the trailing zeros (all but a lone digit) into the exponent.
+  zeros = std::min(zeros, digits - 1);
+  for (int k = 0; k < zeros; ++k) n /= 10;
+  exponent -= after_point - zeros;
+  if (n == 0) {
+    arb_zero(out.get());
+    return true;
+  }
+  fmpz_t m;
+  fmpz_init(m);
+  fmpz_set_ui(m, static_cast<ulong>(n >> 64));
+  fmpz_mul_2exp(m, m, 64);
+  fmpz_add_ui(m, m, static_cast<ulong>(n));
+  if (exponent == 0) {
+    arb_set_round_fmpz(out.get(), m, prec);
+  } else {
+    thread_local std::vector<ball> powers;  // 10^k at powers_prec + 4 (empty balls not made yet)
+    thread_local slong powers_prec = -1;
+    if (powers_prec != prec) {
+      powers.clear();
+      powers_prec = prec;
+    }
+    const auto k = static_cast<std::size_t>(exponent < 0 ? -exponent : exponent);
+    if (powers.size() <= k) powers.resize(k + 1);
+    ball& t = powers[k];
+    if (arb_is_zero(t.get())) {
+      fmpz_t e;
+      fmpz_init_set_ui(e, k);
+      arb_set_ui(t.get(), 10);
+      arb_pow_fmpz_binexp(t.get(), t.get(), e, prec + 4);
+      fmpz_clear(e);
+    }
+    arb_set_fmpz(out.get(), m);
+    if (exponent > 0)
+      arb_mul(out.get(), out.get(), t.get(), prec);
+    else
+      arb_div(out.get(), out.get(), t.get(), prec);
+  }
+  fmpz_clear(m);
+  if (negative) arb_neg(out.get(), out.get());
+  return true;
+}
+
+}  // namespace detail
+
+// A ball that holds the real number a decimal text denotes ("0.1" is one tenth): the ball of
+// arb_set_str, bit for bit.
 inline ball decimal_ball(const std::string& text, slong prec) {
   ball out;
+  if (detail::plain_decimal_ball(out, text, prec)) return out;
   if (arb_set_str(out.get(), text.c_str(), prec) != 0)
     throw std::invalid_argument("decimal_ball: not a decimal number: " + text);
   return out;

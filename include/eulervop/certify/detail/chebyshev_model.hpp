@@ -398,7 +398,18 @@ class chebyshev_values {
 
   // The values at s, in the storage kept (grown where n is longer): tables kept from row to row
   // take no allocation, where a new one took one per value at the working precision.
-  void assign(slong n, const ball& s, slong prec) {
+  void assign(slong n, const ball& s, slong prec) { assign_from(n, s, nullptr, prec); }
+  // The same at fewer bits from a table at s of more: its values rounded to prec (each an
+  // enclosure still, and tighter than the recurrence run at prec), the recurrence only beyond it.
+  void assign_rounded(slong n, const ball& s, const chebyshev_values& finer, slong prec) {
+    assign_from(n, s, &finer, prec);
+  }
+
+  slong length() const { return n_; }
+  arb_srcptr get() const { return T_; }
+
+ private:
+  void assign_from(slong n, const ball& s, const chebyshev_values* finer, slong prec) {
     if (n > capacity_) {
       if (T_) _arb_vec_clear(T_, capacity_);
       T_ = _arb_vec_init(n);
@@ -408,7 +419,9 @@ class chebyshev_values {
     ball unit, x;
     arb_zero_pm_one(unit.get());
     if (!arb_intersection(x.get(), s.get(), unit.get(), prec)) arb_set(x.get(), unit.get());
-    for (slong k = 0; k < n; ++k) {
+    const slong given = finer ? std::min(n, finer->n_) : 0;
+    for (slong k = 0; k < given; ++k) arb_set_round(T_ + k, finer->T_ + k, prec);
+    for (slong k = given; k < n; ++k) {
       if (k == 0) {
         arb_one(T_);
       } else if (k == 1) {
@@ -422,11 +435,6 @@ class chebyshev_values {
       }
     }
   }
-
-  slong length() const { return n_; }
-  arb_srcptr get() const { return T_; }
-
- private:
   // A sufficient test of x in [-1, 1]: |mid| + rad <= 1 rounded up. Where it fails, arb_contains
   // decides exactly; where it holds, arb_contains would too, so the values are the same, at a
   // small part of arb_contains' cost (its exact endpoint arithmetic was most of the recurrence's).
