@@ -193,6 +193,21 @@ class series_algebra {
     a.f.swap(g);
     a.grid.reset();
   }
+  // a = sin(a)^2 (cos(a)^2 where `cosine`) as (1 -+ cos(2 a)) / 2: one function of a model, in
+  // closed form where a is linear (trig_of_linear.hpp), instead of a function and then a product
+  // of two long models. (SciML's forcing 0.25 sin(t)^2: the square had taken two fifths of the
+  // forcing's time.)
+  static constexpr bool squares_trig_by_double_angle = true;
+  void squared_trig(bool cosine, value& a) const {
+    const ball two(2);
+    ball half(cosine ? 1 : -1);
+    arb_mul_2exp_si(half.get(), half.get(), -1);
+    scale(a, two);
+    function(elementary::cos, a);
+    scale(a, half);
+    arb_abs(half.get(), half.get());
+    add(a, constant(half));
+  }
   // a = 1 / a.
   void invert(value& a) const { function(elementary::inverse, a); }
   // a = a b: (a b)' = a' b + a b', each product as multiply() makes it (jet_product.hpp: a
@@ -492,7 +507,20 @@ template <class Algebra>
 typename Algebra::value ball_formula::operator()(const Algebra& alg, const formula_variables<Algebra>& vars) const {
   stack_of<Algebra> stack;
   stack.reserve(source_->stack_depth);
-  for (const expression_step& s : source_->code) step(alg, vars, s, stack);
+  const std::vector<expression_step>& code = source_->code;
+  for (std::size_t i = 0; i < code.size(); ++i) {
+    if constexpr (requires { Algebra::squares_trig_by_double_angle; }) {
+      // sin(u)^2 or cos(u)^2 of a value: the algebra's own square of it, in one step.
+      const expression_op op = code[i].op;
+      if ((op == expression_op::sin || op == expression_op::cos) && i + 1 < code.size() &&
+          code[i + 1].op == expression_op::pow && code[i + 1].arg == 2 && !stack.back().constant) {
+        defined([&] { alg.squared_trig(op == expression_op::cos, stack.back().v); });
+        ++i;
+        continue;
+      }
+    }
+    step(alg, vars, code[i], stack);
+  }
   return std::move(as_value(alg, stack.back()));
 }
 
