@@ -73,8 +73,8 @@ struct ball_row_part {
 // numbers need no allocation); the state and the residual keep the problem's precision.
 inline constexpr slong error_prec = 128;
 // A row's e, from the box and the models at its tau, is a bound only: 64 bits (one limb) hold it
-// to far below its last printed digit, where the recurrence's widths (2.4^k 2^-64 on T_k) meet
-// coefficients that fall off faster.
+// to far below its last printed digit (its T_k(s) rounded from the working precision's, where a
+// recurrence at 64 bits widens like 2.4^k 2^-64).
 inline constexpr slong row_error_prec = 64;
 
 // The part of one segment's check that does not depend on the segments before it (steps 1 to 4).
@@ -228,7 +228,8 @@ inline void ball_segment_check::evaluate_row(ball_row_part& out, const ball& tau
   }
   // The tables are the thread's, kept from row to row. The error's table takes P's values rounded,
   // and runs its own recurrence only beyond P's degree: tighter than the recurrence at 64 bits,
-  // whose widths grow like 2.4^k 2^-64 (mpfr:256 radii shrank by up to 20 times), and cheaper.
+  // whose widths grow like 2.4^k 2^-64 (the mpfr:256 runs' largest radii went down by a fifth),
+  // and cheaper.
   thread_local detail::chebyshev_values Ts, Tp;
   Tp.assign(np, s, prec);
   Ts.assign_rounded(n, s, Tp, row_error_prec);
