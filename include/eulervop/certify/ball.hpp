@@ -11,6 +11,7 @@
 #include <flint/fmpz.h>
 #include <mpfr.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -116,18 +117,21 @@ void set_exact(ball& out, const T& x) {
 
 namespace detail {
 
-// The ball arb_set_str makes of a plain decimal ("-1.25e-3": a sign, digits with at most one
-// point, an exponent), by its own steps (Arb's arb/set_str.c): the digits without their trailing
-// zeros as an integer n, the exponent e adjusted for the digits after the point, then n rounded to
-// prec if e = 0, else n times or divided by 10^|e| as arb_pow_fmpz_binexp makes it at prec + 4,
-// negated for a minus sign. The powers are kept per thread: a certified row reads three or more
-// printed decimals, and their powers were most of arb_set_str's time. False (out untouched) where
-// the text is not of that form or has more than 38 digits; arb_set_str then reads it.
-inline bool plain_decimal_ball(ball& out, const std::string& text, slong prec) {
-  std::size_t i = 0;
-  const bool negative = !text.empty() && text[0] == '-';
-  if (!text.empty() && (text[0] == '-' || text[0] == '+')) ++i;
+// A plain decimal ("-1.25e-3": a sign, digits with at most one point, an exponent) as Arb's parser
+// reads it (arb/set_str.c): the digits without their trailing zeros (all but a lone digit) as an
+// integer n, and the exponent e adjusted for the digits after the point, so the text is n 10^e.
+struct plain_decimal {
+  bool negative = false;
   unsigned __int128 n = 0;
+  long exponent = 0;
+};
+
+// False where the text is not of that form or has more than 38 digits.
+inline bool parse_plain_decimal(plain_decimal& out, const std::string& text) {
+  std::size_t i = 0;
+  out.negative = !text.empty() && text[0] == '-';
+  if (!text.empty() && (text[0] == '-' || text[0] == '+')) ++i;
+  out.n = 0;
   int digits = 0, after_point = 0, zeros = 0;  // zeros: the trailing zeros so far
   bool point = false;
   for (; i < text.size() && text[i] != 'e' && text[i] != 'E'; ++i) {
@@ -139,10 +143,10 @@ inline bool plain_decimal_ball(ball& out, const std::string& text, slong prec) {
     if (c < '0' || c > '9' || ++digits > 38) return false;
     after_point += point;
     zeros = c == '0' ? zeros + 1 : 0;
-    n = 10 * n + static_cast<unsigned>(c - '0');
+    out.n = 10 * out.n + static_cast<unsigned>(c - '0');
   }
   if (digits == 0) return false;
-  long exponent = 0;
+  out.exponent = 0;
   if (i < text.size()) {  // the exponent: [+-]digits, at most 6 of them
     std::size_t j = i + 1;
     const bool minus = j < text.size() && text[j] == '-';
@@ -150,50 +154,65 @@ inline bool plain_decimal_ball(ball& out, const std::string& text, slong prec) {
     if (j == text.size() || text.size() - j > 6) return false;
     for (; j < text.size(); ++j) {
       if (text[j] < '0' || text[j] > '9') return false;
-      exponent = 10 * exponent + (text[j] - '0');
+      out.exponent = 10 * out.exponent + (text[j] - '0');
     }
-    if (minus) exponent = -exponent;
+    if (minus) out.exponent = -out.exponent;
   }
-  // Arb moves the trailing zeros (all but a lone digit) into the exponent.
   zeros = std::min(zeros, digits - 1);
-  for (int k = 0; k < zeros; ++k) n /= 10;
-  exponent -= after_point - zeros;
-  if (n == 0) {
+  for (int k = 0; k < zeros; ++k) out.n /= 10;
+  out.exponent -= after_point - zeros;
+  return true;
+}
+
+// 10^k as Arb's parser makes it at prec (arb_pow_fmpz_binexp at prec + 4), kept per thread: a
+// certified row reads three or more printed decimals, and their powers were most of arb_set_str's
+// time.
+inline const ball& power_of_ten(std::size_t k, slong prec) {
+  thread_local std::vector<ball> powers;  // zero where not made yet
+  thread_local slong powers_prec = -1;
+  if (powers_prec != prec) {
+    powers.clear();
+    powers_prec = prec;
+  }
+  if (powers.size() <= k) powers.resize(k + 1);
+  ball& t = powers[k];
+  if (arb_is_zero(t.get())) {
+    fmpz_t e;
+    fmpz_init_set_ui(e, k);
+    arb_set_ui(t.get(), 10);
+    arb_pow_fmpz_binexp(t.get(), t.get(), e, prec + 4);
+    fmpz_clear(e);
+  }
+  return t;
+}
+
+// The ball arb_set_str makes of a plain decimal, by its own steps: n rounded to prec if e = 0,
+// else n times or divided by 10^|e| at prec, negated for a minus sign. False (out untouched)
+// where the text is not plain; arb_set_str then reads it.
+inline bool plain_decimal_ball(ball& out, const std::string& text, slong prec) {
+  plain_decimal d;
+  if (!parse_plain_decimal(d, text)) return false;
+  if (d.n == 0) {
     arb_zero(out.get());
     return true;
   }
   fmpz_t m;
   fmpz_init(m);
-  fmpz_set_ui(m, static_cast<ulong>(n >> 64));
+  fmpz_set_ui(m, static_cast<ulong>(d.n >> 64));
   fmpz_mul_2exp(m, m, 64);
-  fmpz_add_ui(m, m, static_cast<ulong>(n));
-  if (exponent == 0) {
+  fmpz_add_ui(m, m, static_cast<ulong>(d.n));
+  if (d.exponent == 0) {
     arb_set_round_fmpz(out.get(), m, prec);
   } else {
-    thread_local std::vector<ball> powers;  // 10^k at powers_prec + 4 (empty balls not made yet)
-    thread_local slong powers_prec = -1;
-    if (powers_prec != prec) {
-      powers.clear();
-      powers_prec = prec;
-    }
-    const auto k = static_cast<std::size_t>(exponent < 0 ? -exponent : exponent);
-    if (powers.size() <= k) powers.resize(k + 1);
-    ball& t = powers[k];
-    if (arb_is_zero(t.get())) {
-      fmpz_t e;
-      fmpz_init_set_ui(e, k);
-      arb_set_ui(t.get(), 10);
-      arb_pow_fmpz_binexp(t.get(), t.get(), e, prec + 4);
-      fmpz_clear(e);
-    }
+    const ball& t = power_of_ten(static_cast<std::size_t>(d.exponent < 0 ? -d.exponent : d.exponent), prec);
     arb_set_fmpz(out.get(), m);
-    if (exponent > 0)
+    if (d.exponent > 0)
       arb_mul(out.get(), out.get(), t.get(), prec);
     else
       arb_div(out.get(), out.get(), t.get(), prec);
   }
   fmpz_clear(m);
-  if (negative) arb_neg(out.get(), out.get());
+  if (d.negative) arb_neg(out.get(), out.get());
   return true;
 }
 
