@@ -164,25 +164,32 @@ inline bool parse_plain_decimal(plain_decimal& out, const std::string& text) {
   return true;
 }
 
-// 10^k as Arb's parser makes it at prec (arb_pow_fmpz_binexp at prec + 4), kept per thread: a
-// certified row reads three or more printed decimals, and their powers were most of arb_set_str's
-// time.
-inline const ball& power_of_ten(std::size_t k, slong prec) {
+// 10^k as Arb's parser makes it at prec (arb_pow_fmpz_binexp at prec + 4).
+inline void set_power_of_ten(ball& out, std::size_t k, slong prec) {
+  fmpz_t e;
+  fmpz_init_set_ui(e, k);
+  arb_set_ui(out.get(), 10);
+  arb_pow_fmpz_binexp(out.get(), out.get(), e, prec + 4);
+  fmpz_clear(e);
+}
+
+// The same, kept per thread for k up to 1000 (a printed number's exponent; beyond, made anew, in
+// `spare`): a certified row reads three or more printed decimals, and their powers were most of
+// arb_set_str's time.
+inline const ball& power_of_ten(std::size_t k, slong prec, ball& spare) {
   thread_local std::vector<ball> powers;  // zero where not made yet
   thread_local slong powers_prec = -1;
+  if (k > 1000) {
+    set_power_of_ten(spare, k, prec);
+    return spare;
+  }
   if (powers_prec != prec) {
     powers.clear();
     powers_prec = prec;
   }
   if (powers.size() <= k) powers.resize(k + 1);
   ball& t = powers[k];
-  if (arb_is_zero(t.get())) {
-    fmpz_t e;
-    fmpz_init_set_ui(e, k);
-    arb_set_ui(t.get(), 10);
-    arb_pow_fmpz_binexp(t.get(), t.get(), e, prec + 4);
-    fmpz_clear(e);
-  }
+  if (arb_is_zero(t.get())) set_power_of_ten(t, k, prec);
   return t;
 }
 
@@ -204,7 +211,8 @@ inline bool plain_decimal_ball(ball& out, const std::string& text, slong prec) {
   if (d.exponent == 0) {
     arb_set_round_fmpz(out.get(), m, prec);
   } else {
-    const ball& t = power_of_ten(static_cast<std::size_t>(d.exponent < 0 ? -d.exponent : d.exponent), prec);
+    ball spare;
+    const ball& t = power_of_ten(static_cast<std::size_t>(d.exponent < 0 ? -d.exponent : d.exponent), prec, spare);
     arb_set_fmpz(out.get(), m);
     if (d.exponent > 0)
       arb_mul(out.get(), out.get(), t.get(), prec);
